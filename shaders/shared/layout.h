@@ -1,0 +1,197 @@
+// Buffer layouts, binding numbers and constants shared by the GLSL stages and the C++ host: the one place
+// where a struct crossing the host/device boundary is defined (tests/unit/test_layout.cpp checks offsets).
+//
+// Rules that keep GLSL std430 and C++ in agreement without padding surprises:
+// - structs hold only 32-bit scalars (float, uint, int) and vec4, with every vec4 before any scalar;
+// - no vec3 in a buffer (std430 aligns it to 16 bytes);
+// - fields are named for what they hold.
+#ifndef FREDHOLM_SHARED_LAYOUT_H
+#define FREDHOLM_SHARED_LAYOUT_H
+
+#ifdef __cplusplus
+#include <cstdint>
+#include <glm/glm.hpp>
+namespace fh::gpu {
+using uint = std::uint32_t;
+using vec4 = glm::vec4;
+#define FH_CONST inline constexpr
+#else
+#define FH_CONST const
+#endif
+
+// ---- Dispatch shape -------------------------------------------------------------------------------------
+FH_CONST uint WORKGROUP_SIZE = 64u;  // lavapipe: 8-lane subgroups, 64..256 per group measured best
+
+// ---- Descriptor bindings (set 0, all storage buffers, shared by every stage) -----------------------------
+FH_CONST uint BINDING_PARAMS = 0u;          // FrameParams, one element
+FH_CONST uint BINDING_BVH_NODES = 1u;       // BvhNode[], depth-first, root at 0
+FH_CONST uint BINDING_TRI_POSITIONS = 2u;   // TrianglePositions[], in BVH leaf order
+FH_CONST uint BINDING_TRI_SHADING = 3u;     // TriangleShading[], same order
+FH_CONST uint BINDING_MATERIALS = 4u;       // Material[]
+FH_CONST uint BINDING_EMITTERS = 5u;        // Emitter[] (alias table over emissive triangles)
+FH_CONST uint BINDING_COUNTERS = 6u;        // QueueCounters, one element (also the indirect-dispatch source)
+FH_CONST uint BINDING_PATHS = 7u;           // PathState[wave capacity]
+FH_CONST uint BINDING_RAYS = 8u;            // RayItem[2 * wave capacity]: two queues, by depth parity
+FH_CONST uint BINDING_HITS = 9u;            // HitItem[wave capacity], aligned with the current ray queue
+FH_CONST uint BINDING_SHADOW_RAYS = 10u;    // ShadowRayItem[wave capacity]
+FH_CONST uint BINDING_FILM = 11u;           // FilmPixel[width * height]
+FH_CONST uint BINDING_COUNT = 12u;
+
+// ---- Constants -----------------------------------------------------------------------------------------
+FH_CONST uint INVALID_INDEX = 0xffffffffu;
+FH_CONST uint CAMERA_PERSPECTIVE = 0u;
+FH_CONST uint CAMERA_ORTHOGRAPHIC = 1u;
+FH_CONST uint FILTER_BOX = 0u;             // one pixel wide
+FH_CONST uint FILTER_GAUSSIAN = 1u;        // truncated Gaussian, importance sampled (weight 1)
+FH_CONST uint MATERIAL_DOUBLE_SIDED = 1u;  // Material.flags
+FH_CONST uint TRIANGLE_HAS_NORMALS = 1u;   // TriangleShading.flags: vertex normals present
+FH_CONST uint RENDER_NEE = 1u;             // FrameParams.flags: next-event estimation
+FH_CONST uint RENDER_MIS = 2u;             // combine NEE and BSDF sampling by MIS (else NEE only)
+FH_CONST uint RENDER_RR = 4u;              // Russian roulette
+FH_CONST uint BVH_LEAF_COUNT_BITS = 16u;   // BvhNode.count_and_axis: low bits count, high bits axis
+
+// ---- Scene ---------------------------------------------------------------------------------------------
+// One node of the linear BVH (pbrt-v4 LinearBVHNode, 32 bytes). Interior nodes: first child is the next
+// node, `child_or_first` is the second child; leaves: `child_or_first` is the first triangle.
+struct BvhNode {
+    float min_x, min_y, min_z;
+    uint child_or_first;
+    float max_x, max_y, max_z;
+    uint count_and_axis;  // triangle count (0 = interior) | split axis << BVH_LEAF_COUNT_BITS
+};
+
+// World-space vertex positions of one triangle; only these are read during traversal (9 words).
+struct TrianglePositions {
+    float p0_x, p0_y, p0_z;
+    float p1_x, p1_y, p1_z;
+    float p2_x, p2_y, p2_z;
+};
+
+// What the shade stage needs of a hit triangle besides its positions.
+struct TriangleShading {
+    float n0_x, n0_y, n0_z;  // world-space vertex normals (valid when flags & TRIANGLE_HAS_NORMALS)
+    float n1_x, n1_y, n1_z;
+    float n2_x, n2_y, n2_z;
+    uint material;
+    uint flags;
+    float light_pdf_area;  // probability of picking this triangle as a light / its area (0: not an emitter)
+};
+
+// glTF 2.0 metallic-roughness material, factors only (texture slots reserved: INVALID_INDEX for now).
+struct Material {
+    vec4 base_color;        // rgb linear, a = alpha (unused)
+    vec4 emission;          // rgb radiance = emissiveFactor * emissiveStrength, a unused
+    vec4 specular_color;    // KHR_materials_specular: rgb = specularColorFactor, a = specularFactor
+    float metallic;
+    float roughness;        // perceptual; alpha = roughness^2
+    float ior;              // KHR_materials_ior (1.5 by default)
+    uint flags;             // MATERIAL_DOUBLE_SIDED
+    uint base_color_texture;
+    uint metallic_roughness_texture;
+    uint normal_texture;
+    uint emissive_texture;
+};
+
+// One entry of the alias table over emissive triangles (Walker 1977; Vose 1991).
+struct Emitter {
+    uint triangle;          // index into the TrianglePositions/TriangleShading arrays
+    float alias_threshold;  // keep this entry if u < threshold, else take `alias`
+    uint alias;
+    float pick_pdf;         // probability of picking this triangle (power / total power)
+};
+
+// ---- Per-render parameters (uploaded once per render) ----------------------------------------------------
+struct FrameParams {
+    vec4 camera_origin;     // xyz world position
+    vec4 camera_right;      // xyz: world right, scaled so that NDC x = 1 maps to it (at unit distance)
+    vec4 camera_up;         // xyz: world up, scaled likewise for NDC y = 1
+    vec4 camera_forward;    // xyz: world view direction (unit)
+    vec4 scene_min;         // xyz: scene bounds (for offsets and diagnostics)
+    vec4 scene_max;
+    uint width;
+    uint height;
+    uint max_depth;         // segments after the camera; 0 = unlimited
+    uint seed;
+    uint camera_type;       // CAMERA_PERSPECTIVE / CAMERA_ORTHOGRAPHIC
+    uint filter_type;       // FILTER_BOX / FILTER_GAUSSIAN
+    float filter_radius;    // pixels (Gaussian: truncation radius; sigma = radius / 3)
+    uint flags;             // RENDER_NEE | RENDER_MIS | RENDER_RR
+    uint emitter_count;
+    uint rr_start_depth;    // Russian roulette starts at this segment count
+    uint wave_capacity;     // paths per wave = length of PathState, HitItem, ShadowRayItem; half of RayItem
+    uint triangle_count;
+};
+
+// Push constants: what changes per wave and per depth.
+struct StagePush {
+    uint depth;             // segments traced so far (0 while tracing camera rays)
+    uint pixel_begin;       // the wave covers pixels [pixel_begin, pixel_begin + pixel_count)
+    uint pixel_count;
+    uint sample_begin;      // and sample indices [sample_begin, sample_begin + sample_count)
+    uint sample_count;
+    uint pad0, pad1, pad2;
+};
+
+// ---- Wavefront state -------------------------------------------------------------------------------------
+struct DispatchArgs {
+    uint x, y, z;
+};
+
+// Queue lengths, indirect dispatch sizes and device-side diagnostic counters.
+struct QueueCounters {
+    uint ray_count[2];          // rays in queue [depth & 1]
+    uint shadow_count;          // shadow rays pushed by the current shade
+    uint shadow_count_active;   // shadow rays the current connect consumes
+    DispatchArgs extend_args;   // indirect dispatch for extend and shade of the next depth
+    DispatchArgs connect_args;  // indirect dispatch for connect
+    uint nonfinite_samples;     // samples whose radiance was NaN/Inf (counted before the guard)
+    uint escaped_rays;          // extension rays that left the scene
+    uint pad0, pad1;
+};
+
+// Per-path state, 8 words; index = path id within the wave.
+struct PathState {
+    float throughput_r, throughput_g, throughput_b;
+    float bsdf_pdf;             // solid-angle pdf of the last sampled direction (0: camera or delta)
+    float radiance_r, radiance_g, radiance_b;
+    uint rng;
+};
+
+// A ray waiting for its closest hit.
+struct RayItem {
+    float origin_x, origin_y, origin_z;
+    uint path;
+    float dir_x, dir_y, dir_z;
+    float pad;
+};
+
+// Result of the extend stage for the ray at the same queue index.
+struct HitItem {
+    float t;
+    uint triangle;              // INVALID_INDEX: the ray escaped
+    float b1, b2;               // barycentrics of p1 and p2
+};
+
+// A shadow ray and the contribution it carries if unoccluded (next-event estimation).
+struct ShadowRayItem {
+    float origin_x, origin_y, origin_z;
+    uint path;
+    float dir_x, dir_y, dir_z;
+    float t_max;
+    float contrib_r, contrib_g, contrib_b;
+    float pad;
+};
+
+// Accumulated film pixel: Kahan-compensated sum of sample radiance (Kahan 1965).
+struct FilmPixel {
+    float sum_r, sum_g, sum_b;
+    float sample_count;
+    float comp_r, comp_g, comp_b;
+    float pad;
+};
+
+#ifdef __cplusplus
+}  // namespace fh::gpu
+#endif
+#undef FH_CONST
+#endif
