@@ -144,9 +144,11 @@ struct QueueCounters {
     uint shadow_count_active;   // shadow rays the current connect consumes
     DispatchArgs extend_args;   // indirect dispatch for extend and shade of the next depth
     DispatchArgs connect_args;  // indirect dispatch for connect
+    // Diagnostics for the current wave (zeroed by generate, read by the host after each wave).
     uint nonfinite_samples;     // samples whose radiance was NaN/Inf (counted before the guard)
     uint escaped_rays;          // extension rays that left the scene
-    uint pad0, pad1;
+    uint traced_rays;           // closest-hit rays traced
+    uint traced_shadow_rays;    // shadow rays traced
 };
 
 // Per-path state, 8 words; index = path id within the wave.

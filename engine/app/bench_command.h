@@ -1,0 +1,26 @@
+// `fredholm bench`: renders a scene at several resolutions and prints samples/s, rays/s and stage times.
+#pragma once
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace CLI {
+class App;
+}
+
+namespace fh {
+
+struct BenchCommand {
+    std::filesystem::path scene;          // default: the shipped Cornell box
+    std::vector<uint32_t> sizes{256, 512};
+    uint32_t spp = 64;
+    uint32_t max_depth = 10;
+    uint32_t repeats = 3;
+    std::filesystem::path json;
+    std::string device;
+};
+
+void add_bench_options(CLI::App& app, BenchCommand& command);
+int run_bench(const BenchCommand& command);
+
+}  // namespace fh

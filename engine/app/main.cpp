@@ -1,0 +1,32 @@
+// The fredholm command line: sub-commands render and bench; one clear error line and a non-zero exit on
+// any failure (1: the scene, the device or a file; 2: bad usage).
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <exception>
+
+#include "app/bench_command.h"
+#include "app/render_command.h"
+
+int main(int argc, char** argv) {
+    CLI::App app{"Fredholm: an unbiased path tracer for glTF 2.0 on Vulkan compute"};
+    app.require_subcommand(1);
+    fh::RenderCommand render;
+    fh::add_render_options(*app.add_subcommand("render", "render a glTF scene to OpenEXR"), render);
+    fh::BenchCommand bench;
+    fh::add_bench_options(*app.add_subcommand("bench", "time the Cornell box at 256x256 and 512x512"), bench);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::Success& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::fprintf(stderr, "fredholm: usage error: %s (see fredholm --help)\n", e.what());
+        return 2;
+    }
+    try {
+        if (app.got_subcommand("render")) return fh::run_render(render);
+        return fh::run_bench(bench);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "fredholm: error: %s\n", e.what());
+        return 1;
+    }
+}

@@ -1,0 +1,33 @@
+// `fredholm render`: one scene, one camera, to EXR (plus optional PNG preview and JSON statistics).
+#pragma once
+#include <filesystem>
+#include <string>
+
+#include "io/tone_curve.h"
+#include "render/renderer.h"
+#include "render/settings.h"
+
+namespace CLI {
+class App;
+}
+
+namespace fh {
+
+struct RenderCommand {
+    std::filesystem::path scene;
+    std::filesystem::path output;
+    std::filesystem::path png;
+    std::filesystem::path stats;
+    RenderSettings settings;
+    float exposure_ev = 0.0f;
+    ToneCurve tone_curve = ToneCurve::aces;
+    bool validation = false;
+    std::string device;
+    bool quiet = false;
+};
+
+void add_render_options(CLI::App& app, RenderCommand& command);
+// Returns the process exit code (0, or 130 when interrupted after writing the partial image).
+int run_render(const RenderCommand& command);
+
+}  // namespace fh

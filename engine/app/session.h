@@ -1,0 +1,31 @@
+// What every sub-command that renders needs: the scene loaded, its BVH built and packed, a Vulkan device.
+#pragma once
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include "scene/bvh.h"
+#include "scene/pack.h"
+#include "scene/scene.h"
+#include "vk/context.h"
+
+namespace fh {
+
+struct PreparedScene {
+    Scene scene;
+    PackedScene packed;
+    double load_seconds = 0;
+    double bvh_build_seconds = 0;
+    double sah_cost = 0;
+    size_t bvh_nodes = 0;
+    uint32_t bvh_depth = 0;
+};
+
+// Loads and packs a scene; prints the loader's warnings to stderr.
+PreparedScene prepare_scene(const std::filesystem::path& file);
+
+// A Vulkan context for compute; validation when asked or when FREDHOLM_VALIDATION=1.
+std::unique_ptr<vk::Context> make_compute_context(bool validation, const std::string& device_filter);
+bool validation_requested_by_environment();
+
+}  // namespace fh

@@ -1,0 +1,34 @@
+// Camera basis vectors in world space, computed in double precision from the node transform.
+#include "render/camera_setup.h"
+
+#include <cmath>
+#include <string>
+
+namespace fh {
+
+void set_frame_camera(gpu::FrameParams& frame, const SceneCamera& camera, uint32_t width, uint32_t height) {
+    const glm::dmat4& m = camera.world_from_camera;
+    glm::dvec3 origin = glm::dvec3(m[3]);
+    // glTF cameras look down -Z with +Y up; columns of the matrix are the camera axes in world space.
+    glm::dvec3 right = glm::normalize(glm::dvec3(m[0]));
+    glm::dvec3 up = glm::normalize(glm::dvec3(m[1]));
+    glm::dvec3 forward = -glm::normalize(glm::dvec3(m[2]));
+    double aspect = double(width) / double(height);
+    double half_h = camera.orthographic ? camera.ymag : std::tan(0.5 * camera.yfov);
+    double half_w = half_h * aspect;
+    frame.camera_origin = glm::vec4(glm::vec3(origin), 0.0f);
+    frame.camera_right = glm::vec4(glm::vec3(right * half_w), 0.0f);
+    frame.camera_up = glm::vec4(glm::vec3(up * half_h), 0.0f);
+    frame.camera_forward = glm::vec4(glm::vec3(forward), 0.0f);
+    frame.camera_type = camera.orthographic ? gpu::CAMERA_ORTHOGRAPHIC : gpu::CAMERA_PERSPECTIVE;
+}
+
+SceneCamera choose_camera(const Scene& scene, int index) {
+    if (index < 0) return scene.cameras.empty() ? make_default_camera(scene) : scene.cameras.front();
+    if (size_t(index) >= scene.cameras.size())
+        throw SceneError(scene.source.string() + ": camera " + std::to_string(index) + " requested, but the scene has " +
+                         std::to_string(scene.cameras.size()) + " camera(s)");
+    return scene.cameras[size_t(index)];
+}
+
+}  // namespace fh

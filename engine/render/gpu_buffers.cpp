@@ -1,0 +1,62 @@
+// Allocates and fills the device buffers; empty arrays get one dummy element (Vulkan has no empty buffers).
+#include "render/gpu_buffers.h"
+
+#include <vector>
+
+#include "vk/context.h"
+#include "vk/pipeline.h"
+
+namespace fh {
+namespace {
+
+constexpr VkBufferUsageFlags STORAGE = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+
+template <typename T>
+vk::Buffer make_filled_buffer(const vk::Context& context, const std::vector<T>& items) {
+    size_t size = std::max<size_t>(items.size(), 1) * sizeof(T);
+    vk::Buffer buffer(context, size, STORAGE, vk::MemoryUse::device);
+    if (!items.empty()) vk::upload_to_buffer(context, buffer, items.data(), items.size() * sizeof(T));
+    return buffer;
+}
+
+vk::Buffer make_state_buffer(const vk::Context& context, size_t size, VkBufferUsageFlags extra = 0) {
+    return vk::Buffer(context, size, STORAGE | extra, vk::MemoryUse::device);
+}
+
+}  // namespace
+
+GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& scene, const gpu::FrameParams& frame) {
+    GpuBuffers b;
+    b.params = make_filled_buffer(context, std::vector<gpu::FrameParams>{frame});
+    b.nodes = make_filled_buffer(context, scene.nodes);
+    b.tri_positions = make_filled_buffer(context, scene.positions);
+    b.tri_shading = make_filled_buffer(context, scene.shading);
+    b.materials = make_filled_buffer(context, scene.materials);
+    b.emitters = make_filled_buffer(context, scene.emitters);
+    const size_t capacity = frame.wave_capacity;
+    b.counters = make_state_buffer(context, sizeof(gpu::QueueCounters), VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT);
+    b.counters_readback = vk::Buffer(context, sizeof(gpu::QueueCounters), STORAGE, vk::MemoryUse::host);
+    b.paths = make_state_buffer(context, capacity * sizeof(gpu::PathState));
+    b.rays = make_state_buffer(context, 2 * capacity * sizeof(gpu::RayItem));
+    b.hits = make_state_buffer(context, capacity * sizeof(gpu::HitItem));
+    b.shadow_rays = make_state_buffer(context, capacity * sizeof(gpu::ShadowRayItem));
+    b.film = make_state_buffer(context, size_t(frame.width) * frame.height * sizeof(gpu::FilmPixel));
+    return b;
+}
+
+void bind_gpu_buffers(vk::BindingTable& table, const GpuBuffers& b) {
+    table.bind_buffer(gpu::BINDING_PARAMS, b.params);
+    table.bind_buffer(gpu::BINDING_BVH_NODES, b.nodes);
+    table.bind_buffer(gpu::BINDING_TRI_POSITIONS, b.tri_positions);
+    table.bind_buffer(gpu::BINDING_TRI_SHADING, b.tri_shading);
+    table.bind_buffer(gpu::BINDING_MATERIALS, b.materials);
+    table.bind_buffer(gpu::BINDING_EMITTERS, b.emitters);
+    table.bind_buffer(gpu::BINDING_COUNTERS, b.counters);
+    table.bind_buffer(gpu::BINDING_PATHS, b.paths);
+    table.bind_buffer(gpu::BINDING_RAYS, b.rays);
+    table.bind_buffer(gpu::BINDING_HITS, b.hits);
+    table.bind_buffer(gpu::BINDING_SHADOW_RAYS, b.shadow_rays);
+    table.bind_buffer(gpu::BINDING_FILM, b.film);
+}
+
+}  // namespace fh

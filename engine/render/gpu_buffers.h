@@ -1,0 +1,35 @@
+// The device buffers of a render: the packed scene (read-only) and the wavefront state (queues, film).
+#pragma once
+#include <cstdint>
+
+#include "scene/pack.h"
+#include "shared/layout.h"
+#include "vk/buffer.h"
+
+namespace fh {
+
+namespace vk {
+class BindingTable;
+class Context;
+}  // namespace vk
+
+struct GpuBuffers {
+    vk::Buffer params;
+    vk::Buffer nodes;
+    vk::Buffer tri_positions;
+    vk::Buffer tri_shading;
+    vk::Buffer materials;
+    vk::Buffer emitters;
+    vk::Buffer counters;           // device-local: atomics stay on the device
+    vk::Buffer counters_readback;  // host-visible copy made at the end of each submission
+    vk::Buffer paths;
+    vk::Buffer rays;
+    vk::Buffer hits;
+    vk::Buffer shadow_rays;
+    vk::Buffer film;
+};
+
+GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& scene, const gpu::FrameParams& frame);
+void bind_gpu_buffers(vk::BindingTable& table, const GpuBuffers& buffers);
+
+}  // namespace fh

@@ -1,0 +1,182 @@
+// The wavefront bounce loop (cf. pbrt-v4 WavefrontPathIntegrator::Render): per wave, generate camera
+// paths; then per depth extend, shade, advance, connect; then accumulate into the film.
+#include "render/renderer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstddef>
+
+#include "render/camera_setup.h"
+#include "vk/context.h"
+
+namespace fh {
+namespace {
+
+// With unlimited depth the host looks at the queue length every this many bounces (one readback per
+// submission, never between stages). Also bounds the work per submission (GPU watchdogs).
+constexpr uint32_t DEPTHS_PER_SUBMIT = 16;
+constexpr uint32_t MAX_DISPATCHES_PER_SUBMIT = 2 + 4 * DEPTHS_PER_SUBMIT;
+
+uint32_t group_count(uint64_t invocations) {
+    return uint32_t((invocations + gpu::WORKGROUP_SIZE - 1) / gpu::WORKGROUP_SIZE);
+}
+
+gpu::StagePush make_push(uint32_t depth, const Wave& wave) {
+    gpu::StagePush push{};
+    push.depth = depth;
+    push.pixel_begin = wave.pixel_begin;
+    push.pixel_count = wave.pixel_count;
+    push.sample_begin = wave.sample_begin;
+    push.sample_count = wave.sample_count;
+    return push;
+}
+
+gpu::FrameParams make_frame(const PackedScene& scene, const SceneCamera& camera, const RenderSettings& s,
+                            glm::dvec3 bounds_min, glm::dvec3 bounds_max) {
+    gpu::FrameParams f{};
+    set_frame_camera(f, camera, s.width, s.height);
+    f.scene_min = glm::vec4(glm::vec3(bounds_min), 0.0f);
+    f.scene_max = glm::vec4(glm::vec3(bounds_max), 0.0f);
+    f.width = s.width;
+    f.height = s.height;
+    f.max_depth = s.max_depth;
+    f.seed = s.seed;
+    f.filter_type = s.filter == PixelFilter::gaussian ? gpu::FILTER_GAUSSIAN : gpu::FILTER_BOX;
+    f.filter_radius = s.filter_radius;
+    f.flags = (s.nee ? gpu::RENDER_NEE : 0u) | (s.mis ? gpu::RENDER_MIS : 0u) |
+              (s.russian_roulette ? gpu::RENDER_RR : 0u);
+    f.emitter_count = uint32_t(scene.emitters.size());
+    f.rr_start_depth = s.rr_start_depth;
+    uint64_t pixels = uint64_t(s.width) * s.height;
+    f.wave_capacity = uint32_t(std::min<uint64_t>(s.wave_paths, pixels * s.spp));
+    f.triangle_count = uint32_t(scene.positions.size());
+    return f;
+}
+
+}  // namespace
+
+const char* to_string(PixelFilter filter) { return filter == PixelFilter::gaussian ? "gaussian" : "box"; }
+
+std::vector<Wave> plan_waves(uint32_t pixel_count, uint32_t sample_begin, uint32_t sample_end, uint32_t capacity) {
+    std::vector<Wave> waves;
+    if (pixel_count <= capacity) {
+        uint32_t per_wave = capacity / pixel_count;
+        for (uint32_t s = sample_begin; s < sample_end; s += per_wave)
+            waves.push_back({0, pixel_count, s, std::min(per_wave, sample_end - s)});
+    } else {
+        for (uint32_t s = sample_begin; s < sample_end; ++s)
+            for (uint32_t p = 0; p < pixel_count; p += capacity)
+                waves.push_back({p, std::min(capacity, pixel_count - p), s, 1});
+    }
+    return waves;
+}
+
+Renderer::Renderer(const vk::Context& context, const PackedScene& scene, const SceneCamera& camera,
+                   const RenderSettings& settings, glm::dvec3 bounds_min, glm::dvec3 bounds_max)
+    : context_(context),
+      settings_(settings),
+      frame_(make_frame(scene, camera, settings, bounds_min, bounds_max)),
+      stages_(context),
+      buffers_(create_gpu_buffers(context, scene, frame_)),
+      recorder_(context, MAX_DISPATCHES_PER_SUBMIT),
+      has_lights_(!scene.emitters.empty()) {
+    bind_gpu_buffers(stages_.bindings(), buffers_);
+}
+
+RenderStats Renderer::render(const ProgressCallback& progress) {
+    RenderStats stats;
+    recorder_.begin();
+    recorder_.fill_buffer(buffers_.film, 0);
+    recorder_.fill_buffer(buffers_.counters, 0);
+    recorder_.submit_and_wait();
+
+    const uint32_t pixels = settings_.width * settings_.height;
+    const auto start = std::chrono::steady_clock::now();
+    for (const Wave& wave : plan_waves(pixels, 0, settings_.spp, frame_.wave_capacity)) {
+        trace_wave(wave, stats);
+        // A wave ends a sample index once it reaches the last pixel.
+        if (wave.pixel_begin + wave.pixel_count == pixels) stats.spp_done = wave.sample_begin + wave.sample_count;
+        if (progress && !progress(stats.spp_done, settings_.spp)) break;
+    }
+    stats.render_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return stats;
+}
+
+void Renderer::trace_wave(const Wave& wave, RenderStats& stats) {
+    recorder_.begin();
+    recorder_.bind_table(stages_.bindings());
+    gpu::StagePush push = make_push(0, wave);
+    recorder_.push_constants(&push, sizeof(push));
+    recorder_.dispatch(stages_[Stage::generate], group_count(uint64_t(wave.pixel_count) * wave.sample_count));
+
+    const uint32_t max_depth = settings_.max_depth;
+    uint32_t depth = 0;
+    while (true) {
+        uint32_t chunk_end = depth + DEPTHS_PER_SUBMIT;
+        if (max_depth) chunk_end = std::min(chunk_end, max_depth);
+        for (; depth < chunk_end; ++depth) record_bounce(depth, wave);
+        bool finished = max_depth && depth >= max_depth;
+        if (!finished) {
+            submit(stats);
+            const auto* counters = static_cast<const gpu::QueueCounters*>(buffers_.counters_readback.mapped());
+            finished = counters->ray_count[depth & 1u] == 0;
+            recorder_.begin();
+            recorder_.bind_table(stages_.bindings());
+        }
+        if (finished) break;
+    }
+    push = make_push(depth, wave);
+    recorder_.push_constants(&push, sizeof(push));
+    recorder_.barrier_compute();
+    recorder_.dispatch(stages_[Stage::accumulate], group_count(wave.pixel_count));
+    submit(stats);
+
+    const auto* counters = static_cast<const gpu::QueueCounters*>(buffers_.counters_readback.mapped());
+    stats.traced_rays += counters->traced_rays;
+    stats.traced_shadow_rays += counters->traced_shadow_rays;
+    stats.nonfinite_samples += counters->nonfinite_samples;
+    stats.escaped_rays += counters->escaped_rays;
+}
+
+void Renderer::record_bounce(uint32_t depth, const Wave& wave) {
+    gpu::StagePush push = make_push(depth, wave);
+    recorder_.push_constants(&push, sizeof(push));
+    recorder_.barrier_compute();
+    recorder_.dispatch_indirect(stages_[Stage::extend], buffers_.counters, offsetof(gpu::QueueCounters, extend_args));
+    recorder_.barrier_compute();
+    recorder_.dispatch_indirect(stages_[Stage::shade], buffers_.counters, offsetof(gpu::QueueCounters, extend_args));
+    recorder_.barrier_compute();
+    recorder_.dispatch(stages_[Stage::advance], 1);
+    if (has_lights_ && settings_.nee) {
+        recorder_.barrier_compute();
+        recorder_.dispatch_indirect(stages_[Stage::connect], buffers_.counters,
+                                    offsetof(gpu::QueueCounters, connect_args));
+    }
+}
+
+void Renderer::submit(RenderStats& stats) {
+    recorder_.barrier_compute();
+    recorder_.copy_buffer(buffers_.counters, 0, buffers_.counters_readback, 0, sizeof(gpu::QueueCounters));
+    recorder_.submit_and_wait();
+    for (const auto& [name, seconds] : recorder_.dispatch_seconds()) stats.stage_seconds[name] += seconds;
+}
+
+Image Renderer::read_film() const {
+    const size_t pixels = size_t(settings_.width) * settings_.height;
+    std::vector<gpu::FilmPixel> film(pixels);
+    vk::download_from_buffer(context_, buffers_.film, film.data(), pixels * sizeof(gpu::FilmPixel));
+    Image image;
+    image.width = int(settings_.width);
+    image.height = int(settings_.height);
+    image.rgb.resize(pixels * 3);
+    for (size_t i = 0; i < pixels; ++i) {
+        float n = film[i].sample_count > 0 ? film[i].sample_count : 1.0f;
+        // Kahan: the compensation holds the negated lost low-order part, so subtract it.
+        image.rgb[3 * i + 0] = float((double(film[i].sum_r) - double(film[i].comp_r)) / n);
+        image.rgb[3 * i + 1] = float((double(film[i].sum_g) - double(film[i].comp_g)) / n);
+        image.rgb[3 * i + 2] = float((double(film[i].sum_b) - double(film[i].comp_b)) / n);
+    }
+    return image;
+}
+
+}  // namespace fh

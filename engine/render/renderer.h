@@ -1,0 +1,63 @@
+// A path-traced render of one scene and camera: owns the stage pipelines, buffers and film.
+#pragma once
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "io/image.h"
+#include "render/gpu_buffers.h"
+#include "render/settings.h"
+#include "render/stage_table.h"
+#include "scene/pack.h"
+#include "scene/scene.h"
+#include "vk/commands.h"
+
+namespace fh {
+
+struct RenderStats {
+    uint32_t spp_done = 0;
+    double render_seconds = 0;              // wall time of the wave loop (GPU work; no loading or setup)
+    std::map<std::string, double> stage_seconds;  // GPU timestamps, summed per stage name
+    uint64_t traced_rays = 0;
+    uint64_t traced_shadow_rays = 0;
+    uint64_t nonfinite_samples = 0;
+    uint64_t escaped_rays = 0;
+};
+
+// Pixel and sample ranges one wave covers (see StagePush).
+struct Wave {
+    uint32_t pixel_begin, pixel_count, sample_begin, sample_count;
+};
+// Splits samples [sample_begin, sample_end) of `pixel_count` pixels into waves of at most `capacity` paths.
+std::vector<Wave> plan_waves(uint32_t pixel_count, uint32_t sample_begin, uint32_t sample_end, uint32_t capacity);
+
+// Called after each wave with the samples per pixel finished so far; return false to stop early.
+using ProgressCallback = std::function<bool(uint32_t spp_done, uint32_t spp_total)>;
+
+class Renderer {
+public:
+    Renderer(const vk::Context& context, const PackedScene& scene, const SceneCamera& camera,
+             const RenderSettings& settings, glm::dvec3 bounds_min, glm::dvec3 bounds_max);
+
+    // Renders settings.spp samples per pixel into a cleared film.
+    RenderStats render(const ProgressCallback& progress = {});
+    // The film's mean radiance per pixel (scene-linear Rec.709).
+    Image read_film() const;
+
+private:
+    void trace_wave(const Wave& wave, RenderStats& stats);
+    void record_bounce(uint32_t depth, const Wave& wave);
+    void submit(RenderStats& stats);
+
+    const vk::Context& context_;
+    RenderSettings settings_;
+    gpu::FrameParams frame_{};
+    StageTable stages_;
+    GpuBuffers buffers_;
+    vk::CommandRecorder recorder_;
+    bool has_lights_;
+};
+
+}  // namespace fh

@@ -1,0 +1,28 @@
+// What a render is asked to do: film size, samples, path length, sampling switches.
+#pragma once
+#include <cstdint>
+#include <string>
+
+namespace fh {
+
+enum class PixelFilter { box, gaussian };
+
+struct RenderSettings {
+    uint32_t width = 512;
+    uint32_t height = 512;
+    uint32_t spp = 64;
+    uint32_t max_depth = 0;        // segments after the camera; 0 = unlimited (Russian roulette ends paths)
+    uint32_t seed = 0;
+    int camera = -1;               // glTF camera index in scene order; -1 = first camera or default framing
+    PixelFilter filter = PixelFilter::box;
+    float filter_radius = 1.5f;    // Gaussian truncation radius in pixels
+    bool nee = true;               // next-event estimation
+    bool mis = true;               // MIS between NEE and BSDF sampling
+    bool russian_roulette = true;
+    uint32_t rr_start_depth = 3;   // roulette from this many segments on
+    uint32_t wave_paths = 1u << 18;  // paths in flight per wave (memory ~ 160 bytes each)
+};
+
+const char* to_string(PixelFilter filter);
+
+}  // namespace fh

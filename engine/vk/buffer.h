@@ -1,0 +1,43 @@
+// Storage buffers: creation, memory, and host<->device copies (mapped where possible, staged otherwise).
+#pragma once
+#include <cstddef>
+#include <vulkan/vulkan.h>
+
+namespace fh::vk {
+
+class Context;
+
+enum class MemoryUse {
+    device,   // device-local; filled and read through staging copies
+    host,     // host-visible and coherent (mapped), device-local too where the device offers it
+};
+
+class Buffer {
+public:
+    Buffer() = default;
+    Buffer(const Context& context, VkDeviceSize size, VkBufferUsageFlags usage, MemoryUse use);
+    ~Buffer();
+    Buffer(Buffer&& other) noexcept;
+    Buffer& operator=(Buffer&& other) noexcept;
+    Buffer(const Buffer&) = delete;
+    Buffer& operator=(const Buffer&) = delete;
+
+    VkBuffer handle() const { return buffer_; }
+    VkDeviceSize size() const { return size_; }
+    void* mapped() const { return mapped_; }  // nullptr unless host-visible
+
+private:
+    void release();
+    VkDevice device_ = VK_NULL_HANDLE;
+    VkBuffer buffer_ = VK_NULL_HANDLE;
+    VkDeviceMemory memory_ = VK_NULL_HANDLE;
+    VkDeviceSize size_ = 0;
+    void* mapped_ = nullptr;
+};
+
+// Copies host data into a buffer (staging when it is not mapped); waits for completion.
+void upload_to_buffer(const Context& context, Buffer& target, const void* data, size_t size, size_t offset = 0);
+// Copies buffer contents back to the host; waits for completion.
+void download_from_buffer(const Context& context, const Buffer& source, void* data, size_t size, size_t offset = 0);
+
+}  // namespace fh::vk

@@ -1,0 +1,22 @@
+// Stage "connect": visibility of every shadow ray pushed by shade; unoccluded ones add their light
+// contribution to their path. Reads: shadow_rays, counters.shadow_count_active, BVH. Writes: paths[].radiance.
+// A path pushes at most one shadow ray per depth, so the read-modify-write needs no atomics.
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "lib/bindings.glsl"
+#include "lib/queue.glsl"
+#include "lib/traverse.glsl"
+
+layout(local_size_x = WORKGROUP_SIZE) in;
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= counters.shadow_count_active) return;
+    ShadowRayItem s = shadow_rays[i];
+    TraceHit hit = trace_ray(vec3(s.origin_x, s.origin_y, s.origin_z), vec3(s.dir_x, s.dir_y, s.dir_z), s.t_max, true);
+    COUNT_IN_SUBGROUP(counters.traced_shadow_rays, 1u);
+    if (hit.triangle != INVALID_INDEX) return;
+    paths[s.path].radiance_r += s.contrib_r;
+    paths[s.path].radiance_g += s.contrib_g;
+    paths[s.path].radiance_b += s.contrib_b;
+}

@@ -1,0 +1,27 @@
+// Stage "extend": finds the closest hit of every ray in the current queue.
+// Reads: rays[queue depth & 1], counters.ray_count, BVH nodes, triangle positions.
+// Writes: hits[i] for ray i; counters.escaped_rays.
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "lib/bindings.glsl"
+#include "lib/queue.glsl"
+#include "lib/traverse.glsl"
+
+layout(local_size_x = WORKGROUP_SIZE) in;
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    uint parity = push.depth & 1u;
+    if (i >= counters.ray_count[parity]) return;
+    RayItem ray = rays[ray_slot(parity, i)];
+    TraceHit hit = trace_ray(vec3(ray.origin_x, ray.origin_y, ray.origin_z), vec3(ray.dir_x, ray.dir_y, ray.dir_z),
+                             uintBitsToFloat(0x7f800000u), false);
+    HitItem item;
+    item.t = hit.t;
+    item.triangle = hit.triangle;
+    item.b1 = hit.b1;
+    item.b2 = hit.b2;
+    hits[i] = item;
+    COUNT_IN_SUBGROUP(counters.escaped_rays, hit.triangle == INVALID_INDEX ? 1u : 0u);
+    COUNT_IN_SUBGROUP(counters.traced_rays, 1u);
+}

@@ -1,0 +1,64 @@
+// Stage "generate": starts one path per (pixel, sample) of the wave.
+// Reads: params, push (wave's pixel and sample ranges). Writes: rays[queue 0], paths, counters (queue 0
+// length, indirect size of the first extend/shade).
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "lib/bindings.glsl"
+#include "lib/rng.glsl"
+#include "lib/sampling.glsl"
+#include "lib/camera.glsl"
+
+layout(local_size_x = WORKGROUP_SIZE) in;
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    uint total = push.pixel_count * push.sample_count;
+    if (i == 0u) {
+        counters.ray_count[0] = total;
+        counters.ray_count[1] = 0u;
+        counters.shadow_count = 0u;
+        counters.nonfinite_samples = 0u;
+        counters.escaped_rays = 0u;
+        counters.traced_rays = 0u;
+        counters.traced_shadow_rays = 0u;
+        counters.extend_args.x = (total + WORKGROUP_SIZE - 1u) / WORKGROUP_SIZE;
+        counters.extend_args.y = 1u;
+        counters.extend_args.z = 1u;
+        counters.connect_args.y = 1u;
+        counters.connect_args.z = 1u;
+    }
+    if (i >= total) return;
+
+    // Sample-major order inside the wave: path i is sample i / pixel_count of pixel i % pixel_count.
+    uint pixel = push.pixel_begin + i % push.pixel_count;
+    uint sample_index = push.sample_begin + i / push.pixel_count;
+    uint rng = init_rng(pixel, sample_index, params.seed);
+
+    vec2 u = vec2(next_float(rng), next_float(rng));
+    vec2 offset = (params.filter_type == FILTER_GAUSSIAN) ? sample_gaussian_filter(u, params.filter_radius)
+                                                           : u - vec2(0.5f);
+    vec2 film = vec2(float(pixel % params.width), float(pixel / params.width)) + vec2(0.5f) + offset;
+    CameraRay ray = make_camera_ray(film);
+
+    RayItem item;
+    item.origin_x = ray.origin.x;
+    item.origin_y = ray.origin.y;
+    item.origin_z = ray.origin.z;
+    item.path = i;
+    item.dir_x = ray.dir.x;
+    item.dir_y = ray.dir.y;
+    item.dir_z = ray.dir.z;
+    item.pad = 0.0f;
+    rays[ray_slot(0u, i)] = item;
+
+    PathState state;
+    state.throughput_r = 1.0f;
+    state.throughput_g = 1.0f;
+    state.throughput_b = 1.0f;
+    state.bsdf_pdf = 0.0f;
+    state.radiance_r = 0.0f;
+    state.radiance_g = 0.0f;
+    state.radiance_b = 0.0f;
+    state.rng = rng;
+    paths[i] = state;
+}

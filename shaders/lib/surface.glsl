@@ -1,0 +1,44 @@
+// Reconstructs the surface at a hit from the triangle buffers: position, its error bound, normals.
+#ifndef FH_SURFACE_GLSL
+#define FH_SURFACE_GLSL
+#include "ray_offset.glsl"
+
+struct SurfaceHit {
+    vec3 p;          // interpolated from the vertices (more accurate than origin + t dir)
+    vec3 p_error;    // absolute float error bound of p
+    vec3 ng;         // unit geometric normal (winding order: (p1 - p0) x (p2 - p0))
+    vec3 ns;         // unit shading normal, on the same side of the surface as ng
+    uint material;
+    float light_pdf_area;
+    float area;
+};
+
+SurfaceHit load_surface(uint triangle, float b1, float b2) {
+    TrianglePositions tp = tri_positions[triangle];
+    TriangleShading ts = tri_shading[triangle];
+    vec3 p0 = vec3(tp.p0_x, tp.p0_y, tp.p0_z);
+    vec3 p1 = vec3(tp.p1_x, tp.p1_y, tp.p1_z);
+    vec3 p2 = vec3(tp.p2_x, tp.p2_y, tp.p2_z);
+    float b0 = 1.0f - b1 - b2;
+    SurfaceHit s;
+    s.p = b0 * p0 + b1 * p1 + b2 * p2;
+    s.p_error = bound_interpolation_error(p0, p1, p2, b0, b1, b2);
+    vec3 c = cross(p1 - p0, p2 - p0);
+    float len = length(c);
+    s.area = 0.5f * len;
+    s.ng = len > 0.0f ? c / len : vec3(0.0f, 0.0f, 1.0f);
+    s.ns = s.ng;
+    if ((ts.flags & TRIANGLE_HAS_NORMALS) != 0u) {
+        vec3 n = b0 * vec3(ts.n0_x, ts.n0_y, ts.n0_z) + b1 * vec3(ts.n1_x, ts.n1_y, ts.n1_z) +
+                 b2 * vec3(ts.n2_x, ts.n2_y, ts.n2_z);
+        float n_len = length(n);
+        if (n_len > 0.0f && !isnan(n_len) && !isinf(n_len)) {
+            n /= n_len;
+            s.ns = dot(n, s.ng) < 0.0f ? -n : n;
+        }
+    }
+    s.material = ts.material;
+    s.light_pdf_area = ts.light_pdf_area;
+    return s;
+}
+#endif

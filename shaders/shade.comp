@@ -1,0 +1,157 @@
+// Stage "shade": one path vertex per queued ray. Adds emission seen by the ray (MIS-weighted against light
+// sampling), samples a light and pushes a shadow ray (next-event estimation), samples the BSDF, applies
+// Russian roulette and pushes the continuation ray.
+// Reads: rays[queue depth & 1], hits, paths, triangles, materials, emitters.
+// Writes: paths, rays[queue (depth + 1) & 1], shadow_rays, counters.ray_count / shadow_count.
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "lib/bindings.glsl"
+#include "lib/queue.glsl"
+#include "lib/rng.glsl"
+#include "lib/sampling.glsl"
+#include "lib/bsdf.glsl"
+#include "lib/surface.glsl"
+#include "lib/lights.glsl"
+
+layout(local_size_x = WORKGROUP_SIZE) in;
+
+float max_component(vec3 v) { return max(v.x, max(v.y, v.z)); }
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    uint parity = push.depth & 1u;
+    if (i >= counters.ray_count[parity]) return;
+    RayItem ray = rays[ray_slot(parity, i)];
+    HitItem hit = hits[i];
+    uint path = ray.path;
+    PathState state = paths[path];
+    vec3 beta = vec3(state.throughput_r, state.throughput_g, state.throughput_b);
+    vec3 radiance = vec3(state.radiance_r, state.radiance_g, state.radiance_b);
+    uint rng = state.rng;
+    uint segments = push.depth + 1u;  // segments of this path including the ray just traced
+
+    bool push_shadow = false;
+    bool push_ray = false;
+    ShadowRayItem shadow;
+    RayItem next;
+    next.path = path;
+    next.pad = 0.0f;
+    shadow.path = path;
+    shadow.pad = 0.0f;
+
+    if (hit.triangle != INVALID_INDEX) {
+        vec3 dir = vec3(ray.dir_x, ray.dir_y, ray.dir_z);
+        vec3 wo = -dir;
+        SurfaceHit s = load_surface(hit.triangle, hit.b1, hit.b2);
+        Material m = materials[s.material];
+        bool front = dot(s.ng, wo) > 0.0f;
+        bool double_sided = (m.flags & MATERIAL_DOUBLE_SIDED) != 0u;
+
+        // Emission. Paths that could also have sampled this light by NEE are weighted by the power
+        // heuristic (Veach 1997, eq. 9.13); with NEE on and MIS off, only NEE counts light from surfaces.
+        vec3 emission = m.emission.xyz;
+        if ((front || double_sided) && max_component(emission) > 0.0f) {
+            float weight = 1.0f;
+            bool nee = (params.flags & RENDER_NEE) != 0u && state.bsdf_pdf > 0.0f;
+            if (nee) {
+                if ((params.flags & RENDER_MIS) != 0u) {
+                    float cos_light = abs(dot(s.ng, wo));
+                    float light_pdf = s.light_pdf_area * hit.t * hit.t / cos_light;
+                    weight = power_heuristic(state.bsdf_pdf, light_pdf);
+                } else {
+                    weight = 0.0f;
+                }
+            }
+            radiance += beta * emission * weight;
+        }
+
+        bool may_extend = params.max_depth == 0u || segments < params.max_depth;
+        if (may_extend) {
+            // Both normals on the side the ray came from: this BSDF reflects only.
+            vec3 ng = front ? s.ng : -s.ng;
+            vec3 ns = front ? s.ns : -s.ns;
+            Frame frame = make_frame(ns);
+            vec3 wo_local = to_local(frame, wo);
+            BsdfParams bsdf = make_bsdf_params(m);
+
+            float u_pick = next_float(rng);
+            vec2 u_light = vec2(next_float(rng), next_float(rng));
+            if ((params.flags & RENDER_NEE) != 0u && params.emitter_count > 0u) {
+                LightSample light = sample_light(u_pick, u_light);
+                vec3 to_light = light.p - s.p;
+                float dist2 = dot(to_light, to_light);
+                float dist = sqrt(dist2);
+                vec3 wi = to_light / dist;
+                float cos_light = -dot(light.n, wi);
+                bool emits = cos_light > 0.0f || (light.double_sided != 0u && cos_light < 0.0f);
+                if (emits && dist > 0.0f && dot(wi, ng) > 0.0f) {
+                    float light_pdf = light.pdf_area * dist2 / abs(cos_light);
+                    vec3 wi_local = to_local(frame, wi);
+                    vec3 f = eval_bsdf(bsdf, wo_local, wi_local);
+                    float weight = (params.flags & RENDER_MIS) != 0u
+                                       ? power_heuristic(light_pdf, pdf_bsdf(bsdf, wo_local, wi_local))
+                                       : 1.0f;
+                    vec3 contrib = beta * f * light.radiance * (weight / light_pdf);
+                    if (max_component(contrib) > 0.0f) {
+                        vec3 origin = offset_ray_origin(s.p, s.p_error, ng, wi);
+                        vec3 target = offset_ray_origin(light.p, light.p_error, light.n, -wi);
+                        vec3 d = target - origin;
+                        float len = length(d);
+                        shadow.origin_x = origin.x;
+                        shadow.origin_y = origin.y;
+                        shadow.origin_z = origin.z;
+                        shadow.dir_x = d.x / len;
+                        shadow.dir_y = d.y / len;
+                        shadow.dir_z = d.z / len;
+                        shadow.t_max = len * (1.0f - 1e-4f);  // pbrt's ShadowEpsilon
+                        shadow.contrib_r = contrib.x;
+                        shadow.contrib_g = contrib.y;
+                        shadow.contrib_b = contrib.z;
+                        push_shadow = len > 0.0f;
+                    }
+                }
+            }
+
+            vec3 u_bsdf = vec3(next_float(rng), next_float(rng), next_float(rng));
+            float u_rr = next_float(rng);
+            BsdfSample bs = sample_bsdf(bsdf, wo_local, u_bsdf);
+            vec3 wi = to_world(frame, bs.wi);
+            if (bs.valid != 0u && dot(wi, ng) > 0.0f) {
+                beta *= bs.weight;
+                bool survive = true;
+                // Russian roulette (unbiased: survivors are divided by the survival probability).
+                if ((params.flags & RENDER_RR) != 0u && segments >= params.rr_start_depth) {
+                    float q = min(max_component(beta), 0.95f);
+                    survive = u_rr < q;
+                    beta /= q;
+                }
+                if (survive && max_component(beta) > 0.0f) {
+                    vec3 origin = offset_ray_origin(s.p, s.p_error, ng, wi);
+                    next.origin_x = origin.x;
+                    next.origin_y = origin.y;
+                    next.origin_z = origin.z;
+                    next.dir_x = wi.x;
+                    next.dir_y = wi.y;
+                    next.dir_z = wi.z;
+                    state.bsdf_pdf = bs.pdf;
+                    push_ray = true;
+                }
+            }
+        }
+    }
+
+    state.throughput_r = beta.x;
+    state.throughput_g = beta.y;
+    state.throughput_b = beta.z;
+    state.radiance_r = radiance.x;
+    state.radiance_g = radiance.y;
+    state.radiance_b = radiance.z;
+    state.rng = rng;
+    paths[path] = state;
+
+    uint slot;
+    PUSH_TO_QUEUE(counters.ray_count[parity ^ 1u], push_ray, slot);
+    if (push_ray) rays[ray_slot(parity ^ 1u, slot)] = next;
+    PUSH_TO_QUEUE(counters.shadow_count, push_shadow, slot);
+    if (push_shadow) shadow_rays[slot] = shadow;
+}
