@@ -1,11 +1,10 @@
 // Closest-hit and any-hit traversal of the linear BVH, shared by the extend and connect stages.
-// Robust slab test: no 0 x inf (inverse directions are clamped to +-1e30, which keeps the sign), and the
-// far distance is enlarged by 1 + 2 gamma(3) so float rounding never culls a box the ray touches
-// (Ize 2013, "Robust BVH Ray Traversal", JCGT 2(2)). Triangles: watertight test (intersect.glsl).
+// Box and triangle tests come from intersect.glsl: a slab test without 0 x inf, padded as the watertight
+// triangle test requires (Woop et al. 2013, sec. 5) and with the far distance enlarged by 1 + 2 gamma(3)
+// (Ize 2013, "Robust BVH Ray Traversal", JCGT 2(2)).
 #ifndef FH_TRAVERSE_GLSL
 #define FH_TRAVERSE_GLSL
 #include "intersect.glsl"
-#include "ray_offset.glsl"
 
 const uint TRAVERSAL_STACK_SIZE = 64u;
 
@@ -16,20 +15,6 @@ struct TraceHit {
     float b2;
 };
 
-vec3 make_safe_inverse(vec3 d) {
-    return clamp(vec3(1.0f) / d, vec3(-1e30f), vec3(1e30f));
-}
-
-bool intersect_node_bounds(BvhNode node, vec3 origin, vec3 inv_dir, float t_max) {
-    vec3 t0 = (vec3(node.min_x, node.min_y, node.min_z) - origin) * inv_dir;
-    vec3 t1 = (vec3(node.max_x, node.max_y, node.max_z) - origin) * inv_dir;
-    vec3 t_near = min(t0, t1);
-    vec3 t_far = max(t0, t1);
-    float enter = max(max(t_near.x, t_near.y), max(t_near.z, 0.0f));
-    float leave = min(min(t_far.x, t_far.y), min(t_far.z, t_max)) * (1.0f + 2.0f * error_gamma(3.0f));
-    return enter <= leave;
-}
-
 // any_hit: stop at the first intersection closer than t_max (shadow rays).
 TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit) {
     TraceHit best;
@@ -38,13 +23,14 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit) {
     best.b1 = 0.0f;
     best.b2 = 0.0f;
     RayPrecomp pre = make_ray_precomp(origin, dir);
-    vec3 inv_dir = make_safe_inverse(dir);
+    vec3 inv_dir = make_safe_inverse_dir(dir);
     uint stack[TRAVERSAL_STACK_SIZE];
     uint stack_size = 0u;
     uint node_index = 0u;
     while (true) {
         BvhNode node = nodes[node_index];
-        if (intersect_node_bounds(node, origin, inv_dir, best.t)) {
+        if (intersect_box(origin, inv_dir, vec3(node.min_x, node.min_y, node.min_z),
+                          vec3(node.max_x, node.max_y, node.max_z), best.t) != 0u) {
             uint count = node.count_and_axis & ((1u << BVH_LEAF_COUNT_BITS) - 1u);
             if (count > 0u) {
                 for (uint k = 0u; k < count; ++k) {
@@ -53,8 +39,7 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit) {
                     TriangleHit h = intersect_triangle(pre, vec3(tp.p0_x, tp.p0_y, tp.p0_z),
                                                        vec3(tp.p1_x, tp.p1_y, tp.p1_z),
                                                        vec3(tp.p2_x, tp.p2_y, tp.p2_z), best.t);
-                    // Equal distances keep the lower triangle index, whatever the visiting order.
-                    if (h.hit != 0u && (h.t < best.t || (h.t == best.t && tri < best.triangle))) {
+                    if (h.hit != 0u) {  // intersect_triangle only reports t < best.t
                         best.t = h.t;
                         best.triangle = tri;
                         best.b1 = h.b1;

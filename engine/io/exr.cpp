@@ -1,0 +1,100 @@
+// OpenEXR reading and writing through the Imf scanline API (OpenEXR 3.1).
+#include "io/exr.h"
+
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfInputFile.h>
+#include <ImfOutputFile.h>
+#include <ImfStringAttribute.h>
+
+#include <exception>
+#include <stdexcept>
+#include <string>
+
+#include "io/atomic_write.h"
+
+namespace fh {
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* CHANNEL_NAMES[3] = {"R", "G", "B"};
+
+// Attribute names OpenEXR sets itself when it writes a file; a user string under one of them corrupts the file.
+constexpr const char* RESERVED_NAMES[] = {"type", "name", "version", "chunkCount", "tiles", "view", "multiView"};
+
+// One FLOAT slice per channel over the interleaved rgb array, placed at the data window (which need not
+// start at 0,0). Reading converts HALF and UINT channels to float.
+Imf::FrameBuffer make_frame_buffer(const float* rgb, const Imath::Box2i& window) {
+    Imf::FrameBuffer frame;
+    const std::size_t x_stride = 3 * sizeof(float);
+    const std::size_t y_stride = x_stride * std::size_t(window.max.x - window.min.x + 1);
+    for (int c = 0; c < 3; ++c)
+        frame.insert(CHANNEL_NAMES[c],
+                     Imf::Slice::Make(Imf::FLOAT, rgb + c, window, x_stride, y_stride));
+    return frame;
+}
+
+void write_exr_file(const fs::path& file, const Image& image, const ImageMetadata& metadata) {
+    Imf::Header header(image.width, image.height);
+    header.compression() = Imf::ZIP_COMPRESSION;
+    for (const char* name : CHANNEL_NAMES) header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+    for (const auto& [key, value] : metadata) {
+        bool reserved = header.find(key) != header.end();
+        for (const char* name : RESERVED_NAMES) reserved = reserved || key == name;
+        if (reserved) throw std::invalid_argument("metadata key \"" + key + "\" clashes with a standard EXR attribute");
+        header.insert(key, Imf::StringAttribute(value));
+    }
+    Imf::OutputFile out(file.c_str(), header);
+    out.setFrameBuffer(make_frame_buffer(image.rgb.data(), header.dataWindow()));
+    out.writePixels(image.height);
+}
+
+}  // namespace
+
+void write_exr(const fs::path& path, const Image& image, const ImageMetadata& metadata) {
+    check_image_shape(image, path.string());
+    try {
+        write_file_atomically(path, [&](const fs::path& temp) { write_exr_file(temp, image, metadata); });
+    } catch (const IoError&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw IoError(path.string() + ": cannot write EXR: " + e.what());
+    }
+}
+
+Image read_exr(const fs::path& path, ImageMetadata* metadata) {
+    try {
+        Imf::InputFile in(path.c_str());
+        const Imf::Header& header = in.header();
+        for (const char* name : CHANNEL_NAMES) {
+            if (header.channels().findChannel(name)) continue;
+            std::string present;
+            for (auto it = header.channels().begin(); it != header.channels().end(); ++it)
+                present += std::string(present.empty() ? "" : ", ") + it.name();
+            throw IoError(path.string() + ": missing channel " + name + " (channels present: " +
+                          (present.empty() ? "none" : present) + ")");
+        }
+        const Imath::Box2i window = header.dataWindow();
+        Image image;
+        image.width = window.max.x - window.min.x + 1;
+        image.height = window.max.y - window.min.y + 1;
+        image.rgb.assign(std::size_t(3) * std::size_t(image.width) * std::size_t(image.height), 0.0f);
+        in.setFrameBuffer(make_frame_buffer(image.rgb.data(), window));
+        in.readPixels(window.min.y, window.max.y);
+        if (metadata) {
+            metadata->clear();
+            for (auto it = header.begin(); it != header.end(); ++it)
+                if (auto* text = dynamic_cast<const Imf::StringAttribute*>(&it.attribute()))
+                    (*metadata)[it.name()] = text->value();
+        }
+        return image;
+    } catch (const IoError&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw IoError(path.string() + ": cannot read EXR: " + e.what());
+    }
+}
+
+}  // namespace fh

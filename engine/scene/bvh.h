@@ -1,0 +1,36 @@
+// Bounding volume hierarchy over world-space triangles: binned SAH build, flattened for the GPU.
+#pragma once
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "shared/layout.h"
+
+namespace fh {
+
+struct BvhOptions {
+    uint32_t max_leaf_size = 4;  // 1 .. 2^BVH_LEAF_COUNT_BITS - 1; larger nodes are always split
+    uint32_t bin_count = 16;     // SAH bins per axis, 2 .. 256 (Wald 2007 uses 16 or 32)
+    uint32_t max_depth = 64;     // no leaf deeper than this (root: 0), the GPU's traversal stack size;
+                                 // SAH splits that would break it become median splits
+};
+
+struct Bvh {
+    // Depth-first, root at 0 (layout.h): an interior node's first child is the next node, the second is at
+    // child_or_first; a leaf's triangles are triangle_order[child_or_first .. + count).
+    std::vector<gpu::BvhNode> nodes;
+    std::vector<uint32_t> triangle_order;  // leaf order index -> original triangle index
+    double sah_cost = 0.0;     // expected cost of a random ray (traversal 1, intersection 1) / root area
+    uint32_t leaf_count = 0;
+    uint32_t max_depth = 0;    // depth of the deepest leaf, root at depth 0 (a traversal stack needs this many)
+    double build_seconds = 0.0;
+};
+
+// Builds a BVH over `positions` (3 per triangle). Deterministic: the same input gives the same nodes.
+// Throws std::invalid_argument for no triangles, non-finite positions or options out of range (including
+// more than max_leaf_size * 2^max_depth triangles).
+Bvh build_bvh(std::span<const glm::vec3> positions, const BvhOptions& options = {});
+
+}  // namespace fh

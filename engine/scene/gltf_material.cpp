@@ -1,0 +1,91 @@
+// Converts glTF materials (spec 3.9) and the KHR extensions emissive_strength, specular and ior.
+#include "scene/gltf_material.h"
+
+#include <tiny_gltf.h>
+
+namespace fh::gltf {
+namespace {
+
+constexpr const char* SUPPORTED_EXTENSIONS[] = {
+    "KHR_materials_emissive_strength",
+    "KHR_materials_specular",
+    "KHR_materials_ior",
+};
+
+// The object of extension `name` on `material`, or nullptr.
+const tinygltf::Value* find_extension(const tinygltf::Material& material, const char* name) {
+    const auto it = material.extensions.find(name);
+    if (it == material.extensions.end() || !it->second.IsObject()) return nullptr;
+    return &it->second;
+}
+
+double read_number(const tinygltf::Value* object, const char* key, double fallback) {
+    if (object == nullptr || !object->Has(key)) return fallback;
+    const tinygltf::Value& v = object->Get(key);
+    return v.IsNumber() ? v.GetNumberAsDouble() : fallback;
+}
+
+glm::dvec3 read_color3(const tinygltf::Value* object, const char* key, glm::dvec3 fallback) {
+    if (object == nullptr || !object->Has(key)) return fallback;
+    const tinygltf::Value& v = object->Get(key);
+    if (!v.IsArray() || v.ArrayLen() != 3) return fallback;
+    glm::dvec3 out = fallback;
+    for (int i = 0; i < 3; ++i)
+        if (v.Get(i).IsNumber()) out[i] = v.Get(i).GetNumberAsDouble();
+    return out;
+}
+
+void clear_textures(gpu::Material& m) {
+    m.base_color_texture = gpu::INVALID_INDEX;
+    m.metallic_roughness_texture = gpu::INVALID_INDEX;
+    m.normal_texture = gpu::INVALID_INDEX;
+    m.emissive_texture = gpu::INVALID_INDEX;
+}
+
+}  // namespace
+
+bool is_supported_extension(const std::string& name) {
+    for (const char* supported : SUPPORTED_EXTENSIONS)
+        if (name == supported) return true;
+    return false;
+}
+
+gpu::Material make_default_material() {
+    gpu::Material m{};
+    m.base_color = gpu::vec4(1.0f);
+    m.emission = gpu::vec4(0.0f);
+    m.specular_color = gpu::vec4(1.0f);  // KHR_materials_specular defaults: color 1, factor 1
+    m.metallic = 1.0f;
+    m.roughness = 1.0f;
+    m.ior = 1.5f;
+    m.flags = 0u;
+    clear_textures(m);
+    return m;
+}
+
+gpu::Material convert_material(const tinygltf::Material& material) {
+    gpu::Material m = make_default_material();
+    const auto& pbr = material.pbrMetallicRoughness;
+    if (pbr.baseColorFactor.size() == 4)
+        m.base_color = gpu::vec4(float(pbr.baseColorFactor[0]), float(pbr.baseColorFactor[1]),
+                                 float(pbr.baseColorFactor[2]), float(pbr.baseColorFactor[3]));
+    m.metallic = float(pbr.metallicFactor);
+    m.roughness = float(pbr.roughnessFactor);
+
+    glm::dvec3 emissive(0.0);
+    if (material.emissiveFactor.size() == 3)
+        emissive = glm::dvec3(material.emissiveFactor[0], material.emissiveFactor[1], material.emissiveFactor[2]);
+    const double strength =
+        read_number(find_extension(material, "KHR_materials_emissive_strength"), "emissiveStrength", 1.0);
+    m.emission = gpu::vec4(glm::vec3(emissive * strength), 0.0f);
+
+    const tinygltf::Value* specular = find_extension(material, "KHR_materials_specular");
+    const glm::dvec3 specular_color = read_color3(specular, "specularColorFactor", glm::dvec3(1.0));
+    m.specular_color = gpu::vec4(glm::vec3(specular_color), float(read_number(specular, "specularFactor", 1.0)));
+
+    m.ior = float(read_number(find_extension(material, "KHR_materials_ior"), "ior", 1.5));
+    m.flags = material.doubleSided ? gpu::MATERIAL_DOUBLE_SIDED : 0u;
+    return m;
+}
+
+}  // namespace fh::gltf

@@ -1,0 +1,83 @@
+// Packs triangles in BVH leaf order and builds the emitter alias table (Walker 1977; Vose 1991).
+#include "scene/pack.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+#include <glm/gtc/constants.hpp>
+
+#include "scene/alias_table.h"
+
+namespace fh {
+namespace {
+
+// Relative luminance of linear Rec. 709 RGB (ITU-R BT.709 primaries).
+double luminance(const glm::vec4& rgb) { return 0.2126 * rgb.r + 0.7152 * rgb.g + 0.0722 * rgb.b; }
+
+double triangle_area(const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& p2) {
+    const glm::dvec3 a(p0), b(p1), c(p2);
+    return 0.5 * glm::length(glm::cross(b - a, c - a));
+}
+
+}  // namespace
+
+PackedScene pack_scene(const Scene& scene, const Bvh& bvh) {
+    const size_t n = scene.triangle_count();
+    if (bvh.triangle_order.size() != n || scene.normals.size() != scene.positions.size() ||
+        scene.triangle_material.size() != n || scene.triangle_has_normals.size() != n)
+        throw std::invalid_argument("pack.cpp: the BVH and the scene arrays disagree on the triangle count");
+
+    PackedScene packed;
+    packed.nodes = bvh.nodes;
+    packed.materials = scene.materials;
+    packed.positions.resize(n);
+    packed.shading.resize(n);
+
+    std::vector<uint32_t> emissive;  // leaf-order indices of emitting triangles
+    std::vector<double> power, area;
+    for (size_t i = 0; i < n; ++i) {
+        const size_t t = bvh.triangle_order[i];
+        const glm::vec3* p = &scene.positions[3 * t];
+        const glm::vec3* nrm = &scene.normals[3 * t];
+        packed.positions[i] = {p[0].x, p[0].y, p[0].z, p[1].x, p[1].y, p[1].z, p[2].x, p[2].y, p[2].z};
+        gpu::TriangleShading& s = packed.shading[i];
+        s = {nrm[0].x, nrm[0].y, nrm[0].z, nrm[1].x, nrm[1].y, nrm[1].z, nrm[2].x, nrm[2].y, nrm[2].z,
+             scene.triangle_material[t], scene.triangle_has_normals[t] ? gpu::TRIANGLE_HAS_NORMALS : 0u, 0.0f};
+        if (s.material >= scene.materials.size())
+            throw std::invalid_argument("pack.cpp: triangle " + std::to_string(t) + " names material " +
+                                        std::to_string(s.material) + " of " + std::to_string(scene.materials.size()));
+
+        // Emitted power of a Lambertian emitter of radiance L over area A: pi L A per emitting side.
+        const gpu::Material& m = scene.materials[s.material];
+        const double a = triangle_area(p[0], p[1], p[2]);
+        const double sides = (m.flags & gpu::MATERIAL_DOUBLE_SIDED) ? 2.0 : 1.0;
+        const double w = luminance(m.emission) * a * glm::pi<double>() * sides;
+        if (a > 0.0 && w > 0.0 && (m.emission.r > 0.0f || m.emission.g > 0.0f || m.emission.b > 0.0f)) {
+            emissive.push_back(uint32_t(i));
+            power.push_back(w);
+            area.push_back(a);
+        }
+    }
+    if (emissive.empty()) return packed;
+
+    for (double w : power) packed.total_emitted_power += w;
+    const std::vector<AliasEntry> table = build_alias_table(power);
+    packed.emitters.resize(emissive.size());
+    for (size_t e = 0; e < emissive.size(); ++e) {
+        const double pick_pdf = power[e] / packed.total_emitted_power;
+        packed.emitters[e] = {emissive[e], float(table[e].threshold), table[e].alias, float(pick_pdf)};
+        packed.shading[emissive[e]].light_pdf_area = float(pick_pdf / area[e]);
+    }
+    return packed;
+}
+
+uint32_t sample_alias(const std::vector<gpu::Emitter>& emitters, float u) {
+    const uint32_t n = uint32_t(emitters.size());
+    const float scaled = u * float(n);
+    const uint32_t i = std::min(uint32_t(scaled), n - 1);
+    const float rest = scaled - float(i);
+    return rest < emitters[i].alias_threshold ? i : emitters[i].alias;
+}
+
+}  // namespace fh

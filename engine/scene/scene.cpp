@@ -1,0 +1,26 @@
+// Scene helpers that do not depend on the file format: the default camera.
+#include "scene/scene.h"
+
+#include <cmath>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+namespace fh {
+
+SceneCamera make_default_camera(const Scene& scene) {
+    SceneCamera camera;
+    camera.name = "default";
+    camera.orthographic = false;
+    camera.yfov = glm::radians(45.0);
+    const glm::dvec3 center = 0.5 * (scene.bounds_min + scene.bounds_max);
+    double radius = 0.5 * glm::length(scene.bounds_max - scene.bounds_min);
+    if (!(radius > 0.0)) radius = 1.0;
+    // Place the bounding sphere inside the vertical field of view: distance = radius / sin(yfov / 2).
+    const double distance = radius / std::sin(0.5 * camera.yfov);
+    camera.world_from_camera = glm::translate(glm::dmat4(1.0), center + glm::dvec3(0.0, 0.0, distance));
+    camera.xmag = radius;
+    camera.ymag = radius;
+    return camera;
+}
+
+}  // namespace fh

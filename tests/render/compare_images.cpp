@@ -1,0 +1,171 @@
+// fh_compare: the command-line front end of the image checks, run by the render tests through ctest.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <stdexcept>
+#include <string_view>
+#include <vector>
+
+#include "image_compare.h"
+#include "io/exr.h"
+
+namespace {
+
+constexpr const char* USAGE = R"(usage:
+  fh_compare TEST.exr --reference REF.exr [--block 16] [--max-block-rel 0.05] [--max-mean-rel 0.005]
+                      [--alpha 0.01] [--diff-out DIFF.exr] [--z-out Z.exr]
+  fh_compare TEST.exr --expect-constant VALUE [--tolerance 0.01] [--ignore-border 0] [--diff-out DIFF.exr]
+  fh_compare TEST.exr --identical OTHER.exr [--diff-out DIFF.exr]
+  fh_compare TEST.exr --finite [--diff-out DIFF.exr]
+Exit status: 0 pass; 1 fail (one line per failing criterion, difference image written to --diff-out,
+default TEST.diff.exr; --z-out adds each tile's z-score) or an unreadable image; 2 bad usage.
+The exact pass/fail rules are documented in tests/render/image_compare.h.
+)";
+
+struct UsageError : std::runtime_error {
+    using runtime_error::runtime_error;
+};
+
+// Which options each mode accepts, and what its difference image holds.
+const std::map<std::string, std::vector<std::string>> MODE_OPTIONS = {
+    {"--reference", {"--block", "--max-block-rel", "--max-mean-rel", "--alpha", "--diff-out", "--z-out"}},
+    {"--expect-constant", {"--tolerance", "--ignore-border", "--diff-out"}},
+    {"--identical", {"--diff-out"}},
+    {"--finite", {"--diff-out"}},
+};
+
+const std::map<std::string, std::string> DIFFERENCE_CONTENT = {
+    {"--reference", "test minus reference"},
+    {"--expect-constant", "test minus expected constant"},
+    {"--identical", "test minus other"},
+    {"--finite", "1 where a value is NaN or infinite"},
+};
+
+struct Arguments {
+    std::filesystem::path test;
+    std::string mode;
+    std::map<std::string, std::string> options;  // option -> value ("" for --finite)
+
+    bool has(const std::string& name) const { return options.count(name) != 0; }
+
+    double number(const std::string& name, double fallback) const {
+        if (!has(name)) return fallback;
+        const std::string& text = options.at(name);
+        std::size_t used = 0;
+        double value = 0;
+        try {
+            value = std::stod(text, &used);
+        } catch (const std::exception&) {
+            used = 0;
+        }
+        if (used == 0 || used != text.size() || !std::isfinite(value))
+            throw UsageError(name + " expects a number, got \"" + text + "\"");
+        return value;
+    }
+
+    int integer(const std::string& name, int fallback, int minimum) const {
+        const double value = number(name, fallback);
+        if (value != std::floor(value) || value < minimum || value > 1e6)
+            throw UsageError(name + " expects an integer >= " + std::to_string(minimum) + ", got \"" +
+                             options.at(name) + "\"");
+        return int(value);
+    }
+};
+
+Arguments parse_arguments(int argc, char** argv) {
+    Arguments args;
+    for (int i = 1; i < argc; ++i) {
+        const std::string arg = argv[i];
+        if (arg.rfind("--", 0) != 0) {
+            if (!args.test.empty()) throw UsageError("more than one test image: " + args.test.string() + ", " + arg);
+            args.test = arg;
+            continue;
+        }
+        const bool is_mode = MODE_OPTIONS.count(arg) != 0;
+        if (is_mode && !args.mode.empty()) throw UsageError("choose one of " + args.mode + " and " + arg);
+        if (is_mode) args.mode = arg;
+        if (args.options.count(arg)) throw UsageError(arg + " given twice");
+        if (arg == "--finite") {
+            args.options[arg] = "";
+            continue;
+        }
+        if (i + 1 >= argc) throw UsageError(arg + " needs a value");
+        args.options[arg] = argv[++i];
+    }
+    if (args.test.empty()) throw UsageError("no test image given");
+    if (args.mode.empty()) throw UsageError("choose one of --reference, --expect-constant, --identical, --finite");
+    for (const auto& [name, value] : args.options) {
+        if (name == args.mode) continue;
+        bool known = false;
+        for (const auto& [mode, allowed] : MODE_OPTIONS)
+            known = known || std::find(allowed.begin(), allowed.end(), name) != allowed.end();
+        const auto& allowed = MODE_OPTIONS.at(args.mode);
+        if (!known) throw UsageError("unknown option " + name);
+        if (std::find(allowed.begin(), allowed.end(), name) == allowed.end())
+            throw UsageError(name + " is not an option of " + args.mode);
+    }
+    return args;
+}
+
+// Runs the chosen check; writes the z-score image itself because only the reference mode has one.
+fh::CheckResult run_check(const Arguments& args, const fh::Image& test) {
+    if (args.mode == "--reference") {
+        fh::ReferenceOptions options;
+        options.block = args.integer("--block", options.block, 2);
+        options.max_block_rel = args.number("--max-block-rel", options.max_block_rel);
+        options.max_mean_rel = args.number("--max-mean-rel", options.max_mean_rel);
+        options.alpha = args.number("--alpha", options.alpha);
+        if (!(options.alpha > 0 && options.alpha < 1)) throw UsageError("--alpha must lie in (0, 1)");
+        fh::ReferenceResult result = fh::compare_to_reference(test, fh::read_exr(args.options.at("--reference")), options);
+        if (!result.passed() && args.has("--z-out") && !result.z_image.rgb.empty()) {
+            fh::write_exr(args.options.at("--z-out"), result.z_image, {{"fredholm:content", "tile z-score"}});
+            std::printf("fh_compare: wrote tile z-scores to %s\n", args.options.at("--z-out").c_str());
+        }
+        return result;
+    }
+    if (args.mode == "--expect-constant") {
+        const double tolerance = args.number("--tolerance", 0.01);
+        if (!(tolerance >= 0)) throw UsageError("--tolerance must not be negative");
+        return fh::check_constant(test, args.number("--expect-constant", 0), tolerance,
+                                  args.integer("--ignore-border", 0, 0));
+    }
+    if (args.mode == "--identical") return fh::check_identical(test, fh::read_exr(args.options.at("--identical")));
+    return fh::check_finite(test);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (argc == 2 && (std::string_view(argv[1]) == "--help" || std::string_view(argv[1]) == "-h")) {
+        std::fputs(USAGE, stdout);
+        return 0;
+    }
+    try {
+        const Arguments args = parse_arguments(argc, argv);
+        const fh::CheckResult result = run_check(args, fh::read_exr(args.test));
+        if (result.passed()) {
+            std::printf("fh_compare: %s: %s\n", args.test.c_str(), result.summary.c_str());
+            return 0;
+        }
+        for (const std::string& failure : result.failures) std::printf("fh_compare: FAIL %s\n", failure.c_str());
+        std::printf("fh_compare: %s: %s\n", args.test.c_str(), result.summary.c_str());
+        if (!result.difference.rgb.empty()) {
+            std::filesystem::path diff = args.has("--diff-out") ? std::filesystem::path(args.options.at("--diff-out"))
+                                                                : std::filesystem::path(args.test).replace_extension(".diff.exr");
+            fh::write_exr(diff, result.difference, {{"fredholm:content", DIFFERENCE_CONTENT.at(args.mode)}});
+            std::printf("fh_compare: wrote difference image %s\n", diff.c_str());
+        }
+        return 1;
+    } catch (const UsageError& e) {
+        std::fprintf(stderr, "fh_compare: %s\n%s", e.what(), USAGE);
+        return 2;
+    } catch (const std::exception& e) {
+        std::printf("fh_compare: FAIL %s\n", e.what());
+        return 1;
+    }
+}

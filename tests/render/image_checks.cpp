@@ -1,0 +1,115 @@
+// The non-statistical image checks: furnace constancy, bit-identity and finiteness.
+#include <bit>
+#include <cmath>
+#include <cstdint>
+
+#include "format_text.h"
+#include "image_compare.h"
+
+namespace fh {
+
+namespace {
+
+constexpr const char* CHANNEL_NAMES[3] = {"R", "G", "B"};
+
+std::string size_mismatch(const Image& a, const Image& b) {
+    return format_text("size: test is %d x %d, other is %d x %d", a.width, a.height, b.width, b.height);
+}
+
+}  // namespace
+
+CheckResult check_constant(const Image& test, double value, double tolerance, int ignore_border) {
+    CheckResult result;
+    const double scale = value != 0 ? std::abs(value) : 1.0;  // relative tolerance, absolute around zero
+    const int x0 = ignore_border, x1 = test.width - ignore_border;
+    const int y0 = ignore_border, y1 = test.height - ignore_border;
+    if (x0 < 0 || x1 <= x0 || y1 <= y0) {
+        result.failures.push_back(format_text("border: ignoring %d pixels per side leaves nothing of a %d x %d image",
+                                              ignore_border, test.width, test.height));
+        result.summary = result.failures.back();
+        return result;
+    }
+    double sum[3] = {0, 0, 0}, worst = -1;
+    int worst_x = 0, worst_y = 0, worst_c = 0;
+    std::size_t bad = 0;
+    for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x)
+            for (int c = 0; c < 3; ++c) {
+                const double v = test.rgb[(std::size_t(y) * test.width + x) * 3 + c];
+                const double deviation = std::abs(v - value) / scale;
+                sum[c] += v;
+                bad += !(deviation <= tolerance);
+                if (!(deviation <= worst)) worst = deviation, worst_x = x, worst_y = y, worst_c = c;
+            }
+    const std::size_t at_worst = (std::size_t(worst_y) * test.width + worst_x) * 3 + worst_c;
+    const char* sense = value != 0 ? "relative" : "absolute";
+    if (bad)
+        result.failures.push_back(format_text("pixels: %zu values deviate from %g by more than %g (%s); worst at (%d,%d) "
+                                              "%s = %.6g (off by %.3g)",
+                                              bad, value, tolerance, sense, worst_x, worst_y, CHANNEL_NAMES[worst_c],
+                                              double(test.rgb[at_worst]), worst));
+
+    const double pixels = double(x1 - x0) * double(y1 - y0);
+    std::string mean_text, mean_failures;
+    for (int c = 0; c < 3; ++c) {
+        const double mean = sum[c] / pixels, deviation = std::abs(mean - value) / scale;
+        mean_text += format_text(" %s %.6g", CHANNEL_NAMES[c], mean);
+        if (!(deviation <= tolerance / 10))
+            mean_failures += format_text(" %s %.6g (off by %.3g)", CHANNEL_NAMES[c], mean, deviation);
+    }
+    if (!mean_failures.empty())
+        result.failures.push_back(format_text("mean: deviates from %g by more than %g (%s):", value, tolerance / 10,
+                                              sense) + mean_failures);
+
+    result.difference = Image{test.width, test.height, std::vector<float>(test.rgb.size())};
+    for (std::size_t i = 0; i < test.rgb.size(); ++i) result.difference.rgb[i] = float(test.rgb[i] - value);
+    result.summary = format_text("%s: constant %g over %d x %d pixels: %zu values off by more than %.3g, worst %.3g "
+                                 "at (%d,%d) %s; means",
+                                 result.passed() ? "PASS" : "FAIL", value, x1 - x0, y1 - y0, bad, tolerance, worst,
+                                 worst_x, worst_y, CHANNEL_NAMES[worst_c]) +
+                     mean_text;
+    return result;
+}
+
+CheckResult check_identical(const Image& test, const Image& other) {
+    CheckResult result;
+    if (test.width != other.width || test.height != other.height) {
+        result.failures.push_back(size_mismatch(test, other));
+        result.summary = result.failures.back();
+        return result;
+    }
+    std::size_t differing = 0, first = 0;
+    for (std::size_t i = test.rgb.size(); i-- > 0;)
+        if (std::bit_cast<std::uint32_t>(test.rgb[i]) != std::bit_cast<std::uint32_t>(other.rgb[i]))
+            ++differing, first = i;
+    if (differing) {
+        const std::size_t pixel = first / 3;
+        result.failures.push_back(format_text(
+            "identical: %zu of %zu values differ; first at pixel (%zu,%zu) %s: %.9g (0x%08x) vs %.9g (0x%08x)",
+            differing, test.rgb.size(), pixel % test.width, pixel / test.width, CHANNEL_NAMES[first % 3],
+            double(test.rgb[first]), std::bit_cast<std::uint32_t>(test.rgb[first]), double(other.rgb[first]),
+            std::bit_cast<std::uint32_t>(other.rgb[first])));
+    }
+    result.difference = Image{test.width, test.height, std::vector<float>(test.rgb.size())};
+    for (std::size_t i = 0; i < test.rgb.size(); ++i) result.difference.rgb[i] = test.rgb[i] - other.rgb[i];
+    result.summary = format_text("%s: %zu of %zu values differ (%d x %d pixels)", differing ? "FAIL" : "PASS", differing,
+                                 test.rgb.size(), test.width, test.height);
+    return result;
+}
+
+CheckResult check_finite(const Image& test) {
+    CheckResult result;
+    result.difference = Image{test.width, test.height, std::vector<float>(test.rgb.size())};
+    std::size_t bad = 0, first = 0;
+    for (std::size_t i = test.rgb.size(); i-- > 0;)
+        if (!std::isfinite(test.rgb[i])) ++bad, first = i, result.difference.rgb[i] = 1;
+    if (bad)
+        result.failures.push_back(format_text("finite: %zu of %zu values are NaN or infinite; first at pixel (%zu,%zu) "
+                                              "%s = %g",
+                                              bad, test.rgb.size(), first / 3 % test.width, first / 3 / test.width,
+                                              CHANNEL_NAMES[first % 3], double(test.rgb[first])));
+    result.summary = format_text("%s: %zu of %zu values NaN or infinite", bad ? "FAIL" : "PASS", bad, test.rgb.size());
+    return result;
+}
+
+}  // namespace fh

@@ -1,0 +1,154 @@
+// Checks that every host/device struct in shaders/shared/layout.h has the size and field offsets GLSL std430
+// gives it (cross-checked once against glslangValidator -q reflection), so C++ arrays upload as-is.
+#include <cstddef>
+#include <type_traits>
+
+#include <gtest/gtest.h>
+
+#include "shared/layout.h"
+
+namespace {
+using namespace fh::gpu;
+
+// std430: scalars align to 4, vec4 to 16; a struct aligns to its largest member and its size rounds up to
+// that, which for C++ (glm::vec4 aligns to 4) means: vec4 offsets and the size of a struct holding one are
+// multiples of 16.
+#define FH_OFFSET(S, field, expected) static_assert(offsetof(S, field) == (expected), #S "." #field)
+#define FH_SIZE(S, expected)                                                                        \
+    static_assert(sizeof(S) == (expected), "sizeof " #S);                                           \
+    static_assert(std::is_standard_layout_v<S> && std::is_trivially_copyable_v<S>, #S " layout")
+
+FH_SIZE(BvhNode, 32);
+FH_OFFSET(BvhNode, min_x, 0);
+FH_OFFSET(BvhNode, child_or_first, 12);
+FH_OFFSET(BvhNode, max_x, 16);
+FH_OFFSET(BvhNode, count_and_axis, 28);
+
+FH_SIZE(TrianglePositions, 36);
+FH_OFFSET(TrianglePositions, p1_x, 12);
+FH_OFFSET(TrianglePositions, p2_z, 32);
+
+FH_SIZE(TriangleShading, 48);
+FH_OFFSET(TriangleShading, n1_x, 12);
+FH_OFFSET(TriangleShading, n2_z, 32);
+FH_OFFSET(TriangleShading, material, 36);
+FH_OFFSET(TriangleShading, flags, 40);
+FH_OFFSET(TriangleShading, light_pdf_area, 44);
+
+FH_SIZE(Material, 80);
+FH_OFFSET(Material, base_color, 0);
+FH_OFFSET(Material, emission, 16);
+FH_OFFSET(Material, specular_color, 32);
+FH_OFFSET(Material, metallic, 48);
+FH_OFFSET(Material, roughness, 52);
+FH_OFFSET(Material, ior, 56);
+FH_OFFSET(Material, flags, 60);
+FH_OFFSET(Material, base_color_texture, 64);
+FH_OFFSET(Material, metallic_roughness_texture, 68);
+FH_OFFSET(Material, normal_texture, 72);
+FH_OFFSET(Material, emissive_texture, 76);
+
+FH_SIZE(Emitter, 16);
+FH_OFFSET(Emitter, triangle, 0);
+FH_OFFSET(Emitter, alias_threshold, 4);
+FH_OFFSET(Emitter, alias, 8);
+FH_OFFSET(Emitter, pick_pdf, 12);
+
+FH_SIZE(FrameParams, 144);
+FH_OFFSET(FrameParams, camera_origin, 0);
+FH_OFFSET(FrameParams, camera_right, 16);
+FH_OFFSET(FrameParams, camera_up, 32);
+FH_OFFSET(FrameParams, camera_forward, 48);
+FH_OFFSET(FrameParams, scene_min, 64);
+FH_OFFSET(FrameParams, scene_max, 80);
+FH_OFFSET(FrameParams, width, 96);
+FH_OFFSET(FrameParams, height, 100);
+FH_OFFSET(FrameParams, max_depth, 104);
+FH_OFFSET(FrameParams, seed, 108);
+FH_OFFSET(FrameParams, camera_type, 112);
+FH_OFFSET(FrameParams, filter_type, 116);
+FH_OFFSET(FrameParams, filter_radius, 120);
+FH_OFFSET(FrameParams, flags, 124);
+FH_OFFSET(FrameParams, emitter_count, 128);
+FH_OFFSET(FrameParams, rr_start_depth, 132);
+FH_OFFSET(FrameParams, wave_capacity, 136);
+FH_OFFSET(FrameParams, triangle_count, 140);
+
+FH_SIZE(StagePush, 32);
+FH_OFFSET(StagePush, depth, 0);
+FH_OFFSET(StagePush, pixel_begin, 4);
+FH_OFFSET(StagePush, pixel_count, 8);
+FH_OFFSET(StagePush, sample_begin, 12);
+FH_OFFSET(StagePush, sample_count, 16);
+
+FH_SIZE(DispatchArgs, 12);
+
+FH_SIZE(QueueCounters, 56);
+FH_OFFSET(QueueCounters, ray_count, 0);
+FH_OFFSET(QueueCounters, shadow_count, 8);
+FH_OFFSET(QueueCounters, shadow_count_active, 12);
+FH_OFFSET(QueueCounters, extend_args, 16);  // std430: a struct of uints aligns to 4, not 16
+FH_OFFSET(QueueCounters, connect_args, 28);
+FH_OFFSET(QueueCounters, nonfinite_samples, 40);
+FH_OFFSET(QueueCounters, escaped_rays, 44);
+
+FH_SIZE(PathState, 32);
+FH_OFFSET(PathState, bsdf_pdf, 12);
+FH_OFFSET(PathState, radiance_r, 16);
+FH_OFFSET(PathState, rng, 28);
+
+FH_SIZE(RayItem, 32);
+FH_OFFSET(RayItem, path, 12);
+FH_OFFSET(RayItem, dir_x, 16);
+
+FH_SIZE(HitItem, 16);
+FH_OFFSET(HitItem, t, 0);
+FH_OFFSET(HitItem, triangle, 4);
+FH_OFFSET(HitItem, b1, 8);
+FH_OFFSET(HitItem, b2, 12);
+
+FH_SIZE(ShadowRayItem, 48);
+FH_OFFSET(ShadowRayItem, path, 12);
+FH_OFFSET(ShadowRayItem, dir_x, 16);
+FH_OFFSET(ShadowRayItem, t_max, 28);
+FH_OFFSET(ShadowRayItem, contrib_r, 32);
+
+FH_SIZE(FilmPixel, 32);
+FH_OFFSET(FilmPixel, sample_count, 12);
+FH_OFFSET(FilmPixel, comp_r, 16);
+
+// The general std430 rule for C++ structs built from 4-byte scalars and glm::vec4.
+template <typename S>
+constexpr bool has_std430_array_stride(bool holds_vec4) {
+    return sizeof(S) % (holds_vec4 ? 16 : 4) == 0;
+}
+
+TEST(Layout, ArrayStridesFollowStd430) {
+    static_assert(sizeof(vec4) == 16 && alignof(uint) == 4 && sizeof(float) == 4);
+    EXPECT_TRUE(has_std430_array_stride<Material>(true));
+    EXPECT_TRUE(has_std430_array_stride<FrameParams>(true));
+    for (size_t size : {sizeof(BvhNode), sizeof(TrianglePositions), sizeof(TriangleShading), sizeof(Emitter),
+                        sizeof(QueueCounters), sizeof(PathState), sizeof(RayItem), sizeof(HitItem),
+                        sizeof(ShadowRayItem), sizeof(FilmPixel), sizeof(StagePush)})
+        EXPECT_EQ(size % 4, 0u);
+}
+
+TEST(Layout, SizesMatchTheGpuStructs) {
+    // Repeated as runtime checks so a failing build is not the only report.
+    EXPECT_EQ(sizeof(BvhNode), 32u);
+    EXPECT_EQ(sizeof(TrianglePositions), 36u);
+    EXPECT_EQ(sizeof(TriangleShading), 48u);
+    EXPECT_EQ(sizeof(Material), 80u);
+    EXPECT_EQ(sizeof(Emitter), 16u);
+    EXPECT_EQ(sizeof(FrameParams), 144u);
+    EXPECT_EQ(sizeof(QueueCounters), 56u);
+    EXPECT_EQ(sizeof(RayItem), 32u);
+    EXPECT_EQ(sizeof(HitItem), 16u);
+    EXPECT_EQ(sizeof(ShadowRayItem), 48u);
+    EXPECT_EQ(sizeof(PathState), 32u);
+    EXPECT_EQ(sizeof(FilmPixel), 32u);
+    EXPECT_EQ(sizeof(StagePush), 32u);
+    EXPECT_EQ(BVH_LEAF_COUNT_BITS, 16u);
+}
+
+}  // namespace
