@@ -1,0 +1,85 @@
+// Drives one wavefront stage by hand: the queue counters and ray items are written by the test, not by
+// generate, so the stage is checked in isolation.
+#include "extend_harness.h"
+
+#include <cstddef>
+#include <cstdlib>
+#include <cstring>
+
+#include <gtest/gtest.h>
+
+#include "render/gpu_buffers.h"
+#include "render/stage_table.h"
+#include "scene/pack.h"
+#include "scene/scene.h"
+#include "vk/commands.h"
+
+namespace fh::test {
+
+vk::Context& shared_test_context() {
+    static std::unique_ptr<vk::Context> context = [] {
+        vk::ContextOptions options;
+        const char* v = std::getenv("FREDHOLM_VALIDATION");
+        options.validation = v && std::strcmp(v, "0") != 0;
+        return std::make_unique<vk::Context>(options);
+    }();
+    return *context;
+}
+
+ExtendResult run_extend_stage(const std::vector<glm::vec3>& positions, const std::vector<Ray>& rays,
+                              const BvhOptions& options) {
+    vk::Context& context = shared_test_context();
+    Scene scene;
+    scene.positions = positions;
+    scene.normals.assign(positions.size(), glm::vec3(0.0f));
+    scene.triangle_material.assign(positions.size() / 3, 0);
+    scene.triangle_has_normals.assign(positions.size() / 3, 0);
+    gpu::Material material{};
+    material.base_color = glm::vec4(0.5f, 0.5f, 0.5f, 1.0f);
+    material.roughness = 1.0f;
+    material.ior = 1.5f;
+    scene.materials.push_back(material);
+    Bvh bvh = build_bvh(scene.positions, options);
+    PackedScene packed = pack_scene(scene, bvh);
+
+    gpu::FrameParams frame{};
+    frame.width = 1;
+    frame.height = 1;
+    frame.wave_capacity = uint32_t(rays.size());
+    frame.triangle_count = uint32_t(packed.positions.size());
+    GpuBuffers buffers = create_gpu_buffers(context, packed, frame);
+    StageTable stages(context);
+    bind_gpu_buffers(stages.bindings(), buffers);
+
+    std::vector<gpu::RayItem> items(rays.size());
+    for (size_t i = 0; i < rays.size(); ++i) {
+        items[i] = {rays[i].origin.x, rays[i].origin.y, rays[i].origin.z, uint32_t(i),
+                    rays[i].dir.x,    rays[i].dir.y,    rays[i].dir.z,    0.0f};
+    }
+    vk::upload_to_buffer(context, buffers.rays, items.data(), items.size() * sizeof(gpu::RayItem));
+    gpu::QueueCounters counters{};
+    counters.ray_count[0] = uint32_t(rays.size());
+    counters.extend_args = {uint32_t((rays.size() + gpu::WORKGROUP_SIZE - 1) / gpu::WORKGROUP_SIZE), 1, 1};
+    vk::upload_to_buffer(context, buffers.counters, &counters, sizeof(counters));
+
+    vk::CommandRecorder recorder(context);
+    recorder.begin();
+    recorder.bind_table(stages.bindings());
+    gpu::StagePush push{};
+    recorder.push_constants(&push, sizeof(push));
+    recorder.barrier_compute();
+    recorder.dispatch_indirect(stages[Stage::extend], buffers.counters, offsetof(gpu::QueueCounters, extend_args));
+    recorder.submit_and_wait();
+
+    ExtendResult result;
+    result.hits.resize(rays.size());
+    vk::download_from_buffer(context, buffers.hits, result.hits.data(), rays.size() * sizeof(gpu::HitItem));
+    for (gpu::HitItem& hit : result.hits)
+        if (hit.triangle != gpu::INVALID_INDEX) hit.triangle = bvh.triangle_order[hit.triangle];
+    vk::download_from_buffer(context, buffers.counters, &counters, sizeof(counters));
+    result.escaped_rays = counters.escaped_rays;
+    EXPECT_EQ(context.validation_message_count(), 0u) << "Vulkan validation messages (printed above)";
+    return result;
+}
+
+}  // namespace fh::test
