@@ -16,6 +16,11 @@ layout(std430, binding = BINDING_HITS) buffer HitBuffer { HitItem hits[]; };
 layout(std430, binding = BINDING_SHADOW_RAYS) buffer ShadowBuffer { ShadowRayItem shadow_rays[]; };
 layout(std430, binding = BINDING_FILM) buffer FilmBuffer { FilmPixel film[]; };
 
+layout(std140, binding = BINDING_BVH_NODES_UNIFORM) uniform NodeUniforms { BvhNode uniform_nodes[UNIFORM_NODE_CAPACITY]; };
+layout(std140, binding = BINDING_TRI_POSITIONS_UNIFORM) uniform PositionUniforms {
+    TrianglePositions uniform_tri_positions[UNIFORM_TRIANGLE_CAPACITY];
+};
+
 layout(push_constant) uniform PushBlock { StagePush push; };
 
 vec3 load_triangle_vertex(uint triangle, uint corner) {

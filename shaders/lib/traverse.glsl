@@ -28,14 +28,14 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit) {
     uint stack_size = 0u;
     uint node_index = 0u;
     while (true) {
-        BvhNode node = nodes[node_index];
+        BvhNode node = uniform_nodes[node_index];
         if (intersect_box(origin, inv_dir, vec3(node.min_x, node.min_y, node.min_z),
                           vec3(node.max_x, node.max_y, node.max_z), best.t) != 0u) {
             uint count = node.count_and_axis & ((1u << BVH_LEAF_COUNT_BITS) - 1u);
             if (count > 0u) {
                 for (uint k = 0u; k < count; ++k) {
                     uint tri = node.child_or_first + k;
-                    TrianglePositions tp = tri_positions[tri];
+                    TrianglePositions tp = uniform_tri_positions[tri];
                     TriangleHit h = intersect_triangle(pre, vec3(tp.p0_x, tp.p0_y, tp.p0_z),
                                                        vec3(tp.p1_x, tp.p1_y, tp.p1_z),
                                                        vec3(tp.p2_x, tp.p2_y, tp.p2_z), best.t);

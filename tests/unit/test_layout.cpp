@@ -24,7 +24,7 @@ FH_OFFSET(BvhNode, child_or_first, 12);
 FH_OFFSET(BvhNode, max_x, 16);
 FH_OFFSET(BvhNode, count_and_axis, 28);
 
-FH_SIZE(TrianglePositions, 36);
+FH_SIZE(TrianglePositions, 48);
 FH_OFFSET(TrianglePositions, p1_x, 12);
 FH_OFFSET(TrianglePositions, p2_z, 32);
 
