@@ -43,7 +43,7 @@ void main() {
         vec3 dir = vec3(ray.dir_x, ray.dir_y, ray.dir_z);
         vec3 wo = -dir;
         SurfaceHit s = load_surface(hit.triangle, hit.b1, hit.b2);
-        Material m = materials[s.material];
+        Material m = load_material(s.material);
         bool front = dot(s.ng, wo) > 0.0f;
         bool double_sided = (m.flags & MATERIAL_DOUBLE_SIDED) != 0u;
 

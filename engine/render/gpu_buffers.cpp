@@ -1,20 +1,35 @@
 // Allocates and fills the device buffers; empty arrays get one dummy element (Vulkan has no empty buffers).
 #include "render/gpu_buffers.h"
 
+#include <span>
 #include <vector>
 
 #include "vk/context.h"
 #include "vk/pipeline.h"
 
 namespace fh {
+namespace tables {
+#include "lib/ggx_albedo_table.glsl"
+}  // namespace tables
 namespace {
+
+// The GGX albedo table in the order shaders/lib/ggx_albedo_table.glsl documents.
+std::vector<float> flatten_ggx_albedo_table() {
+    std::vector<float> words;
+    words.reserve(tables::GGX_ALBEDO_TABLE_SIZE);
+    for (const auto& part : {std::span<const float>(tables::GGX_ALBEDO_A), std::span<const float>(tables::GGX_ALBEDO_B),
+                             std::span<const float>(tables::GGX_ALBEDO_AVERAGE_A),
+                             std::span<const float>(tables::GGX_ALBEDO_AVERAGE_B)})
+        words.insert(words.end(), part.begin(), part.end());
+    return words;
+}
 
 constexpr VkBufferUsageFlags STORAGE = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
 
 template <typename T>
-vk::Buffer make_filled_buffer(const vk::Context& context, const std::vector<T>& items) {
+vk::Buffer make_filled_buffer(const vk::Context& context, const std::vector<T>& items, VkBufferUsageFlags extra = 0) {
     size_t size = std::max<size_t>(items.size(), 1) * sizeof(T);
-    vk::Buffer buffer(context, size, STORAGE, vk::MemoryUse::device);
+    vk::Buffer buffer(context, size, STORAGE | extra, vk::MemoryUse::device);
     if (!items.empty()) vk::upload_to_buffer(context, buffer, items.data(), items.size() * sizeof(T));
     return buffer;
 }
@@ -28,11 +43,12 @@ vk::Buffer make_state_buffer(const vk::Context& context, size_t size, VkBufferUs
 GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& scene, const gpu::FrameParams& frame) {
     GpuBuffers b;
     b.params = make_filled_buffer(context, std::vector<gpu::FrameParams>{frame});
-    b.nodes = make_filled_buffer(context, scene.nodes);
-    b.tri_positions = make_filled_buffer(context, scene.positions);
-    b.tri_shading = make_filled_buffer(context, scene.shading);
-    b.materials = make_filled_buffer(context, scene.materials);
-    b.emitters = make_filled_buffer(context, scene.emitters);
+    b.nodes = make_filled_buffer(context, scene.pair_nodes, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
+    b.tri_positions = make_filled_buffer(context, scene.positions, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
+    b.tri_shading = make_filled_buffer(context, scene.shading, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
+    b.materials = make_filled_buffer(context, scene.materials, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
+    b.emitters = make_filled_buffer(context, scene.emitters, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
+    b.ggx_albedo = make_filled_buffer(context, flatten_ggx_albedo_table(), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
     const size_t capacity = frame.wave_capacity;
     b.counters = make_state_buffer(context, sizeof(gpu::QueueCounters), VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT);
     b.counters_readback = vk::Buffer(context, sizeof(gpu::QueueCounters), STORAGE, vk::MemoryUse::host);
@@ -57,6 +73,12 @@ void bind_gpu_buffers(vk::BindingTable& table, const GpuBuffers& b) {
     table.bind_buffer(gpu::BINDING_HITS, b.hits);
     table.bind_buffer(gpu::BINDING_SHADOW_RAYS, b.shadow_rays);
     table.bind_buffer(gpu::BINDING_FILM, b.film);
+    table.bind_buffer(gpu::BINDING_BVH_NODES_UNIFORM, b.nodes);
+    table.bind_buffer(gpu::BINDING_TRI_POSITIONS_UNIFORM, b.tri_positions);
+    table.bind_buffer(gpu::BINDING_TRI_SHADING_UNIFORM, b.tri_shading);
+    table.bind_buffer(gpu::BINDING_MATERIALS_UNIFORM, b.materials);
+    table.bind_buffer(gpu::BINDING_EMITTERS_UNIFORM, b.emitters);
+    table.bind_buffer(gpu::BINDING_GGX_ALBEDO_UNIFORM, b.ggx_albedo);
 }
 
 }  // namespace fh

@@ -76,7 +76,7 @@ Renderer::Renderer(const vk::Context& context, const PackedScene& scene, const S
     : context_(context),
       settings_(settings),
       frame_(make_frame(scene, camera, settings, bounds_min, bounds_max)),
-      stages_(context),
+      stages_(context, fits_uniform_buffers(scene, context.properties().limits.maxUniformBufferRange)),
       buffers_(create_gpu_buffers(context, scene, frame_)),
       recorder_(context, MAX_DISPATCHES_PER_SUBMIT),
       has_lights_(!scene.emitters.empty()) {

@@ -1,6 +1,7 @@
 // Builds the stage pipelines from the SPIR-V embedded at build time (shaders/CMakeLists.txt).
 #include "render/stage_table.h"
 
+#include <array>
 #include <span>
 
 #include "shaders/accumulate.spv.h"
@@ -18,10 +19,25 @@ const char* stage_name(Stage stage) {
     return names[size_t(stage)];
 }
 
-StageTable::StageTable(const vk::Context& context)
-    : bindings_(context, gpu::BINDING_COUNT, sizeof(gpu::StagePush)) {
+std::array<VkDescriptorType, gpu::BINDING_COUNT> binding_types() {
+    std::array<VkDescriptorType, gpu::BINDING_COUNT> types;
+    types.fill(VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+    types[gpu::BINDING_BVH_NODES_UNIFORM] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    types[gpu::BINDING_TRI_POSITIONS_UNIFORM] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    types[gpu::BINDING_TRI_SHADING_UNIFORM] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    types[gpu::BINDING_MATERIALS_UNIFORM] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    types[gpu::BINDING_EMITTERS_UNIFORM] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    types[gpu::BINDING_GGX_ALBEDO_UNIFORM] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    return types;
+}
+
+StageTable::StageTable(const vk::Context& context, bool scene_in_uniform_buffers)
+    : bindings_(context, binding_types(), sizeof(gpu::StagePush)) {
+    std::array<uint32_t, 1> spec{};
+    spec[gpu::SPEC_SCENE_IN_UNIFORM_BUFFERS] = scene_in_uniform_buffers ? 1u : 0u;
     auto make = [&](Stage stage, std::span<const uint32_t> spirv) {
-        pipelines_[size_t(stage)] = std::make_unique<vk::ComputePipeline>(context, bindings_, stage_name(stage), spirv);
+        pipelines_[size_t(stage)] =
+            std::make_unique<vk::ComputePipeline>(context, bindings_, stage_name(stage), spirv, spec);
     };
     make(Stage::generate, spv_generate);
     make(Stage::extend, spv_extend);

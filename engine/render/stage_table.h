@@ -13,7 +13,8 @@ const char* stage_name(Stage stage);
 
 class StageTable {
 public:
-    explicit StageTable(const vk::Context& context);
+    // scene_in_uniform_buffers: traversal reads the uniform bindings (pack.h fits_uniform_buffers).
+    explicit StageTable(const vk::Context& context, bool scene_in_uniform_buffers = false);
     const vk::ComputePipeline& operator[](Stage stage) const { return *pipelines_[size_t(stage)]; }
     vk::BindingTable& bindings() { return bindings_; }
 

@@ -20,7 +20,52 @@ double triangle_area(const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& 
     return 0.5 * glm::length(glm::cross(b - a, c - a));
 }
 
+uint32_t leaf_count(const gpu::BvhNode& node) {
+    return node.count_and_axis & ((1u << gpu::BVH_LEAF_COUNT_BITS) - 1u);
+}
+
 }  // namespace
+
+std::vector<gpu::BvhPairNode> make_pair_nodes(const std::vector<gpu::BvhNode>& nodes) {
+    std::vector<uint32_t> pair_of(nodes.size(), gpu::INVALID_INDEX);
+    uint32_t pair_count = 0;
+    for (size_t i = 0; i < nodes.size(); ++i)
+        if (leaf_count(nodes[i]) == 0) pair_of[i] = pair_count++;
+
+    // Child slot of a pair: bounds, and either the child's pair index or its triangle range.
+    struct Slot {
+        float lo[3], hi[3];
+        uint32_t index, count;
+    };
+    auto slot_of = [&](size_t c) {
+        const gpu::BvhNode& n = nodes[c];
+        const uint32_t count = leaf_count(n);
+        return Slot{{n.min_x, n.min_y, n.min_z}, {n.max_x, n.max_y, n.max_z},
+                    count ? n.child_or_first : pair_of[c], count};
+    };
+    auto make_pair = [](const Slot& a, const Slot& b) {
+        return gpu::BvhPairNode{a.lo[0], a.lo[1], a.lo[2], a.index, a.hi[0], a.hi[1], a.hi[2], a.count,
+                                b.lo[0], b.lo[1], b.lo[2], b.index, b.hi[0], b.hi[1], b.hi[2], b.count};
+    };
+
+    std::vector<gpu::BvhPairNode> pairs;
+    if (nodes.empty()) return pairs;
+    if (pair_count == 0) {  // the root is a leaf
+        pairs.push_back(make_pair(slot_of(0), Slot{{0, 0, 0}, {0, 0, 0}, gpu::INVALID_INDEX, 0}));
+        return pairs;
+    }
+    pairs.reserve(pair_count);
+    for (size_t i = 0; i < nodes.size(); ++i)
+        if (leaf_count(nodes[i]) == 0) pairs.push_back(make_pair(slot_of(i + 1), slot_of(nodes[i].child_or_first)));
+    return pairs;
+}
+
+bool fits_uniform_buffers(const PackedScene& scene, uint64_t max_uniform_buffer_range) {
+    return max_uniform_buffer_range >= gpu::UNIFORM_BUFFER_BYTES && scene.pair_nodes.size() <= gpu::UNIFORM_NODE_CAPACITY &&
+           scene.positions.size() <= gpu::UNIFORM_TRIANGLE_CAPACITY &&
+           scene.materials.size() <= gpu::UNIFORM_MATERIAL_CAPACITY &&
+           scene.emitters.size() <= gpu::UNIFORM_EMITTER_CAPACITY;
+}
 
 PackedScene pack_scene(const Scene& scene, const Bvh& bvh) {
     const size_t n = scene.triangle_count();
@@ -30,6 +75,7 @@ PackedScene pack_scene(const Scene& scene, const Bvh& bvh) {
 
     PackedScene packed;
     packed.nodes = bvh.nodes;
+    packed.pair_nodes = make_pair_nodes(bvh.nodes);
     packed.materials = scene.materials;
     packed.positions.resize(n);
     packed.shading.resize(n);
@@ -40,7 +86,7 @@ PackedScene pack_scene(const Scene& scene, const Bvh& bvh) {
         const size_t t = bvh.triangle_order[i];
         const glm::vec3* p = &scene.positions[3 * t];
         const glm::vec3* nrm = &scene.normals[3 * t];
-        packed.positions[i] = {p[0].x, p[0].y, p[0].z, p[1].x, p[1].y, p[1].z, p[2].x, p[2].y, p[2].z};
+        packed.positions[i] = {p[0].x, p[0].y, p[0].z, p[1].x, p[1].y, p[1].z, p[2].x, p[2].y, p[2].z, 0.0f, 0.0f, 0.0f};
         gpu::TriangleShading& s = packed.shading[i];
         s = {nrm[0].x, nrm[0].y, nrm[0].z, nrm[1].x, nrm[1].y, nrm[1].z, nrm[2].x, nrm[2].y, nrm[2].z,
              scene.triangle_material[t], scene.triangle_has_normals[t] ? gpu::TRIANGLE_HAS_NORMALS : 0u, 0.0f};

@@ -10,13 +10,21 @@
 namespace fh {
 
 struct PackedScene {
-    std::vector<gpu::BvhNode> nodes;
+    std::vector<gpu::BvhNode> nodes;                // the BVH as built (depth-first linear layout)
+    std::vector<gpu::BvhPairNode> pair_nodes;       // the same BVH as the GPU traverses it, root pair at 0
     std::vector<gpu::TrianglePositions> positions;  // BVH leaf order
     std::vector<gpu::TriangleShading> shading;      // same order
     std::vector<gpu::Material> materials;
     std::vector<gpu::Emitter> emitters;             // alias table over emissive triangles (may be empty)
     double total_emitted_power = 0.0;               // watts if emission is in W / (m^2 sr)
 };
+
+// The pair nodes of a depth-first linear BVH (layout.h): one per interior node, in node order; a BVH that is
+// a single leaf gives one pair whose child b is absent.
+std::vector<gpu::BvhPairNode> make_pair_nodes(const std::vector<gpu::BvhNode>& nodes);
+
+// Whether every scene array (nodes, triangles, materials, emitters) fits its uniform-buffer binding (layout.h).
+bool fits_uniform_buffers(const PackedScene& scene, uint64_t max_uniform_buffer_range);
 
 // Throws std::invalid_argument when `bvh` was not built over `scene`'s triangles.
 PackedScene pack_scene(const Scene& scene, const Bvh& bvh);

@@ -1,6 +1,8 @@
 // Descriptor set, pipeline layout and compute pipeline creation.
 #include "vk/pipeline.h"
 
+#include <algorithm>
+#include <cassert>
 #include <vector>
 
 #include "vk/buffer.h"
@@ -9,12 +11,18 @@
 
 namespace fh::vk {
 
-BindingTable::BindingTable(const Context& context, uint32_t binding_count, uint32_t push_constant_size)
-    : device_(context.device()), push_constant_size_(push_constant_size) {
+BindingTable::BindingTable(const Context& context, std::span<const VkDescriptorType> types,
+                           uint32_t push_constant_size)
+    : device_(context.device()),
+      types_(types.begin(), types.end()),
+      max_uniform_range_(context.properties().limits.maxUniformBufferRange),
+      push_constant_size_(push_constant_size) {
+    const uint32_t binding_count = uint32_t(types_.size());
     std::vector<VkDescriptorSetLayoutBinding> bindings(binding_count);
+    std::vector<VkDescriptorPoolSize> pool_sizes;
     for (uint32_t i = 0; i < binding_count; ++i) {
         bindings[i].binding = i;
-        bindings[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        bindings[i].descriptorType = types_[i];
         bindings[i].descriptorCount = 1;
         bindings[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
     }
@@ -23,11 +31,16 @@ BindingTable::BindingTable(const Context& context, uint32_t binding_count, uint3
     layout_info.pBindings = bindings.data();
     FH_VK_CHECK(vkCreateDescriptorSetLayout(device_, &layout_info, nullptr, &set_layout_));
 
-    VkDescriptorPoolSize pool_size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, binding_count};
+    for (VkDescriptorType type : types_) {
+        auto same = [type](const VkDescriptorPoolSize& p) { return p.type == type; };
+        auto it = std::find_if(pool_sizes.begin(), pool_sizes.end(), same);
+        if (it == pool_sizes.end()) pool_sizes.push_back({type, 1});
+        else ++it->descriptorCount;
+    }
     VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     pool_info.maxSets = 1;
-    pool_info.poolSizeCount = 1;
-    pool_info.pPoolSizes = &pool_size;
+    pool_info.poolSizeCount = uint32_t(pool_sizes.size());
+    pool_info.pPoolSizes = pool_sizes.data();
     FH_VK_CHECK(vkCreateDescriptorPool(device_, &pool_info, nullptr, &pool_));
 
     VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
@@ -52,18 +65,22 @@ BindingTable::~BindingTable() {
 }
 
 void BindingTable::bind_buffer(uint32_t binding, const Buffer& buffer) {
-    VkDescriptorBufferInfo info{buffer.handle(), 0, VK_WHOLE_SIZE};
+    assert(binding < types_.size());
+    const VkDescriptorType type = types_[binding];
+    const bool uniform = type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    VkDescriptorBufferInfo info{buffer.handle(), 0,
+                                uniform ? std::min(buffer.size(), max_uniform_range_) : VK_WHOLE_SIZE};
     VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
     write.dstSet = set_;
     write.dstBinding = binding;
     write.descriptorCount = 1;
-    write.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    write.descriptorType = type;
     write.pBufferInfo = &info;
     vkUpdateDescriptorSets(device_, 1, &write, 0, nullptr);
 }
 
 ComputePipeline::ComputePipeline(const Context& context, const BindingTable& table, std::string name,
-                                 std::span<const uint32_t> spirv)
+                                 std::span<const uint32_t> spirv, std::span<const uint32_t> spec_constants)
     : device_(context.device()), name_(std::move(name)) {
     VkShaderModuleCreateInfo module_info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
     module_info.codeSize = spirv.size_bytes();
@@ -76,6 +93,11 @@ ComputePipeline::ComputePipeline(const Context& context, const BindingTable& tab
     info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
     info.stage.module = module;
     info.stage.pName = "main";
+    std::vector<VkSpecializationMapEntry> entries(spec_constants.size());
+    for (uint32_t i = 0; i < entries.size(); ++i) entries[i] = {i, i * uint32_t(sizeof(uint32_t)), sizeof(uint32_t)};
+    VkSpecializationInfo specialization{uint32_t(entries.size()), entries.data(), spec_constants.size_bytes(),
+                                        spec_constants.data()};
+    if (!spec_constants.empty()) info.stage.pSpecializationInfo = &specialization;
     info.layout = table.pipeline_layout();
     VkResult result = vkCreateComputePipelines(device_, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_);
     vkDestroyShaderModule(device_, module, nullptr);

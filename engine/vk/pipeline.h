@@ -1,9 +1,10 @@
-// Descriptor sets of storage buffers and compute pipelines built from embedded SPIR-V.
+// Descriptor sets of storage and uniform buffers and compute pipelines built from embedded SPIR-V.
 #pragma once
 #include <cstddef>
 #include <cstdint>
 #include <span>
 #include <string>
+#include <vector>
 #include <vulkan/vulkan.h>
 
 namespace fh::vk {
@@ -11,15 +12,16 @@ namespace fh::vk {
 class Buffer;
 class Context;
 
-// One descriptor set whose bindings 0..count-1 are all storage buffers, plus the pipeline layout every
-// compute pipeline using it shares (that set + one push-constant block).
+// One descriptor set whose binding i is a buffer of descriptor type types[i] (storage or uniform), plus the
+// pipeline layout every compute pipeline using it shares (that set + one push-constant block).
 class BindingTable {
 public:
-    BindingTable(const Context& context, uint32_t binding_count, uint32_t push_constant_size);
+    BindingTable(const Context& context, std::span<const VkDescriptorType> types, uint32_t push_constant_size);
     ~BindingTable();
     BindingTable(const BindingTable&) = delete;
     BindingTable& operator=(const BindingTable&) = delete;
 
+    // Uniform-buffer bindings see at most the device's maxUniformBufferRange bytes from the buffer's start.
     void bind_buffer(uint32_t binding, const Buffer& buffer);
     VkDescriptorSet set() const { return set_; }
     VkPipelineLayout pipeline_layout() const { return pipeline_layout_; }
@@ -27,6 +29,8 @@ public:
 
 private:
     VkDevice device_;
+    std::vector<VkDescriptorType> types_;
+    VkDeviceSize max_uniform_range_;
     VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
     VkDescriptorPool pool_ = VK_NULL_HANDLE;
     VkDescriptorSet set_ = VK_NULL_HANDLE;
@@ -36,8 +40,9 @@ private:
 
 class ComputePipeline {
 public:
+    // spec_constants[i] becomes specialization constant constant_id = i (32 bits each; a bool is 0 or 1).
     ComputePipeline(const Context& context, const BindingTable& table, std::string name,
-                    std::span<const uint32_t> spirv);
+                    std::span<const uint32_t> spirv, std::span<const uint32_t> spec_constants = {});
     ~ComputePipeline();
     ComputePipeline(const ComputePipeline&) = delete;
     ComputePipeline& operator=(const ComputePipeline&) = delete;

@@ -4,7 +4,7 @@
 #include "../shared/layout.h"
 
 layout(std430, binding = BINDING_PARAMS) readonly buffer ParamsBuffer { FrameParams params; };
-layout(std430, binding = BINDING_BVH_NODES) readonly buffer NodeBuffer { BvhNode nodes[]; };
+layout(std430, binding = BINDING_BVH_NODES) readonly buffer NodeBuffer { BvhPairNode nodes[]; };
 layout(std430, binding = BINDING_TRI_POSITIONS) readonly buffer PositionBuffer { TrianglePositions tri_positions[]; };
 layout(std430, binding = BINDING_TRI_SHADING) readonly buffer ShadingBuffer { TriangleShading tri_shading[]; };
 layout(std430, binding = BINDING_MATERIALS) readonly buffer MaterialBuffer { Material materials[]; };
@@ -16,15 +16,58 @@ layout(std430, binding = BINDING_HITS) buffer HitBuffer { HitItem hits[]; };
 layout(std430, binding = BINDING_SHADOW_RAYS) buffer ShadowBuffer { ShadowRayItem shadow_rays[]; };
 layout(std430, binding = BINDING_FILM) buffer FilmBuffer { FilmPixel film[]; };
 
-layout(std140, binding = BINDING_BVH_NODES_UNIFORM) uniform NodeUniforms { BvhNode uniform_nodes[UNIFORM_NODE_CAPACITY]; };
+layout(std140, binding = BINDING_BVH_NODES_UNIFORM) uniform NodeUniforms {
+    BvhPairNode uniform_nodes[UNIFORM_NODE_CAPACITY];
+};
 layout(std140, binding = BINDING_TRI_POSITIONS_UNIFORM) uniform PositionUniforms {
     TrianglePositions uniform_tri_positions[UNIFORM_TRIANGLE_CAPACITY];
 };
+layout(std140, binding = BINDING_TRI_SHADING_UNIFORM) uniform ShadingUniforms {
+    TriangleShading uniform_tri_shading[UNIFORM_TRIANGLE_CAPACITY];
+};
+layout(std140, binding = BINDING_MATERIALS_UNIFORM) uniform MaterialUniforms {
+    Material uniform_materials[UNIFORM_MATERIAL_CAPACITY];
+};
+layout(std140, binding = BINDING_EMITTERS_UNIFORM) uniform EmitterUniforms { Emitter uniform_emitters[UNIFORM_EMITTER_CAPACITY]; };
+// Set by the host when every scene array lies whole in its uniform binding; the branches below are then
+// resolved when the pipeline is compiled.
+layout(constant_id = SPEC_SCENE_IN_UNIFORM_BUFFERS) const bool scene_in_uniform_buffers = false;
+
+BvhPairNode load_bvh_node(uint index) {
+    if (scene_in_uniform_buffers) return uniform_nodes[index];
+    return nodes[index];
+}
+
+TrianglePositions load_triangle_positions(uint triangle) {
+    if (scene_in_uniform_buffers) return uniform_tri_positions[triangle];
+    return tri_positions[triangle];
+}
+
+TriangleShading load_triangle_shading(uint triangle) {
+    if (scene_in_uniform_buffers) return uniform_tri_shading[triangle];
+    return tri_shading[triangle];
+}
+
+Material load_material(uint material) {
+    if (scene_in_uniform_buffers) return uniform_materials[material];
+    return materials[material];
+}
+
+Emitter load_emitter(uint entry) {
+    if (scene_in_uniform_buffers) return uniform_emitters[entry];
+    return emitters[entry];
+}
+
+#include "ggx_albedo_table.glsl"
+layout(std140, binding = BINDING_GGX_ALBEDO_UNIFORM) uniform GgxAlbedoTable {
+    vec4 ggx_albedo_words[GGX_ALBEDO_TABLE_SIZE / 4];
+};
+float ggx_albedo_entry(int i) { return ggx_albedo_words[i >> 2][i & 3]; }
 
 layout(push_constant) uniform PushBlock { StagePush push; };
 
 vec3 load_triangle_vertex(uint triangle, uint corner) {
-    TrianglePositions t = tri_positions[triangle];
+    TrianglePositions t = load_triangle_positions(triangle);
     if (corner == 0u) return vec3(t.p0_x, t.p0_y, t.p0_z);
     if (corner == 1u) return vec3(t.p1_x, t.p1_y, t.p1_z);
     return vec3(t.p2_x, t.p2_y, t.p2_z);

@@ -115,7 +115,8 @@ TriangleHit intersect_triangle(RayPrecomp r, vec3 p0, vec3 p1, vec3 p2, float t_
 // 2^-20 of the largest origin-to-box distance (the shear's error is ~8 ulp of it), and the far distance
 // by 1 + 2 gamma(3) for the slab arithmetic (Ize 2013, "Robust BVH Ray Traversal", JCGT 2(2)).
 // inv_dir: 1 / dir with each component clamped to +-1e30, so a zero component never makes 0 * inf.
-uint intersect_box(vec3 origin, vec3 inv_dir, vec3 lo, vec3 hi, float t_max) {
+// Returns (enter, leave): the box is hit when enter <= leave; enter orders the children of a node.
+vec2 box_entry_exit(vec3 origin, vec3 inv_dir, vec3 lo, vec3 hi, float t_max) {
     vec3 reach = max(abs(lo - origin), abs(hi - origin));
     float pad = max(max(reach.x, reach.y), reach.z) * 9.5367431640625e-7f;  // 2^-20
     vec3 t0 = (lo - vec3(pad) - origin) * inv_dir;
@@ -124,7 +125,15 @@ uint intersect_box(vec3 origin, vec3 inv_dir, vec3 lo, vec3 hi, float t_max) {
     vec3 t_far = max(t0, t1);
     float enter = max(max(t_near.x, t_near.y), max(t_near.z, 0.0f));
     float leave = min(min(t_far.x, t_far.y), min(t_far.z, t_max)) * 1.0000004768371582f;  // 1 + 2^-21 >= 1 + 2 gamma(3)
-    return enter <= leave ? 1u : 0u;
+    vec2 range;
+    range.x = enter;
+    range.y = leave;
+    return range;
+}
+
+uint intersect_box(vec3 origin, vec3 inv_dir, vec3 lo, vec3 hi, float t_max) {
+    vec2 range = box_entry_exit(origin, inv_dir, lo, hi, t_max);
+    return range.x <= range.y ? 1u : 0u;
 }
 
 // 1 / dir, clamped so that intersect_box needs no special case for zero components.

@@ -18,20 +18,20 @@ uint pick_emitter(float u) {
     uint n = params.emitter_count;
     float scaled = u * float(n);
     uint i = min(uint(scaled), n - 1u);
-    Emitter e = emitters[i];
-    return (scaled - float(i) < e.alias_threshold) ? e.triangle : emitters[e.alias].triangle;
+    Emitter e = load_emitter(i);
+    return (scaled - float(i) < e.alias_threshold) ? e.triangle : load_emitter(e.alias).triangle;
 }
 
 LightSample sample_light(float u_pick, vec2 u_point) {
     uint tri = pick_emitter(u_pick);
-    TrianglePositions tp = tri_positions[tri];
-    TriangleShading ts = tri_shading[tri];
+    TrianglePositions tp = load_triangle_positions(tri);
+    TriangleShading ts = load_triangle_shading(tri);
     vec3 p0 = vec3(tp.p0_x, tp.p0_y, tp.p0_z);
     vec3 p1 = vec3(tp.p1_x, tp.p1_y, tp.p1_z);
     vec3 p2 = vec3(tp.p2_x, tp.p2_y, tp.p2_z);
     vec2 b = sample_uniform_triangle(u_point);
     float b0 = 1.0f - b.x - b.y;
-    Material m = materials[ts.material];
+    Material m = load_material(ts.material);
     LightSample s;
     s.p = b0 * p0 + b.x * p1 + b.y * p2;
     s.p_error = bound_interpolation_error(p0, p1, p2, b0, b.x, b.y);

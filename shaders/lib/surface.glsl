@@ -14,8 +14,8 @@ struct SurfaceHit {
 };
 
 SurfaceHit load_surface(uint triangle, float b1, float b2) {
-    TrianglePositions tp = tri_positions[triangle];
-    TriangleShading ts = tri_shading[triangle];
+    TrianglePositions tp = load_triangle_positions(triangle);
+    TriangleShading ts = load_triangle_shading(triangle);
     vec3 p0 = vec3(tp.p0_x, tp.p0_y, tp.p0_z);
     vec3 p1 = vec3(tp.p1_x, tp.p1_y, tp.p1_z);
     vec3 p2 = vec3(tp.p2_x, tp.p2_y, tp.p2_z);

@@ -1,4 +1,4 @@
-// Closest-hit and any-hit traversal of the linear BVH, shared by the extend and connect stages.
+// Closest-hit and any-hit traversal of the pair-node BVH, shared by the extend and connect stages.
 // Box and triangle tests come from intersect.glsl: a slab test without 0 x inf, padded as the watertight
 // triangle test requires (Woop et al. 2013, sec. 5) and with the far distance enlarged by 1 + 2 gamma(3)
 // (Ize 2013, "Robust BVH Ray Traversal", JCGT 2(2)).
@@ -16,6 +16,11 @@ struct TraceHit {
 };
 
 // any_hit: stop at the first intersection closer than t_max (shadow rays).
+//
+// "While-while" traversal (Aila & Laine 2009): the inner loop descends through pair nodes until this lane
+// holds a leaf, then the lanes test their leaves' triangles together. On lavapipe every branch of an `if`
+// runs (masked) for the whole SIMD group, so keeping triangle tests out of the node loop means a node step
+// never pays for a triangle test, and each leaf loop tests the triangles of all lanes at once.
 TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit) {
     TraceHit best;
     best.t = t_max;
@@ -24,42 +29,49 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit) {
     best.b2 = 0.0f;
     RayPrecomp pre = make_ray_precomp(origin, dir);
     vec3 inv_dir = make_safe_inverse_dir(dir);
-    uint stack[TRAVERSAL_STACK_SIZE];
+    uint stack_index[TRAVERSAL_STACK_SIZE];
+    uint stack_count[TRAVERSAL_STACK_SIZE];
     uint stack_size = 0u;
-    uint node_index = 0u;
+    uint index = 0u;  // the root pair node
+    uint count = 0u;
     while (true) {
-        BvhNode node = uniform_nodes[node_index];
-        if (intersect_box(origin, inv_dir, vec3(node.min_x, node.min_y, node.min_z),
-                          vec3(node.max_x, node.max_y, node.max_z), best.t) != 0u) {
-            uint count = node.count_and_axis & ((1u << BVH_LEAF_COUNT_BITS) - 1u);
-            if (count > 0u) {
-                for (uint k = 0u; k < count; ++k) {
-                    uint tri = node.child_or_first + k;
-                    TrianglePositions tp = uniform_tri_positions[tri];
-                    TriangleHit h = intersect_triangle(pre, vec3(tp.p0_x, tp.p0_y, tp.p0_z),
-                                                       vec3(tp.p1_x, tp.p1_y, tp.p1_z),
-                                                       vec3(tp.p2_x, tp.p2_y, tp.p2_z), best.t);
-                    if (h.hit != 0u) {  // intersect_triangle only reports t < best.t
-                        best.t = h.t;
-                        best.triangle = tri;
-                        best.b1 = h.b1;
-                        best.b2 = h.b2;
-                        if (any_hit) return best;
-                    }
-                }
-            } else {
-                uint axis = node.count_and_axis >> BVH_LEAF_COUNT_BITS;
-                // Visit the child on the near side of the split first.
-                bool negative = (axis == 0u ? dir.x : (axis == 1u ? dir.y : dir.z)) < 0.0f;
-                if (stack_size < TRAVERSAL_STACK_SIZE) {
-                    stack[stack_size++] = negative ? node_index + 1u : node.child_or_first;
-                }
-                node_index = negative ? node.child_or_first : node_index + 1u;
-                continue;
+        // Descend until this lane holds a leaf, or finds nothing below (index INVALID_INDEX, count 0).
+        while (count == 0u && index != INVALID_INDEX) {
+            BvhPairNode n = load_bvh_node(index);
+            vec2 a = box_entry_exit(origin, inv_dir, vec3(n.a_min_x, n.a_min_y, n.a_min_z),
+                                    vec3(n.a_max_x, n.a_max_y, n.a_max_z), best.t);
+            vec2 b = box_entry_exit(origin, inv_dir, vec3(n.b_min_x, n.b_min_y, n.b_min_z),
+                                    vec3(n.b_max_x, n.b_max_y, n.b_max_z), best.t);
+            bool hit_a = a.x <= a.y && n.a_index != INVALID_INDEX;
+            bool hit_b = b.x <= b.y && n.b_index != INVALID_INDEX;
+            // Nearer child first (ties: a); when both are hit the other waits on the stack.
+            bool b_first = hit_b && (!hit_a || b.x < a.x);
+            if (hit_a && hit_b && stack_size < TRAVERSAL_STACK_SIZE) {
+                stack_index[stack_size] = b_first ? n.a_index : n.b_index;
+                stack_count[stack_size] = b_first ? n.a_count : n.b_count;
+                ++stack_size;
+            }
+            index = b_first ? n.b_index : (hit_a ? n.a_index : INVALID_INDEX);
+            count = b_first ? n.b_count : (hit_a ? n.a_count : 0u);
+        }
+        for (uint k = 0u; k < count; ++k) {
+            uint tri = index + k;
+            TrianglePositions tp = load_triangle_positions(tri);
+            TriangleHit h = intersect_triangle(pre, vec3(tp.p0_x, tp.p0_y, tp.p0_z), vec3(tp.p1_x, tp.p1_y, tp.p1_z),
+                                               vec3(tp.p2_x, tp.p2_y, tp.p2_z), best.t);
+            if (h.hit != 0u) {  // intersect_triangle only reports t < best.t
+                best.t = h.t;
+                best.triangle = tri;
+                best.b1 = h.b1;
+                best.b2 = h.b2;
+                if (any_hit) return best;
             }
         }
+        // One pop site: on lavapipe every site runs masked on every pass, so fewer sites cost less.
         if (stack_size == 0u) break;
-        node_index = stack[--stack_size];
+        --stack_size;
+        index = stack_index[stack_size];
+        count = stack_count[stack_size];
     }
     return best;
 }

@@ -22,9 +22,9 @@ using vec4 = glm::vec4;
 // ---- Dispatch shape -------------------------------------------------------------------------------------
 FH_CONST uint WORKGROUP_SIZE = 64u;  // lavapipe: 8-lane subgroups, 64..256 per group measured best
 
-// ---- Descriptor bindings (set 0, all storage buffers, shared by every stage) -----------------------------
+// ---- Descriptor bindings (set 0, storage buffers but for the *_UNIFORM ones, shared by every stage) --------
 FH_CONST uint BINDING_PARAMS = 0u;          // FrameParams, one element
-FH_CONST uint BINDING_BVH_NODES = 1u;       // BvhNode[], depth-first, root at 0
+FH_CONST uint BINDING_BVH_NODES = 1u;       // BvhPairNode[], depth-first, root at 0
 FH_CONST uint BINDING_TRI_POSITIONS = 2u;   // TrianglePositions[], in BVH leaf order
 FH_CONST uint BINDING_TRI_SHADING = 3u;     // TriangleShading[], same order
 FH_CONST uint BINDING_MATERIALS = 4u;       // Material[]
@@ -35,7 +35,21 @@ FH_CONST uint BINDING_RAYS = 8u;            // RayItem[2 * wave capacity]: two q
 FH_CONST uint BINDING_HITS = 9u;            // HitItem[wave capacity], aligned with the current ray queue
 FH_CONST uint BINDING_SHADOW_RAYS = 10u;    // ShadowRayItem[wave capacity]
 FH_CONST uint BINDING_FILM = 11u;           // FilmPixel[width * height]
-FH_CONST uint BINDING_COUNT = 12u;
+// The first UNIFORM_BUFFER_BYTES of the scene buffers (bindings 1-5) again, as uniform buffers: lavapipe
+// reads a uniform buffer with one unrolled gather per word, a storage buffer with a per-lane loop of
+// branches and bounds checks (several times slower). The stages read them when every array fits.
+FH_CONST uint BINDING_BVH_NODES_UNIFORM = 12u;
+FH_CONST uint BINDING_TRI_POSITIONS_UNIFORM = 13u;
+FH_CONST uint BINDING_TRI_SHADING_UNIFORM = 14u;
+FH_CONST uint BINDING_MATERIALS_UNIFORM = 15u;
+FH_CONST uint BINDING_EMITTERS_UNIFORM = 16u;
+FH_CONST uint BINDING_GGX_ALBEDO_UNIFORM = 17u;  // the GGX albedo table (shaders/lib/ggx_albedo_table.glsl)
+FH_CONST uint BINDING_COUNT = 18u;
+FH_CONST uint UNIFORM_BUFFER_BYTES = 65536u;  // declared size of each; Vulkan guarantees only 16 KiB of
+                                              // maxUniformBufferRange, so fits_uniform_buffers (pack.h) checks
+
+// ---- Specialization constants (constant_id) -------------------------------------------------------------
+FH_CONST uint SPEC_SCENE_IN_UNIFORM_BUFFERS = 0u;  // bool: every scene array fits its uniform binding
 
 // ---- Constants -----------------------------------------------------------------------------------------
 FH_CONST uint INVALID_INDEX = 0xffffffffu;
@@ -50,6 +64,11 @@ FH_CONST uint RENDER_MIS = 2u;             // combine NEE and BSDF sampling by M
 FH_CONST uint RENDER_RR = 4u;              // Russian roulette
 FH_CONST uint BVH_LEAF_COUNT_BITS = 16u;   // BvhNode.count_and_axis: low bits count, high bits axis
 
+FH_CONST uint UNIFORM_NODE_CAPACITY = UNIFORM_BUFFER_BYTES / 64u;      // BvhPairNode
+FH_CONST uint UNIFORM_TRIANGLE_CAPACITY = UNIFORM_BUFFER_BYTES / 48u;  // TrianglePositions, TriangleShading
+FH_CONST uint UNIFORM_MATERIAL_CAPACITY = UNIFORM_BUFFER_BYTES / 80u;  // Material
+FH_CONST uint UNIFORM_EMITTER_CAPACITY = UNIFORM_BUFFER_BYTES / 16u;   // Emitter
+
 // ---- Scene ---------------------------------------------------------------------------------------------
 // One node of the linear BVH (pbrt-v4 LinearBVHNode, 32 bytes). Interior nodes: first child is the next
 // node, `child_or_first` is the second child; leaves: `child_or_first` is the first triangle.
@@ -60,11 +79,28 @@ struct BvhNode {
     uint count_and_axis;  // triangle count (0 = interior) | split axis << BVH_LEAF_COUNT_BITS
 };
 
-// World-space vertex positions of one triangle; only these are read during traversal (9 words).
+// What the GPU traverses: one node per interior node of the BVH above, holding the bounds of both children,
+// so one visit tests two boxes and descends into the nearer (Aila & Laine 2009, "Understanding the
+// Efficiency of Ray Traversal on GPUs"). A child is another pair node (count 0, index = its BvhPairNode) or
+// a leaf (index = first triangle, count triangles); index INVALID_INDEX: no child (a BVH that is one leaf).
+struct BvhPairNode {
+    float a_min_x, a_min_y, a_min_z;
+    uint a_index;
+    float a_max_x, a_max_y, a_max_z;
+    uint a_count;
+    float b_min_x, b_min_y, b_min_z;
+    uint b_index;
+    float b_max_x, b_max_y, b_max_z;
+    uint b_count;
+};
+
+// World-space vertex positions of one triangle; only these are read during traversal (9 words). Padded to
+// 48 bytes so that std140 (uniform buffers) and std430 give the same array stride.
 struct TrianglePositions {
     float p0_x, p0_y, p0_z;
     float p1_x, p1_y, p1_z;
     float p2_x, p2_y, p2_z;
+    float pad0, pad1, pad2;
 };
 
 // What the shade stage needs of a hit triangle besides its positions.

@@ -15,20 +15,9 @@
 #include "vk/commands.h"
 
 namespace fh::test {
+namespace {
 
-vk::Context& shared_test_context() {
-    static std::unique_ptr<vk::Context> context = [] {
-        vk::ContextOptions options;
-        const char* v = std::getenv("FREDHOLM_VALIDATION");
-        options.validation = v && std::strcmp(v, "0") != 0;
-        return std::make_unique<vk::Context>(options);
-    }();
-    return *context;
-}
-
-ExtendResult run_extend_stage(const std::vector<glm::vec3>& positions, const std::vector<Ray>& rays,
-                              const BvhOptions& options) {
-    vk::Context& context = shared_test_context();
+Scene make_grey_scene(const std::vector<glm::vec3>& positions) {
     Scene scene;
     scene.positions = positions;
     scene.normals.assign(positions.size(), glm::vec3(0.0f));
@@ -39,16 +28,19 @@ ExtendResult run_extend_stage(const std::vector<glm::vec3>& positions, const std
     material.roughness = 1.0f;
     material.ior = 1.5f;
     scene.materials.push_back(material);
-    Bvh bvh = build_bvh(scene.positions, options);
-    PackedScene packed = pack_scene(scene, bvh);
+    return scene;
+}
 
+// Runs extend once, reading the scene from uniform buffers (the fast path) or from storage buffers.
+ExtendResult run_extend_once(vk::Context& context, const PackedScene& packed, const Bvh& bvh,
+                             const std::vector<Ray>& rays, bool uniform_scene) {
     gpu::FrameParams frame{};
     frame.width = 1;
     frame.height = 1;
     frame.wave_capacity = uint32_t(rays.size());
     frame.triangle_count = uint32_t(packed.positions.size());
     GpuBuffers buffers = create_gpu_buffers(context, packed, frame);
-    StageTable stages(context);
+    StageTable stages(context, uniform_scene);
     bind_gpu_buffers(stages.bindings(), buffers);
 
     std::vector<gpu::RayItem> items(rays.size());
@@ -79,6 +71,36 @@ ExtendResult run_extend_stage(const std::vector<glm::vec3>& positions, const std
     vk::download_from_buffer(context, buffers.counters, &counters, sizeof(counters));
     result.escaped_rays = counters.escaped_rays;
     EXPECT_EQ(context.validation_message_count(), 0u) << "Vulkan validation messages (printed above)";
+    return result;
+}
+
+}  // namespace
+
+vk::Context& shared_test_context() {
+    static std::unique_ptr<vk::Context> context = [] {
+        vk::ContextOptions options;
+        const char* v = std::getenv("FREDHOLM_VALIDATION");
+        options.validation = v && std::strcmp(v, "0") != 0;
+        return std::make_unique<vk::Context>(options);
+    }();
+    return *context;
+}
+
+ExtendResult run_extend_stage(const std::vector<glm::vec3>& positions, const std::vector<Ray>& rays,
+                              const BvhOptions& options) {
+    vk::Context& context = shared_test_context();
+    Scene scene = make_grey_scene(positions);
+    Bvh bvh = build_bvh(scene.positions, options);
+    PackedScene packed = pack_scene(scene, bvh);
+    ExtendResult result = run_extend_once(context, packed, bvh, rays, false);
+    if (fits_uniform_buffers(packed, context.properties().limits.maxUniformBufferRange)) {
+        ExtendResult fast = run_extend_once(context, packed, bvh, rays, true);
+        size_t differing = 0;
+        for (size_t i = 0; i < rays.size(); ++i)
+            differing += fast.hits[i].triangle != result.hits[i].triangle || fast.hits[i].t != result.hits[i].t;
+        EXPECT_EQ(differing, 0u) << "uniform-buffer and storage-buffer scene paths disagree";
+        result.uniform_path_checked = true;
+    }
     return result;
 }
 

@@ -59,39 +59,41 @@ double white_albedo(float metallic, float roughness, float degrees, vec3 base = 
     return integrate_hemisphere(wo, [&](vec3 wi) { return eval_bsdf(p, wo, wi).x; });
 }
 
-// Where the model conserves energy, it does so at every alpha and angle: the white metal (F = 1: albedo =
-// the single-scattering GGX albedo <= 1), the dielectric's specular layer alone (black base), pure Lambert
-// (= 1), and the white dielectric near normal incidence. 89.9 degrees is left out: there h = wo + wi
-// cancels in float and a 1e-3 alpha lobe is noise to a few percent (the sampler's weight cancels D, so
-// rendering is unaffected, but quadrature cannot resolve it).
-TEST(Bsdf, WhiteAlbedoIsAtMostOneWhereTheModelConservesEnergy) {
-    for (float roughness : ALL_ROUGHNESSES)
-        for (float degrees : INCIDENCES) {
-            EXPECT_LE(white_albedo(1.0f, roughness, degrees), 1.0 + 2e-3) << "metal " << roughness << " " << degrees;
-            EXPECT_LE(white_albedo(0.0f, roughness, degrees, vec3(0.0f)), 1.0 + 2e-3)
-                << "specular layer " << roughness << " " << degrees;
-            EXPECT_NEAR(white_albedo(0.0f, roughness, degrees, vec3(1.0f), 0.0f), 1.0, 1e-4) << "Lambert";
-            if (degrees <= 30.0f) {
-                EXPECT_LE(white_albedo(0.0f, roughness, degrees), 1.0 + 1e-3) << "dielectric " << roughness;
-                EXPECT_LE(white_albedo(0.5f, roughness, degrees), 1.0 + 1e-3) << "half-metal " << roughness;
+// White furnace: the albedo never exceeds 1, for white dielectric, half-metal and metal at every alpha and
+// angle; each layer alone too (the metal: the single-scattering GGX albedo; the dielectric's specular layer
+// alone, black base), and pure Lambert is exactly 1. The spec's literal dielectric gave 1.03 at 60 deg and
+// 1.85 at 89 deg here; albedo scaling (bsdf.glsl) gives E + (1 - E) = 1 for the white dielectric, less only
+// by how much the albedo table overestimates E (it is built never to underestimate it). 89.9 degrees is
+// left out: there h = wo + wi cancels in float and a 1e-3 alpha lobe is noise to a few percent to quadrature.
+TEST(Bsdf, WhiteFurnaceNeverGainsEnergy) {
+    double largest = 0.0, smallest_dielectric = 2.0;
+    for (float r : {0.0f, 0.01f, 0.05f, 0.1f, 0.2f, 0.5f, 1.0f})  // 0 and 0.01 (alpha 1e-4): alpha clamped to 1e-3
+        for (float degrees : {0.0f, 30.0f, 60.0f, 75.0f, 80.0f, 85.0f, 88.0f, 89.0f}) {
+            const double dielectric = white_albedo(0.0f, r, degrees), half_metal = white_albedo(0.5f, r, degrees),
+                         metal = white_albedo(1.0f, r, degrees);
+            std::printf("[albedo] roughness %.2f at %2.0f deg: dielectric %.4f half-metal %.4f metal %.4f\n", r, degrees,
+                        dielectric, half_metal, metal);
+            EXPECT_LE(dielectric, 1.0 + 1e-3) << "dielectric " << r << " " << degrees;
+            EXPECT_LE(half_metal, 1.0 + 1e-3) << "half-metal " << r << " " << degrees;
+            EXPECT_LE(metal, 1.0 + 1e-3) << "metal " << r << " " << degrees;
+            EXPECT_NEAR(dielectric, 1.0, 1e-2) << "white dielectric " << r << " " << degrees;
+            EXPECT_LE(white_albedo(0.0f, r, degrees, vec3(0.0f)), 1.0 + 1e-3) << "specular layer " << r << " " << degrees;
+            EXPECT_NEAR(white_albedo(0.0f, r, degrees, vec3(1.0f), 0.0f), 1.0, 1e-4) << "Lambert";
+            if (degrees == 0.0f || degrees == 60.0f || degrees == 89.0f) {
+                // f0 = f90 = 1 (ior 0), where 1 - E_avg is smallest; a colored f0 (the bound holds per channel).
+                const BsdfParams mirror = make_bsdf_params(make_material(vec3(1.0f), 0.0f, r, 1.0f, vec3(1.0f), 0.0f));
+                const BsdfParams colored = make_bsdf_params(make_material(vec3(1.0f), 0.0f, r, 1.0f, vec3(20, 1, 0)));
+                const vec3 wo = outgoing(degrees);
+                if (degrees < 89.0f) {  // at 89 deg its large, noisy diffuse scale stalls the adaptive quadrature
+                    EXPECT_LE(integrate_hemisphere(wo, [&](vec3 wi) { return eval_bsdf(mirror, wo, wi).x; }), 1.0 + 1e-3);
+                }
+                for (int c = 0; c < 3; ++c)
+                    EXPECT_LE(integrate_hemisphere(wo, [&](vec3 wi) { return eval_bsdf(colored, wo, wi)[c]; }), 1.0 + 1e-3);
             }
+            largest = std::max({largest, dielectric, half_metal, metal});
+            smallest_dielectric = std::min(smallest_dielectric, dielectric);
         }
-}
-
-// The glTF 2.0 dielectric (Appendix B, fresnel_mix) weights Lambert by 1 - F(v.h) rather than by the energy
-// the specular layer actually leaves, so a white dielectric reflects MORE than it receives at oblique
-// angles: 1.03 at 60 deg, 1.35 at 80, 1.85 at 89 for roughness 0 (each layer alone is <= 1, so the sum is
-// <= 2). This is the specification's model, implemented as written; the test pins the behaviour so that
-// any change to it (e.g. an energy-conserving layering) is deliberate.
-TEST(Bsdf, GltfDielectricGainsEnergyAtGrazingAngles) {
-    for (float roughness : ALL_ROUGHNESSES)
-        for (float degrees : INCIDENCES) {
-            const double albedo = white_albedo(0.0f, roughness, degrees);
-            std::printf("[albedo] white dielectric, roughness %.2f at %2.0f deg: %.4f\n", roughness, degrees, albedo);
-            EXPECT_LE(albedo, 2.0);
-        }
-    EXPECT_NEAR(white_albedo(0.0f, 0.0f, 60.0f), 1.025, 5e-3);
-    EXPECT_NEAR(white_albedo(0.0f, 0.0f, 89.0f), 1.85, 2e-2);
+    std::printf("[albedo] largest %.5f, smallest white dielectric %.5f\n", largest, smallest_dielectric);
 }
 
 // The estimator weight = f cos / pdf averages to the albedo (invalid samples count as 0): sampling is unbiased.

@@ -24,7 +24,28 @@ FH_OFFSET(BvhNode, child_or_first, 12);
 FH_OFFSET(BvhNode, max_x, 16);
 FH_OFFSET(BvhNode, count_and_axis, 28);
 
+FH_SIZE(BvhPairNode, 64);
+FH_OFFSET(BvhPairNode, a_min_x, 0);
+FH_OFFSET(BvhPairNode, a_index, 12);
+FH_OFFSET(BvhPairNode, a_max_x, 16);
+FH_OFFSET(BvhPairNode, a_count, 28);
+FH_OFFSET(BvhPairNode, b_min_x, 32);
+FH_OFFSET(BvhPairNode, b_index, 44);
+FH_OFFSET(BvhPairNode, b_max_x, 48);
+FH_OFFSET(BvhPairNode, b_count, 60);
+
+// Uniform-buffer copies use std140, where an array stride rounds up to 16 bytes: these strides must not.
+static_assert(sizeof(BvhPairNode) % 16 == 0 && sizeof(TrianglePositions) % 16 == 0, "std140 stride");
+static_assert(UNIFORM_NODE_CAPACITY * sizeof(BvhPairNode) <= UNIFORM_BUFFER_BYTES, "node capacity");
+static_assert(UNIFORM_TRIANGLE_CAPACITY * sizeof(TrianglePositions) <= UNIFORM_BUFFER_BYTES, "triangle capacity");
+static_assert(UNIFORM_TRIANGLE_CAPACITY * sizeof(TriangleShading) <= UNIFORM_BUFFER_BYTES, "shading capacity");
+static_assert(UNIFORM_MATERIAL_CAPACITY * sizeof(Material) <= UNIFORM_BUFFER_BYTES, "material capacity");
+static_assert(UNIFORM_EMITTER_CAPACITY * sizeof(Emitter) <= UNIFORM_BUFFER_BYTES, "emitter capacity");
+static_assert(sizeof(TriangleShading) % 16 == 0 && sizeof(Material) % 16 == 0 && sizeof(Emitter) % 16 == 0,
+              "std140 stride");
+
 FH_SIZE(TrianglePositions, 48);
+FH_OFFSET(TrianglePositions, pad0, 36);
 FH_OFFSET(TrianglePositions, p1_x, 12);
 FH_OFFSET(TrianglePositions, p2_z, 32);
 
@@ -127,7 +148,7 @@ TEST(Layout, ArrayStridesFollowStd430) {
     static_assert(sizeof(vec4) == 16 && alignof(uint) == 4 && sizeof(float) == 4);
     EXPECT_TRUE(has_std430_array_stride<Material>(true));
     EXPECT_TRUE(has_std430_array_stride<FrameParams>(true));
-    for (size_t size : {sizeof(BvhNode), sizeof(TrianglePositions), sizeof(TriangleShading), sizeof(Emitter),
+    for (size_t size : {sizeof(BvhNode), sizeof(BvhPairNode), sizeof(TrianglePositions), sizeof(TriangleShading), sizeof(Emitter),
                         sizeof(QueueCounters), sizeof(PathState), sizeof(RayItem), sizeof(HitItem),
                         sizeof(ShadowRayItem), sizeof(FilmPixel), sizeof(StagePush)})
         EXPECT_EQ(size % 4, 0u);
@@ -136,7 +157,8 @@ TEST(Layout, ArrayStridesFollowStd430) {
 TEST(Layout, SizesMatchTheGpuStructs) {
     // Repeated as runtime checks so a failing build is not the only report.
     EXPECT_EQ(sizeof(BvhNode), 32u);
-    EXPECT_EQ(sizeof(TrianglePositions), 36u);
+    EXPECT_EQ(sizeof(BvhPairNode), 64u);
+    EXPECT_EQ(sizeof(TrianglePositions), 48u);
     EXPECT_EQ(sizeof(TriangleShading), 48u);
     EXPECT_EQ(sizeof(Material), 80u);
     EXPECT_EQ(sizeof(Emitter), 16u);
