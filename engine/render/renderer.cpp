@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstddef>
+#include <stdexcept>
 
 #include "render/camera_setup.h"
 #include "vk/context.h"
@@ -84,19 +85,27 @@ Renderer::Renderer(const vk::Context& context, const PackedScene& scene, const S
 }
 
 RenderStats Renderer::render(const ProgressCallback& progress) {
-    RenderStats stats;
+    clear_film();
+    return render_samples(0, settings_.spp, progress);
+}
+
+void Renderer::clear_film() {
     recorder_.begin();
     recorder_.fill_buffer(buffers_.film, 0);
     recorder_.fill_buffer(buffers_.counters, 0);
     recorder_.submit_and_wait();
+}
 
+RenderStats Renderer::render_samples(uint32_t sample_begin, uint32_t sample_end, const ProgressCallback& progress) {
+    RenderStats stats;
+    stats.spp_done = sample_begin;
     const uint32_t pixels = settings_.width * settings_.height;
     const auto start = std::chrono::steady_clock::now();
-    for (const Wave& wave : plan_waves(pixels, 0, settings_.spp, frame_.wave_capacity)) {
+    for (const Wave& wave : plan_waves(pixels, sample_begin, sample_end, frame_.wave_capacity)) {
         trace_wave(wave, stats);
         // A wave ends a sample index once it reaches the last pixel.
         if (wave.pixel_begin + wave.pixel_count == pixels) stats.spp_done = wave.sample_begin + wave.sample_count;
-        if (progress && !progress(stats.spp_done, settings_.spp)) break;
+        if (progress && !progress(stats.spp_done, sample_end)) break;
     }
     stats.render_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return stats;
@@ -161,15 +170,25 @@ void Renderer::submit(RenderStats& stats) {
     for (const auto& [name, seconds] : recorder_.dispatch_seconds()) stats.stage_seconds[name] += seconds;
 }
 
+std::vector<gpu::FilmPixel> Renderer::read_film_state() const {
+    std::vector<gpu::FilmPixel> film(size_t(settings_.width) * settings_.height);
+    vk::download_from_buffer(context_, buffers_.film, film.data(), film.size() * sizeof(gpu::FilmPixel));
+    return film;
+}
+
+void Renderer::write_film_state(const std::vector<gpu::FilmPixel>& film) {
+    if (film.size() != size_t(settings_.width) * settings_.height)
+        throw std::invalid_argument("write_film_state: the film has a different size than the render");
+    vk::upload_to_buffer(context_, buffers_.film, film.data(), film.size() * sizeof(gpu::FilmPixel));
+}
+
 Image Renderer::read_film() const {
-    const size_t pixels = size_t(settings_.width) * settings_.height;
-    std::vector<gpu::FilmPixel> film(pixels);
-    vk::download_from_buffer(context_, buffers_.film, film.data(), pixels * sizeof(gpu::FilmPixel));
+    const std::vector<gpu::FilmPixel> film = read_film_state();
     Image image;
     image.width = int(settings_.width);
     image.height = int(settings_.height);
-    image.rgb.resize(pixels * 3);
-    for (size_t i = 0; i < pixels; ++i) {
+    image.rgb.resize(film.size() * 3);
+    for (size_t i = 0; i < film.size(); ++i) {
         float n = film[i].sample_count > 0 ? film[i].sample_count : 1.0f;
         // Kahan: the compensation holds the negated lost low-order part, so subtract it.
         image.rgb[3 * i + 0] = float((double(film[i].sum_r) - double(film[i].comp_r)) / n);

@@ -43,8 +43,15 @@ public:
 
     // Renders settings.spp samples per pixel into a cleared film.
     RenderStats render(const ProgressCallback& progress = {});
+    // Adds samples [sample_begin, sample_end) of every pixel to the film as it is (no clearing), e.g. to
+    // continue a render or to grow one progressively; spp_done in the result is the sample index reached.
+    RenderStats render_samples(uint32_t sample_begin, uint32_t sample_end, const ProgressCallback& progress = {});
+    void clear_film();
     // The film's mean radiance per pixel (scene-linear Rec.709).
     Image read_film() const;
+    // The raw film (compensated sums and sample counts), to save a render and resume it bit-exactly.
+    std::vector<gpu::FilmPixel> read_film_state() const;
+    void write_film_state(const std::vector<gpu::FilmPixel>& film);
 
 private:
     void trace_wave(const Wave& wave, RenderStats& stats);
