@@ -13,22 +13,17 @@
 #include "scene/pack.h"
 #include "scene/scene.h"
 #include "vk/commands.h"
+#include "../unit/test_meshes.h"
 
 namespace fh::test {
 namespace {
 
 Scene make_grey_scene(const std::vector<glm::vec3>& positions) {
-    Scene scene;
-    scene.positions = positions;
-    scene.normals.assign(positions.size(), glm::vec3(0.0f));
-    scene.triangle_material.assign(positions.size() / 3, 0);
-    scene.triangle_has_normals.assign(positions.size() / 3, 0);
     gpu::Material material{};
     material.base_color = glm::vec4(0.5f, 0.5f, 0.5f, 1.0f);
     material.roughness = 1.0f;
     material.ior = 1.5f;
-    scene.materials.push_back(material);
-    return scene;
+    return make_single_material_scene(positions, material);
 }
 
 // Runs extend once, reading the scene from uniform buffers (the fast path) or from storage buffers.

@@ -13,20 +13,14 @@ namespace fh {
 namespace {
 
 Scene make_emitter_scene(const test::Mesh& mesh, bool flip_inward) {
-    Scene scene;
-    scene.positions = mesh.flatten();
+    std::vector<glm::vec3> positions = mesh.flatten();
     if (flip_inward)
-        for (size_t t = 0; t < scene.positions.size(); t += 3) std::swap(scene.positions[t + 1], scene.positions[t + 2]);
-    size_t n = scene.positions.size() / 3;
-    scene.normals.assign(scene.positions.size(), glm::vec3(0.0f));
-    scene.triangle_has_normals.assign(n, 0);
-    scene.triangle_material.assign(n, 0);
+        for (size_t t = 0; t < positions.size(); t += 3) std::swap(positions[t + 1], positions[t + 2]);
     gpu::Material m{};
     m.emission = glm::vec4(1.0f, 0.5f, 0.25f, 0.0f);
     m.roughness = 1.0f;
     m.ior = 1.5f;
-    scene.materials.push_back(m);
-    return scene;
+    return test::make_single_material_scene(positions, m);
 }
 
 double triangle_area(const gpu::TrianglePositions& t) {

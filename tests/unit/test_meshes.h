@@ -7,6 +7,8 @@
 
 #include <glm/glm.hpp>
 
+#include "scene/scene.h"
+
 namespace fh::test {
 
 // Uniform floats in [0, 1) from the mt19937 bit stream (portable, unlike std::uniform_real_distribution).
@@ -84,6 +86,17 @@ inline Mesh make_sphere(glm::vec3 center, float radius, uint32_t rings, uint32_t
         m.indices.insert(m.indices.end(), {ring_vertex(rings - 1, s), south, ring_vertex(rings - 1, s + 1)});
     }
     return m;
+}
+
+// A scene of flat-shaded triangles (3 positions each) that all use one material.
+inline Scene make_single_material_scene(const std::vector<glm::vec3>& positions, const gpu::Material& material) {
+    Scene scene;
+    scene.positions = positions;
+    scene.normals.assign(positions.size(), glm::vec3(0.0f));
+    scene.triangle_material.assign(positions.size() / 3, 0);
+    scene.triangle_has_normals.assign(positions.size() / 3, 0);
+    scene.materials.push_back(material);
+    return scene;
 }
 
 }  // namespace fh::test
