@@ -5,7 +5,9 @@
 #include <exception>
 
 #include "app/bench_command.h"
+#include "app/converge_command.h"
 #include "app/render_command.h"
+#include "app/viewer_command.h"
 
 int main(int argc, char** argv) {
     CLI::App app{"Fredholm: an unbiased path tracer for glTF 2.0 on Vulkan compute"};
@@ -14,6 +16,11 @@ int main(int argc, char** argv) {
     fh::add_render_options(*app.add_subcommand("render", "render a glTF scene to OpenEXR"), render);
     fh::BenchCommand bench;
     fh::add_bench_options(*app.add_subcommand("bench", "time the Cornell box at 256x256 and 512x512"), bench);
+    fh::ConvergeCommand converge;
+    fh::add_converge_options(*app.add_subcommand("converge", "error against render time at doubling spp, as a report"),
+                             converge);
+    fh::ViewCommand view;
+    fh::add_view_options(*app.add_subcommand("view", "interactive viewer: progressive path tracing in a window"), view);
     try {
         app.parse(argc, argv);
     } catch (const CLI::Success& e) {
@@ -24,6 +31,8 @@ int main(int argc, char** argv) {
     }
     try {
         if (app.got_subcommand("render")) return fh::run_render(render);
+        if (app.got_subcommand("view")) return fh::run_view(view);
+        if (app.got_subcommand("converge")) return fh::run_converge(converge);
         return fh::run_bench(bench);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "fredholm: error: %s\n", e.what());

@@ -10,26 +10,32 @@
 
 #include "app/interrupt.h"
 #include "app/progress.h"
+#include "app/resume.h"
 #include "app/session.h"
 #include "io/atomic_write.h"
 #include "io/exr.h"
 #include "io/png.h"
 #include "render/camera_setup.h"
+#include "render/memory_estimate.h"
 
 namespace fh {
 namespace {
 
 const char* VERSION = "fredholm 0.1.0";
 
-ImageMetadata make_metadata(const RenderCommand& c, const RenderStats& stats) {
+// The settings that decide every sample's value (what a resume must match), plus the samples done.
+ImageMetadata make_metadata(const RenderCommand& c, uint32_t spp_done) {
     const RenderSettings& s = c.settings;
+    char radius[32];
+    std::snprintf(radius, sizeof radius, "%.9g", double(s.filter_radius));
     return {{"fredholm:renderer", VERSION},
             {"fredholm:scene", c.scene.filename().string()},
-            {"fredholm:spp", std::to_string(stats.spp_done)},
+            {"fredholm:spp", std::to_string(spp_done)},
             {"fredholm:seed", std::to_string(s.seed)},
             {"fredholm:max_depth", std::to_string(s.max_depth)},
             {"fredholm:camera", std::to_string(s.camera)},
             {"fredholm:filter", to_string(s.filter)},
+            {"fredholm:filter_radius", radius},
             {"fredholm:nee", s.nee ? "on" : "off"},
             {"fredholm:mis", s.mis ? "on" : "off"},
             {"fredholm:rr", s.russian_roulette ? "on" : "off"},
@@ -37,9 +43,9 @@ ImageMetadata make_metadata(const RenderCommand& c, const RenderStats& stats) {
 }
 
 void write_stats(const std::filesystem::path& file, const RenderCommand& c, const PreparedScene& prepared,
-                 const RenderStats& stats, const std::string& device) {
+                 const RenderStats& stats, uint32_t first_sample, const std::string& device) {
     const RenderSettings& s = c.settings;
-    double samples = double(s.width) * s.height * stats.spp_done;
+    double samples = double(s.width) * s.height * (stats.spp_done - first_sample);
     double rays = double(stats.traced_rays + stats.traced_shadow_rays);
     nlohmann::json j;
     j["scene"] = c.scene.string();
@@ -47,6 +53,7 @@ void write_stats(const std::filesystem::path& file, const RenderCommand& c, cons
     j["width"] = s.width;
     j["height"] = s.height;
     j["spp"] = stats.spp_done;
+    j["first_sample"] = first_sample;  // > 0 for a resumed render; rates count the new samples only
     j["seed"] = s.seed;
     j["max_depth"] = s.max_depth;
     j["render_seconds"] = stats.render_seconds;
@@ -74,6 +81,7 @@ void write_stats(const std::filesystem::path& file, const RenderCommand& c, cons
 }  // namespace
 
 void add_render_options(CLI::App& app, RenderCommand& c) {
+    add_camera_pose_options(app, c.pose);
     RenderSettings& s = c.settings;
     app.add_option("scene", c.scene, "glTF 2.0 scene (.gltf or .glb)")->required();
     app.add_option("-o,--output", c.output, "output OpenEXR image (scene-linear Rec.709, float32)")->required();
@@ -104,45 +112,87 @@ void add_render_options(CLI::App& app, RenderCommand& c) {
     app.add_flag("--validate", c.validation, "enable Vulkan validation layers (also FREDHOLM_VALIDATION=1)");
     app.add_option("--device", c.device, "use the first Vulkan device whose name contains this");
     app.add_flag("-q,--quiet", c.quiet, "no summary line");
+    // "--resume" alone continues the output file itself; "--resume FILE" continues FILE into the output.
+    app.add_option_function<std::string>(
+           "--resume", [&c](const std::string& file) {
+               c.resume = true;
+               c.resume_file = file;
+           },
+           "continue a render written by fredholm render (default: the -o file) up to --spp samples")
+        ->expected(0, 1);
 }
 
 int run_render(const RenderCommand& c) {
-    // Fail before any work if an output cannot be written.
+    // Without roulette and without a depth limit a path in a closed scene never ends.
+    if (!c.settings.russian_roulette && c.settings.max_depth == 0) {
+        std::fprintf(stderr, "fredholm: usage error: --rr off needs a finite --max-depth (paths that never escape "
+                             "would never end)\n");
+        return 2;
+    }
+    // Fail before any work if an output cannot be written or the render to continue does not match.
     check_writable(c.output);
     if (!c.png.empty()) check_writable(c.png);
     if (!c.stats.empty()) check_writable(c.stats);
+    const RenderSettings& settings = c.settings;
+    SavedFilm saved;
+    if (c.resume) {
+        const std::filesystem::path& file = c.resume_file.empty() ? c.output : c.resume_file;
+        saved = read_saved_film(file, make_metadata(c, 0), settings.width, settings.height);
+        if (saved.spp > settings.spp)
+            throw std::runtime_error(file.string() + ": cannot resume: it already has " +
+                                     std::to_string(saved.spp) + " spp, more than --spp " +
+                                     std::to_string(settings.spp));
+    }
+    // From here on Ctrl-C and SIGTERM finish the sample index in progress, then write what they have.
+    install_interrupt_handlers();
 
     PreparedScene prepared = prepare_scene(c.scene);
-    SceneCamera camera = choose_camera(prepared.scene, c.settings.camera);
+    SceneCamera camera = apply_camera_pose(choose_camera(prepared.scene, settings.camera), c.pose);
     auto context = make_compute_context(c.validation, c.device);
-    Renderer renderer(*context, prepared.packed, camera, c.settings, prepared.scene.bounds_min,
+    try {
+        check_render_memory(estimate_render_memory(prepared.packed, settings), query_memory_limits(*context));
+    } catch (const std::runtime_error& e) {
+        throw std::runtime_error(c.scene.string() + ": " + std::to_string(settings.width) + "x" +
+                                 std::to_string(settings.height) + " on " + context->device_name() + ": " + e.what());
+    }
+    Renderer renderer(*context, prepared.packed, camera, settings, prepared.scene.bounds_min,
                       prepared.scene.bounds_max);
+    if (!c.resume) renderer.clear_film();
+    else renderer.write_film_state(saved.film);
 
-    install_interrupt_handlers();
+    // Stop only once a wave has finished a sample index for every pixel (the film then holds samples
+    // [0, spp_done) everywhere, so it can be resumed exactly); waves that cover part of the pixels continue.
     ProgressLine progress;
-    RenderStats stats = renderer.render([&](uint32_t done, uint32_t total) {
+    uint32_t reached = saved.spp;
+    RenderStats stats = renderer.render_samples(saved.spp, settings.spp, [&](uint32_t done, uint32_t total) {
         progress.update(done, total);
-        return !interrupt_requested();
+        const bool at_sample_boundary = done != reached;
+        reached = done;
+        return !(interrupt_requested() && at_sample_boundary);
     });
     progress.finish();
 
-    Image image = renderer.read_film();
-    write_exr(c.output, image, make_metadata(c, stats));
+    const Image image = renderer.read_film();
+    write_exr(c.output, image, make_metadata(c, stats.spp_done), film_channels(renderer.read_film_state()));
     if (!c.png.empty()) write_png(c.png, image, c.exposure_ev, c.tone_curve);
-    if (!c.stats.empty()) write_stats(c.stats, c, prepared, stats, context->device_name());
+    if (!c.stats.empty()) write_stats(c.stats, c, prepared, stats, saved.spp, context->device_name());
 
+    const uint32_t rendered = stats.spp_done - saved.spp;
     if (!c.quiet)
-        std::fprintf(stderr, "fredholm: %s: %ux%u, %u spp in %.3f s (%.2f Msamples/s) on %s; %llu non-finite samples\n",
-                     c.output.string().c_str(), c.settings.width, c.settings.height, stats.spp_done,
+        std::fprintf(stderr, "fredholm: %s: %ux%u, %u spp (%u new) in %.3f s (%.2f Msamples/s) on %s; %llu non-finite samples\n",
+                     c.output.string().c_str(), settings.width, settings.height, stats.spp_done, rendered,
                      stats.render_seconds,
-                     double(c.settings.width) * c.settings.height * stats.spp_done / stats.render_seconds * 1e-6,
+                     stats.render_seconds > 0
+                         ? double(settings.width) * settings.height * rendered / stats.render_seconds * 1e-6
+                         : 0.0,
                      context->device_name().c_str(), (unsigned long long)stats.nonfinite_samples);
     if (context->validation_message_count() > 0) {
         std::fprintf(stderr, "fredholm: error: %u Vulkan validation message(s)\n", context->validation_message_count());
         return 1;
     }
     if (interrupt_requested()) {
-        std::fprintf(stderr, "fredholm: interrupted: wrote %s with %u spp\n", c.output.string().c_str(), stats.spp_done);
+        std::fprintf(stderr, "fredholm: interrupted: wrote %s with %u spp (continue with --resume)\n",
+                     c.output.string().c_str(), stats.spp_done);
         return 130;
     }
     return 0;

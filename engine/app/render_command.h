@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <string>
 
+#include "app/camera_options.h"
 #include "io/tone_curve.h"
 #include "render/renderer.h"
 #include "render/settings.h"
@@ -24,6 +25,9 @@ struct RenderCommand {
     bool validation = false;
     std::string device;
     bool quiet = false;
+    bool resume = false;                // continue a render written by fredholm render instead of starting afresh
+    std::filesystem::path resume_file;  // ... this one; empty: the output file itself
+    CameraPoseOptions pose;             // --look-from/--look-at/--up/--yfov (as printed by the viewer)
 };
 
 void add_render_options(CLI::App& app, RenderCommand& command);

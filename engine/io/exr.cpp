@@ -36,10 +36,18 @@ Imf::FrameBuffer make_frame_buffer(const float* rgb, const Imath::Box2i& window)
     return frame;
 }
 
-void write_exr_file(const fs::path& file, const Image& image, const ImageMetadata& metadata) {
+// One FLOAT slice over a plain array of one value per pixel.
+Imf::Slice make_single_slice(const float* values, const Imath::Box2i& window) {
+    return Imf::Slice::Make(Imf::FLOAT, values, window, sizeof(float),
+                            sizeof(float) * std::size_t(window.max.x - window.min.x + 1));
+}
+
+void write_exr_file(const fs::path& file, const Image& image, const ImageMetadata& metadata,
+                    const ExtraChannels& extra) {
     Imf::Header header(image.width, image.height);
     header.compression() = Imf::ZIP_COMPRESSION;
     for (const char* name : CHANNEL_NAMES) header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+    for (const auto& [name, values] : extra) header.channels().insert(name, Imf::Channel(Imf::FLOAT));
     for (const auto& [key, value] : metadata) {
         bool reserved = header.find(key) != header.end();
         for (const char* name : RESERVED_NAMES) reserved = reserved || key == name;
@@ -47,16 +55,28 @@ void write_exr_file(const fs::path& file, const Image& image, const ImageMetadat
         header.insert(key, Imf::StringAttribute(value));
     }
     Imf::OutputFile out(file.c_str(), header);
-    out.setFrameBuffer(make_frame_buffer(image.rgb.data(), header.dataWindow()));
+    Imf::FrameBuffer frame = make_frame_buffer(image.rgb.data(), header.dataWindow());
+    for (const auto& [name, values] : extra) frame.insert(name, make_single_slice(values.data(), header.dataWindow()));
+    out.setFrameBuffer(frame);
     out.writePixels(image.height);
 }
 
 }  // namespace
 
-void write_exr(const fs::path& path, const Image& image, const ImageMetadata& metadata) {
+void write_exr(const fs::path& path, const Image& image, const ImageMetadata& metadata, const ExtraChannels& extra) {
     check_image_shape(image, path.string());
+    for (const auto& [name, values] : extra) {
+        bool clashes = false;
+        for (const char* rgb : CHANNEL_NAMES) clashes = clashes || name == rgb;
+        if (clashes || name.empty())
+            throw IoError(path.string() + ": extra channel name \"" + name + "\" is empty or clashes with R, G, B");
+        if (values.size() != std::size_t(image.width) * std::size_t(image.height))
+            throw IoError(path.string() + ": extra channel " + name + " has " + std::to_string(values.size()) +
+                          " values for " + std::to_string(image.width) + " x " + std::to_string(image.height) +
+                          " pixels");
+    }
     try {
-        write_file_atomically(path, [&](const fs::path& temp) { write_exr_file(temp, image, metadata); });
+        write_file_atomically(path, [&](const fs::path& temp) { write_exr_file(temp, image, metadata, extra); });
     } catch (const IoError&) {
         throw;
     } catch (const std::exception& e) {
@@ -90,6 +110,30 @@ Image read_exr(const fs::path& path, ImageMetadata* metadata) {
                     (*metadata)[it.name()] = text->value();
         }
         return image;
+    } catch (const IoError&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw IoError(path.string() + ": cannot read EXR: " + e.what());
+    }
+}
+
+ExtraChannels read_exr_channels(const fs::path& path, const std::vector<std::string>& names) {
+    try {
+        Imf::InputFile in(path.c_str());
+        const Imath::Box2i window = in.header().dataWindow();
+        const std::size_t pixels =
+            std::size_t(window.max.x - window.min.x + 1) * std::size_t(window.max.y - window.min.y + 1);
+        ExtraChannels channels;
+        Imf::FrameBuffer frame;
+        for (const std::string& name : names) {
+            if (!in.header().channels().findChannel(name)) throw IoError(path.string() + ": missing channel " + name);
+            std::vector<float>& values = channels[name];
+            values.assign(pixels, 0.0f);
+            frame.insert(name, make_single_slice(values.data(), window));
+        }
+        in.setFrameBuffer(frame);
+        in.readPixels(window.min.y, window.max.y);
+        return channels;
     } catch (const IoError&) {
         throw;
     } catch (const std::exception& e) {

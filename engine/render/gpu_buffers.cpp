@@ -2,8 +2,10 @@
 #include "render/gpu_buffers.h"
 
 #include <span>
+#include <stdexcept>
 #include <vector>
 
+#include "render/memory_estimate.h"
 #include "vk/context.h"
 #include "vk/pipeline.h"
 
@@ -57,6 +59,14 @@ GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& sce
     b.hits = make_state_buffer(context, capacity * sizeof(gpu::HitItem));
     b.shadow_rays = make_state_buffer(context, capacity * sizeof(gpu::ShadowRayItem));
     b.film = make_state_buffer(context, size_t(frame.width) * frame.height * sizeof(gpu::FilmPixel));
+    // The limits check before rendering relies on the estimate: keep it exact.
+    uint64_t allocated = 0;
+    for (const vk::Buffer* buffer : {&b.params, &b.nodes, &b.tri_positions, &b.tri_shading, &b.materials, &b.emitters,
+                                     &b.ggx_albedo, &b.counters, &b.counters_readback, &b.paths, &b.rays, &b.hits,
+                                     &b.shadow_rays, &b.film})
+        allocated += buffer->size();
+    if (allocated != estimate_render_memory(scene, frame.width, frame.height, frame.wave_capacity).device_bytes())
+        throw std::logic_error("create_gpu_buffers: allocated sizes differ from estimate_render_memory");
     return b;
 }
 

@@ -111,6 +111,19 @@ RenderStats Renderer::render_samples(uint32_t sample_begin, uint32_t sample_end,
     return stats;
 }
 
+RenderStats Renderer::render_pixels(uint32_t pixel_begin, uint32_t pixel_count, uint32_t sample) {
+    RenderStats stats;
+    const uint32_t pixels = settings_.width * settings_.height;
+    if (pixel_begin > pixels || pixel_count > pixels - pixel_begin)
+        throw std::invalid_argument("render_pixels: pixel range outside the film");
+    const auto start = std::chrono::steady_clock::now();
+    for (uint32_t p = pixel_begin; p < pixel_begin + pixel_count; p += frame_.wave_capacity)
+        trace_wave({p, std::min(frame_.wave_capacity, pixel_begin + pixel_count - p), sample, 1}, stats);
+    stats.spp_done = pixel_begin + pixel_count == pixels ? sample + 1 : sample;
+    stats.render_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return stats;
+}
+
 void Renderer::trace_wave(const Wave& wave, RenderStats& stats) {
     recorder_.begin();
     recorder_.bind_table(stages_.bindings());
@@ -168,6 +181,11 @@ void Renderer::submit(RenderStats& stats) {
     recorder_.copy_buffer(buffers_.counters, 0, buffers_.counters_readback, 0, sizeof(gpu::QueueCounters));
     recorder_.submit_and_wait();
     for (const auto& [name, seconds] : recorder_.dispatch_seconds()) stats.stage_seconds[name] += seconds;
+}
+
+void Renderer::set_camera(const SceneCamera& camera) {
+    set_frame_camera(frame_, camera, settings_.width, settings_.height);
+    vk::upload_to_buffer(context_, buffers_.params, &frame_, sizeof(frame_));
 }
 
 std::vector<gpu::FilmPixel> Renderer::read_film_state() const {

@@ -47,11 +47,19 @@ public:
     // continue a render or to grow one progressively; spp_done in the result is the sample index reached.
     RenderStats render_samples(uint32_t sample_begin, uint32_t sample_end, const ProgressCallback& progress = {});
     void clear_film();
+    // Adds sample index `sample` of pixels [pixel_begin, pixel_begin + pixel_count) only: a slice of one pass,
+    // so an interactive frame stays short. The film receives the same samples render_samples would add.
+    RenderStats render_pixels(uint32_t pixel_begin, uint32_t pixel_count, uint32_t sample);
     // The film's mean radiance per pixel (scene-linear Rec.709).
     Image read_film() const;
     // The raw film (compensated sums and sample counts), to save a render and resume it bit-exactly.
     std::vector<gpu::FilmPixel> read_film_state() const;
     void write_film_state(const std::vector<gpu::FilmPixel>& film);
+
+    // Moves the camera (same film size); the film keeps its samples, so clear it to start afresh.
+    void set_camera(const SceneCamera& camera);
+    // The film buffer (gpu::FilmPixel[width * height]), e.g. for a display pass that reads it in place.
+    const vk::Buffer& film_buffer() const { return buffers_.film; }
 
 private:
     void trace_wave(const Wave& wave, RenderStats& stats);

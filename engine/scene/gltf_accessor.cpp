@@ -84,9 +84,15 @@ ElementBytes locate(const tinygltf::Model& model, int view_index, size_t offset,
     return bytes;
 }
 
+// The accessor, once its count is known to be sane: the output array is allocated from the count before the
+// elements are located, so a huge count must fail here rather than in the allocator.
 const tinygltf::Accessor& find_accessor(const tinygltf::Model& model, int index, const std::string& role) {
     if (index < 0 || size_t(index) >= model.accessors.size()) fail(index, role, "accessor does not exist");
-    return model.accessors[size_t(index)];
+    const tinygltf::Accessor& accessor = model.accessors[size_t(index)];
+    if (accessor.count > MAX_ACCESSOR_COUNT)
+        fail(index, role, "count " + std::to_string(accessor.count) + " exceeds the limit of " +
+                              std::to_string(MAX_ACCESSOR_COUNT) + " elements");
+    return accessor;
 }
 
 // Calls write(element, bytes) for the dense elements, then for each sparse substitution (spec 3.6.2.3).
@@ -95,9 +101,11 @@ void visit_elements(const tinygltf::Model& model, int index, const std::string& 
                     Write write) {
     const tinygltf::Accessor& accessor = model.accessors[size_t(index)];
     if (accessor.bufferView >= 0) {
-        const tinygltf::BufferView& view = model.bufferViews.at(size_t(accessor.bufferView));
+        const size_t stride = size_t(accessor.bufferView) < model.bufferViews.size()
+                                  ? model.bufferViews[size_t(accessor.bufferView)].byteStride
+                                  : 0;  // locate reports the missing view
         const ElementBytes dense = locate(model, accessor.bufferView, accessor.byteOffset, accessor.count,
-                                          element_size, view.byteStride, index, role, "");
+                                          element_size, stride, index, role, "");
         for (size_t i = 0; i < accessor.count; ++i) write(i, dense.data + i * dense.stride);
     } else if (!accessor.sparse.isSparse) {
         fail(index, role, "accessor has neither a bufferView nor sparse data");

@@ -12,9 +12,13 @@ class Model;
 
 namespace fh::gltf {
 
+// Accessors with more elements are refused before anything is allocated: 2^27 elements is far beyond what the
+// renderer can hold (see render/memory_estimate.h), and keeps every element index well inside 32 bits.
+constexpr size_t MAX_ACCESSOR_COUNT = size_t(1) << 27;
+
 // Reads accessor `index` as float VEC3 elements; `role` (e.g. "POSITION of mesh 2 primitive 0") is named in
 // errors. Throws SceneError (without the file name; the loader adds it) when the accessor is not float VEC3
-// or reaches outside its buffer view or buffer.
+// or reaches outside its buffer view or buffer, or has more than MAX_ACCESSOR_COUNT elements.
 std::vector<glm::vec3> read_float3(const tinygltf::Model& model, int index, const std::string& role);
 
 // Reads accessor `index` as unsigned SCALAR indices (UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT).

@@ -4,7 +4,9 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <new>
 #include <sstream>
+#include <stdexcept>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -19,6 +21,12 @@ namespace fh {
 namespace {
 
 constexpr int MAX_NODE_DEPTH = 1024;  // deeper hierarchies are treated as malformed
+// A node with several parents is drawn once per path from the root (instancing; glTF itself requires the
+// nodes to form disjoint trees). Sharing can multiply: 40 nodes that each list the next twice make 2^40
+// paths, so the walk stops at this many node instances, and the flattened scene at this many triangles
+// (about 5 GB on the host; the device limits in render/memory_estimate.h are usually far lower).
+constexpr size_t MAX_NODE_INSTANCES = size_t(1) << 22;
+constexpr size_t MAX_SCENE_TRIANGLES = size_t(1) << 26;
 
 // Textures are not read yet: skip decoding images (tinygltf would otherwise decode every one).
 bool skip_image(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int,
@@ -129,6 +137,13 @@ std::vector<std::array<uint32_t, 3>> make_triangles(int mode, const std::vector<
 
 bool is_finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
+bool is_finite(const glm::dmat4& m) {
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r)
+            if (!std::isfinite(m[c][r])) return false;
+    return true;
+}
+
 // Flattens the nodes of one scene into `scene`.
 class Flattener {
 public:
@@ -143,9 +158,17 @@ public:
         if (depth > MAX_NODE_DEPTH)
             throw SceneError("node hierarchy deeper than " + std::to_string(MAX_NODE_DEPTH) + " (at " +
                              describe_node(model_, index) + ")");
+        if (++instances_ > MAX_NODE_INSTANCES)
+            throw SceneError("the node hierarchy has more than " + std::to_string(MAX_NODE_INSTANCES) +
+                             " node instances (nodes shared by several parents multiply; at " +
+                             describe_node(model_, index) + ")");
         on_path_[size_t(index)] = 1;
         const tinygltf::Node& node = model_.nodes[size_t(index)];
         const glm::dmat4 world = parent_world * local_transform(node);
+        // Transforms cannot be NaN in JSON, but scales and matrices can overflow when composed.
+        if (!is_finite(world))
+            throw SceneError("the world transform of " + describe_node(model_, index) +
+                             " is not finite (its transform or an ancestor's overflows)");
         if (node.skin >= 0) warn_once("skins are not supported: skinned meshes are drawn in their bind pose");
         if (node.mesh >= 0) add_mesh(node.mesh, world);
         if (node.camera >= 0) add_camera(node.camera, index, world);
@@ -164,6 +187,9 @@ public:
         if (dropped_nonfinite_ > 0)
             scene_.warnings.push_back("dropped " + std::to_string(dropped_nonfinite_) +
                                       " triangle(s) with NaN or infinite positions");
+        if (flat_nonfinite_normals_ > 0)
+            scene_.warnings.push_back("shaded " + std::to_string(flat_nonfinite_normals_) +
+                                      " triangle(s) flat: NaN, infinite or zero normals");
         if (leftover_indices_ > 0)
             scene_.warnings.push_back("ignored " + std::to_string(leftover_indices_) +
                                       " trailing index(es) that do not complete a triangle");
@@ -228,6 +254,10 @@ private:
         }
         if (mode == TINYGLTF_MODE_TRIANGLES) leftover_indices_ += indices.size() % 3;
         const uint32_t material = material_index(prim.material, where);
+        const size_t new_triangles = mode == TINYGLTF_MODE_TRIANGLES ? indices.size() / 3 : indices.size();
+        if (scene_.triangle_count() + new_triangles > MAX_SCENE_TRIANGLES)
+            throw SceneError("the flattened scene exceeds " + std::to_string(MAX_SCENE_TRIANGLES) +
+                             " triangles (at " + where + ")");
 
         // Normals transform with the inverse transpose; a mirroring transform flips the winding.
         const glm::dmat3 linear(world);
@@ -249,6 +279,7 @@ private:
                 n[k] = glm::vec3(w / length);
                 has_normals = length > 0.0 && std::isfinite(length) && is_finite(n[k]);
             }
+            if (!has_normals && !normals.empty()) ++flat_nonfinite_normals_;
             if (!has_normals) n = {glm::vec3(0.0f), glm::vec3(0.0f), glm::vec3(0.0f)};
             scene_.positions.insert(scene_.positions.end(), p.begin(), p.end());
             scene_.normals.insert(scene_.normals.end(), n.begin(), n.end());
@@ -279,6 +310,8 @@ private:
     std::map<std::string, size_t> skipped_modes_;
     std::map<std::string, int> warned_;
     size_t dropped_nonfinite_ = 0;
+    size_t flat_nonfinite_normals_ = 0;
+    size_t instances_ = 0;
     size_t leftover_indices_ = 0;
 };
 
@@ -301,6 +334,21 @@ std::vector<int> find_root_nodes(const tinygltf::Model& model, std::vector<std::
     return roots;
 }
 
+// glTF nodes must form disjoint trees; a node listed as the child of several nodes is drawn once per parent.
+void warn_about_shared_nodes(const tinygltf::Model& model, std::vector<std::string>& warnings) {
+    std::vector<uint32_t> parents(model.nodes.size(), 0);
+    for (const tinygltf::Node& node : model.nodes)
+        for (int child : node.children)
+            if (child >= 0 && size_t(child) < parents.size()) ++parents[size_t(child)];
+    size_t shared = 0;
+    int first = -1;
+    for (size_t i = 0; i < parents.size(); ++i)
+        if (parents[i] > 1 && shared++ == 0) first = int(i);
+    if (shared > 0)
+        warnings.push_back(std::to_string(shared) + " node(s) have several parents (first: " +
+                           describe_node(model, first) + "): drawn once per parent, although glTF requires a tree");
+}
+
 Scene load_unprefixed(const std::filesystem::path& file) {
     Scene scene;
     scene.source = file;
@@ -309,6 +357,7 @@ Scene load_unprefixed(const std::filesystem::path& file) {
     for (const tinygltf::Material& material : model.materials)
         scene.materials.push_back(gltf::convert_material(material));
 
+    warn_about_shared_nodes(model, scene.warnings);
     Flattener flattener(model, scene);
     for (int root : find_root_nodes(model, scene.warnings)) flattener.visit_node(root, glm::dmat4(1.0), 0);
     flattener.finish();
@@ -329,6 +378,10 @@ Scene load_gltf(const std::filesystem::path& file) {
     try {
         return load_unprefixed(file);
     } catch (const SceneError& e) {
+        throw SceneError(file.string() + ": " + e.what());
+    } catch (const std::bad_alloc&) {
+        throw SceneError(file.string() + ": out of memory while loading the scene");
+    } catch (const std::exception& e) {  // from tinygltf or the standard library: still name the file
         throw SceneError(file.string() + ": " + e.what());
     }
 }

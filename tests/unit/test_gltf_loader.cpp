@@ -1,5 +1,7 @@
 // load_gltf: the shipped Cornell box, node transforms, primitive modes, accessors, materials and errors.
+#include <chrono>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -324,6 +326,63 @@ TEST(GltfLoader, RejectsMissingMalformedAndEmptyFiles) {
     b.set_scene({b.add_node({{"name", "empty"}})});
     const std::string empty = load_error(b.write_gltf());
     EXPECT_NE(empty.find("no triangles"), std::string::npos) << empty;
+}
+
+TEST(GltfLoader, RejectsHugeCountsBeforeAllocating) {
+    GltfBuilder b;
+    const int pos = b.add_vec3(UNIT_TRIANGLE);
+    b.doc["accessors"][pos]["count"] = uint64_t(1) << 40;
+    b.set_scene({b.add_node({{"mesh", b.add_mesh({{"attributes", {{"POSITION", pos}}}})}})});
+    const std::string error = load_error(b.write_gltf());
+    EXPECT_NE(error.find("count 1099511627776 exceeds the limit"), std::string::npos) << error;
+    EXPECT_NE(error.find("accessor 0"), std::string::npos) << error;
+}
+
+TEST(GltfLoader, DrawsASharedNodeOncePerParentWithAWarning) {
+    GltfBuilder b;
+    const int shared = b.add_node({{"mesh", b.add_simple_mesh(UNIT_TRIANGLE)}});
+    const int left = b.add_node({{"children", {shared}}, {"translation", {-2, 0, 0}}});
+    const int right = b.add_node({{"children", {shared}}, {"translation", {2, 0, 0}}});
+    b.set_scene({left, right});
+    const Scene s = fh::load_gltf(b.write_gltf());
+    EXPECT_EQ(s.triangle_count(), 2u);
+    EXPECT_EQ(s.bounds_min.x, -2.0);
+    EXPECT_EQ(s.bounds_max.x, 3.0);
+    std::string all;
+    for (const std::string& w : s.warnings) all += w + "\n";
+    EXPECT_NE(all.find("1 node(s) have several parents (first: node 0)"), std::string::npos) << all;
+}
+
+TEST(GltfLoader, StopsExponentiallySharedHierarchies) {
+    GltfBuilder b;
+    const int mesh = b.add_simple_mesh(UNIT_TRIANGLE);
+    for (int i = 0; i < 40; ++i) b.add_node({{"children", {i + 1, i + 1}}});
+    b.add_node({{"mesh", mesh}});
+    b.set_scene({0});
+    const auto start = std::chrono::steady_clock::now();
+    const std::string error = load_error(b.write_gltf());
+    EXPECT_NE(error.find("node instances"), std::string::npos) << error;
+    EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(10));
+}
+
+TEST(GltfLoader, RejectsATransformThatOverflowsNamingTheNode) {
+    GltfBuilder b;
+    const int leaf = b.add_node({{"name", "leaf"}, {"mesh", b.add_simple_mesh(UNIT_TRIANGLE)}, {"scale", {1e200, 1, 1}}});
+    b.set_scene({b.add_node({{"children", {leaf}}, {"scale", {1e200, 1, 1}}})});
+    const std::string error = load_error(b.write_gltf());
+    EXPECT_NE(error.find("world transform of node 0 'leaf' is not finite"), std::string::npos) << error;
+}
+
+TEST(GltfLoader, CountsTrianglesWithNonFiniteNormalsAsFlatShaded) {
+    GltfBuilder b;
+    const float inf = std::numeric_limits<float>::infinity();
+    b.set_scene({b.add_node({{"mesh", b.add_simple_mesh(UNIT_TRIANGLE, {{0, 0, 1}, {0, 0, inf}, {0, 0, 1}})}})});
+    const Scene s = fh::load_gltf(b.write_gltf());
+    ASSERT_EQ(s.triangle_count(), 1u);
+    EXPECT_EQ(s.triangle_has_normals[0], 0);
+    std::string all;
+    for (const std::string& w : s.warnings) all += w + "\n";
+    EXPECT_NE(all.find("shaded 1 triangle(s) flat"), std::string::npos) << all;
 }
 
 TEST(GltfLoader, DefaultCameraFramesTheBounds) {

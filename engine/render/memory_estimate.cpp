@@ -1,0 +1,121 @@
+// Device memory a render needs, from the packed scene and the film and wave sizes, against the device's limits.
+#include "render/memory_estimate.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <stdexcept>
+
+#include "vk/context.h"
+
+namespace fh {
+namespace tables {
+#include "lib/ggx_albedo_table.glsl"
+}  // namespace tables
+namespace {
+
+template <typename T>
+uint64_t array_bytes(const std::vector<T>& items) {
+    return std::max<uint64_t>(items.size(), 1) * sizeof(T);
+}
+
+}  // namespace
+
+uint64_t MemoryEstimate::device_bytes() const {
+    uint64_t total = 0;
+    for (const BufferEstimate& b : buffers) total += b.bytes;
+    return total;
+}
+
+MemoryEstimate estimate_render_memory(const PackedScene& scene, uint32_t width, uint32_t height,
+                                      uint32_t wave_capacity) {
+    const uint64_t capacity = wave_capacity;
+    const uint64_t film = uint64_t(width) * height * sizeof(gpu::FilmPixel);
+    MemoryEstimate e;
+    e.buffers = {
+        {"params", sizeof(gpu::FrameParams), true},
+        {"nodes", array_bytes(scene.pair_nodes), true},
+        {"tri_positions", array_bytes(scene.positions), true},
+        {"tri_shading", array_bytes(scene.shading), true},
+        {"materials", array_bytes(scene.materials), true},
+        {"emitters", array_bytes(scene.emitters), true},
+        {"ggx_albedo", uint64_t(tables::GGX_ALBEDO_TABLE_SIZE) * sizeof(float), false},
+        {"counters", sizeof(gpu::QueueCounters), true},
+        {"counters_readback", sizeof(gpu::QueueCounters), true},
+        {"paths", capacity * sizeof(gpu::PathState), true},
+        {"rays", 2 * capacity * sizeof(gpu::RayItem), true},
+        {"hits", capacity * sizeof(gpu::HitItem), true},
+        {"shadow_rays", capacity * sizeof(gpu::ShadowRayItem), true},
+        {"film", film, true},
+    };
+    e.film_readback_bytes = film;
+    return e;
+}
+
+MemoryEstimate estimate_render_memory(const PackedScene& scene, const RenderSettings& s) {
+    const uint64_t samples = uint64_t(s.width) * s.height * s.spp;
+    return estimate_render_memory(scene, s.width, s.height, uint32_t(std::min<uint64_t>(s.wave_paths, samples)));
+}
+
+DeviceMemoryLimits query_memory_limits(const vk::Context& context) {
+    DeviceMemoryLimits limits;
+    VkPhysicalDeviceMaintenance3Properties maintenance3{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES};
+    VkPhysicalDeviceProperties2 properties{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+    properties.pNext = &maintenance3;
+    vkGetPhysicalDeviceProperties2(context.physical_device(), &properties);
+    limits.max_storage_buffer_range = properties.properties.limits.maxStorageBufferRange;
+    limits.max_allocation_size = maintenance3.maxMemoryAllocationSize;
+    VkPhysicalDeviceMemoryProperties memory;
+    vkGetPhysicalDeviceMemoryProperties(context.physical_device(), &memory);
+    for (uint32_t i = 0; i < memory.memoryHeapCount; ++i)
+        if (memory.memoryHeaps[i].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)
+            limits.device_local_heap = std::max<uint64_t>(limits.device_local_heap, memory.memoryHeaps[i].size);
+    return limits;
+}
+
+std::string format_bytes(uint64_t bytes) {
+    char text[64];
+    const double mib = double(bytes) / double(1u << 20);
+    if (mib >= 1024.0) std::snprintf(text, sizeof text, "%.2f GiB", mib / 1024.0);
+    else std::snprintf(text, sizeof text, "%.1f MiB", mib);
+    return std::string(text) + " (" + std::to_string(bytes) + " bytes)";
+}
+
+namespace {
+// What to change when a buffer is too large (buffers are not split across allocations yet).
+std::string remedy(const std::string& buffer) {
+    std::string what = "a smaller scene";
+    if (buffer == "film") what = "a smaller --width/--height";
+    if (buffer == "paths" || buffer == "rays" || buffer == "hits" || buffer == "shadow_rays") what = "a smaller --wave-paths";
+    return "; Fredholm does not split buffers yet: use " + what;
+}
+}  // namespace
+
+void check_render_memory(const MemoryEstimate& estimate, const DeviceMemoryLimits& limits) {
+    for (const BufferEstimate& b : estimate.buffers) {
+        const std::string split_note = remedy(b.name);
+        if (b.storage && b.bytes > limits.max_storage_buffer_range)
+            throw std::runtime_error("the " + b.name + " buffer needs " + format_bytes(b.bytes) +
+                                     ", more than the device's maxStorageBufferRange of " +
+                                     format_bytes(limits.max_storage_buffer_range) + split_note);
+        if (b.bytes > limits.max_allocation_size)
+            throw std::runtime_error("the " + b.name + " buffer needs " + format_bytes(b.bytes) +
+                                     ", more than the device's maxMemoryAllocationSize of " +
+                                     format_bytes(limits.max_allocation_size) + split_note);
+    }
+    if (estimate.film_readback_bytes > limits.max_allocation_size)
+        throw std::runtime_error("reading the film back needs a staging buffer of " +
+                                 format_bytes(estimate.film_readback_bytes) +
+                                 ", more than the device's maxMemoryAllocationSize of " +
+                                 format_bytes(limits.max_allocation_size) + remedy("film"));
+    const uint64_t needed = estimate.device_bytes();
+    if (limits.device_local_heap > 0 && needed > limits.device_local_heap) {
+        const auto largest = std::max_element(estimate.buffers.begin(), estimate.buffers.end(),
+                                              [](const auto& a, const auto& b) { return a.bytes < b.bytes; });
+        throw std::runtime_error("the render needs " + format_bytes(needed) +
+                                 " of device memory, more than the device-local heap of " +
+                                 format_bytes(limits.device_local_heap) + " (largest: " + largest->name + ", " +
+                                 format_bytes(largest->bytes) + ")");
+    }
+}
+
+}  // namespace fh

@@ -1,0 +1,51 @@
+// What a render will allocate on the device, checked against the device's limits before anything is allocated.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "render/settings.h"
+#include "scene/pack.h"
+
+namespace fh {
+
+namespace vk {
+class Context;
+}
+
+struct BufferEstimate {
+    std::string name;    // as in GpuBuffers (e.g. "film", "tri_positions")
+    uint64_t bytes = 0;
+    bool storage = true;  // bound as a storage buffer, so limited by maxStorageBufferRange
+};
+
+struct MemoryEstimate {
+    std::vector<BufferEstimate> buffers;  // every buffer create_gpu_buffers allocates, device-local
+    uint64_t film_readback_bytes = 0;     // the host-visible staging copy read_film_state makes (at the end)
+    uint64_t device_bytes() const;        // sum over buffers
+};
+
+// The device limits that decide whether a render fits.
+struct DeviceMemoryLimits {
+    uint64_t max_storage_buffer_range = 0;   // VkPhysicalDeviceLimits::maxStorageBufferRange
+    uint64_t max_allocation_size = 0;        // VkPhysicalDeviceMaintenance3Properties::maxMemoryAllocationSize
+    uint64_t device_local_heap = 0;          // the largest DEVICE_LOCAL heap (vkGetPhysicalDeviceMemoryProperties)
+};
+
+// Sizes exactly as create_gpu_buffers makes them (empty arrays get one element); create_gpu_buffers checks
+// that it allocates exactly this much, so the two cannot drift apart.
+MemoryEstimate estimate_render_memory(const PackedScene& scene, uint32_t width, uint32_t height,
+                                      uint32_t wave_capacity);
+// The same for a render with these settings (wave capacity as the Renderer picks it).
+MemoryEstimate estimate_render_memory(const PackedScene& scene, const RenderSettings& settings);
+
+DeviceMemoryLimits query_memory_limits(const vk::Context& context);
+
+// Throws std::runtime_error with one line naming the first buffer that breaks a limit (its size and the limit),
+// or the total needed against the heap. Large scenes and films are refused, not split across buffers.
+void check_render_memory(const MemoryEstimate& estimate, const DeviceMemoryLimits& limits);
+
+// "1.50 GiB (1610612736 bytes)"
+std::string format_bytes(uint64_t bytes);
+
+}  // namespace fh

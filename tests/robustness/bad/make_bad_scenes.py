@@ -1,0 +1,154 @@
+#!/usr/bin/env python3
+"""Writes the malformed glTF files of tests/robustness/bad/ (run it from anywhere; the files are committed).
+
+Each file is one triangle scene broken in one way; tests/robustness/CMakeLists.txt lists what fredholm must say.
+"""
+import base64
+import copy
+import json
+import os
+import struct
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+TRIANGLE = [(0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0)]
+
+
+def pack_floats(points):
+    return b"".join(struct.pack("<3f", *p) for p in points)
+
+
+def triangle_scene(points=TRIANGLE, indices=(0, 1, 2), uri=None):
+    """A valid scene: one node, one mesh, positions + uint16 indices in one buffer."""
+    pos = pack_floats(points)
+    idx = struct.pack("<%dH" % len(indices), *indices)
+    while len(idx) % 4:
+        idx += b"\0"
+    data = pos + idx
+    buffer = {"byteLength": len(data),
+              "uri": uri or "data:application/octet-stream;base64," + base64.b64encode(data).decode()}
+    doc = {
+        "asset": {"version": "2.0"},
+        "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+        "buffers": [buffer],
+        "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": len(pos)},
+                        {"buffer": 0, "byteOffset": len(pos), "byteLength": 2 * len(indices)}],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": len(points), "type": "VEC3",
+             "min": [0, 0, 0], "max": [1, 1, 0]},
+            {"bufferView": 1, "componentType": 5123, "count": len(indices), "type": "SCALAR"},
+        ],
+    }
+    return doc, data
+
+
+def write(name, doc):
+    with open(os.path.join(HERE, name), "w") as f:
+        if isinstance(doc, str):
+            f.write(doc)
+        else:
+            json.dump(doc, f, indent=1, allow_nan=True)
+            f.write("\n")
+
+
+def main():
+    doc, data = triangle_scene()
+    text = json.dumps(doc)
+    write("invalid_json.gltf", text[: len(text) // 2])
+    write("not_json.gltf", "this is not a glTF file\n")
+
+    d = copy.deepcopy(doc)
+    d["accessors"][0]["count"] = "three"
+    write("wrong_type_count.gltf", d)
+    d = copy.deepcopy(doc)
+    d["nodes"] = {"mesh": 0}
+    write("wrong_type_nodes.gltf", d)
+    d = copy.deepcopy(doc)
+    d["nodes"][0]["mesh"] = "zero"
+    write("wrong_type_mesh_index.gltf", d)
+
+    d, _ = triangle_scene(uri="missing_file.bin")
+    write("missing_bin.gltf", d)
+    d, _ = triangle_scene(uri="truncated.bin")
+    write("truncated_bin.gltf", d)
+    with open(os.path.join(HERE, "truncated.bin"), "wb") as f:
+        f.write(data[:20])
+    d = copy.deepcopy(doc)
+    d["buffers"][0]["uri"] = "data:application/octet-stream;base64,@@not base64!!"
+    write("bad_data_uri.gltf", d)
+
+    d = copy.deepcopy(doc)
+    d["accessors"][0]["count"] = 4
+    write("accessor_past_view.gltf", d)
+    d = copy.deepcopy(doc)
+    d["bufferViews"][0]["byteLength"] = 4096
+    write("view_past_buffer.gltf", d)
+    d = copy.deepcopy(doc)
+    d["accessors"][0]["byteOffset"] = 2**62
+    write("accessor_offset_overflow.gltf", d)
+    d, _ = triangle_scene(indices=(0, 1, 7))
+    write("index_out_of_range.gltf", d)
+    d = copy.deepcopy(doc)
+    d["accessors"][0]["count"] = 2**40
+    write("count_too_large.gltf", d)
+    d = copy.deepcopy(doc)  # sparse-only accessor: no bufferView, so no buffer bounds its count
+    d["accessors"][0] = {"componentType": 5126, "count": 2**36, "type": "VEC3",
+                         "sparse": {"count": 1, "indices": {"bufferView": 1, "componentType": 5123},
+                                    "values": {"bufferView": 0}}}
+    write("sparse_count_too_large.gltf", d)
+
+    d = copy.deepcopy(doc)
+    d["nodes"] = [{"mesh": 0, "children": [1]}, {"children": [0]}]
+    write("node_cycle.gltf", d)
+    d = copy.deepcopy(doc)
+    d["nodes"] = [{"children": [0]}]
+    d["nodes"][0]["mesh"] = 0
+    write("node_own_child.gltf", d)
+    d = copy.deepcopy(doc)  # each node has the next one as both of its children: 2^40 paths to the mesh
+    d["nodes"] = [{"children": [i + 1, i + 1]} for i in range(40)] + [{"mesh": 0}]
+    write("node_dag_explosion.gltf", d)
+    d = copy.deepcopy(doc)
+    d["nodes"][0]["children"] = [5]
+    write("node_child_missing.gltf", d)
+
+    d = copy.deepcopy(doc)  # finite numbers whose product overflows: the world transform is infinite
+    d["nodes"] = [{"scale": [1e200, 1e200, 1e200], "children": [1]}, {"scale": [1e200, 1e200, 1e200], "mesh": 0}]
+    write("transform_overflow.gltf", d)
+    d = copy.deepcopy(doc)
+    d["nodes"][0]["translation"] = [0, 0, 0]
+    write("infinite_translation.gltf", json.dumps(d).replace('"translation": [0, 0, 0]', '"translation": [0, -1e999, 0]'))
+    d, _ = triangle_scene(points=[(float("nan"), 0, 0), (1, 0, 0), (0, 1, 0)])
+    write("nan_positions_only.gltf", json.dumps(d))
+
+    d = copy.deepcopy(doc)
+    d["extensionsUsed"] = ["KHR_draco_mesh_compression"]
+    d["extensionsRequired"] = ["KHR_draco_mesh_compression"]
+    write("required_extension.gltf", d)
+    d = copy.deepcopy(doc)
+    d["nodes"] = []
+    d["scenes"] = [{"nodes": []}]
+    write("empty_scene.gltf", d)
+    d = copy.deepcopy(doc)
+    d["scene"] = 3
+    write("default_scene_missing.gltf", d)
+    d = copy.deepcopy(doc)
+    d["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = 9
+    write("position_accessor_missing.gltf", d)
+    d = copy.deepcopy(doc)
+    d["meshes"][0]["primitives"][0]["material"] = 4
+    write("material_missing.gltf", d)
+
+    # GLB: a valid header promising more bytes than the file has.
+    json_chunk = json.dumps(triangle_scene(uri="x")[0]).encode()
+    glb = struct.pack("<4sII", b"glTF", 2, 12 + 8 + len(json_chunk) + 1000) + struct.pack("<II", len(json_chunk), 0x4E4F534A) + json_chunk
+    with open(os.path.join(HERE, "truncated.glb"), "wb") as f:
+        f.write(glb[: len(glb) - 10])
+    with open(os.path.join(HERE, "empty_file.gltf"), "wb") as f:
+        pass
+
+
+if __name__ == "__main__":
+    main()

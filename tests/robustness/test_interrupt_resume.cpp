@@ -1,0 +1,194 @@
+// Runs the real `fredholm render`: a render continued with --resume equals an uninterrupted one bit for bit,
+// SIGINT/SIGTERM write a resumable partial image (exit 130, no temporary files), mismatched resumes fail.
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "io/exr.h"
+
+namespace {
+namespace fs = std::filesystem;
+
+const std::string CORNELL = FH_SOURCE_DIR "/scenes/cornell.gltf";
+const std::vector<std::string> FILM = {"fredholm.sum.R", "fredholm.sum.G", "fredholm.sum.B",
+                                       "fredholm.comp.R", "fredholm.comp.G", "fredholm.comp.B"};
+// Long enough (several seconds on lavapipe) that a signal after one second always lands mid-render: one
+// sample per wave, so it stops within milliseconds.
+const std::vector<std::string> LONG_RENDER = {"--width", "32", "--height", "32", "--spp", "600", "--seed", "5",
+                                              "--wave-paths", "1024"};
+
+struct Outcome {
+    int exit_code = -1;  // 128 + signal when killed by one
+    std::string err;
+};
+
+fs::path work_dir() {
+    const auto* info = testing::UnitTest::GetInstance()->current_test_info();
+    fs::path dir = fs::path(FH_TEST_OUTPUT) / "robustness" / (std::string(info->test_suite_name()) + "." + info->name());
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir;
+}
+
+// Starts `fredholm render args...` with stderr to a file; sends `signal_number` after `delay` if it is non-zero.
+Outcome run_fredholm(const std::vector<std::string>& args, int signal_number = 0,
+                 std::chrono::milliseconds delay = std::chrono::milliseconds(0)) {
+    const fs::path err_file = fs::temp_directory_path() / ("fh_robustness_" + std::to_string(getpid()) + ".err");
+    std::vector<std::string> argv_strings = {FH_FREDHOLM, "render"};
+    argv_strings.insert(argv_strings.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (std::string& s : argv_strings) argv.push_back(s.data());
+    argv.push_back(nullptr);
+    const pid_t pid = fork();
+    if (pid == 0) {
+        if (!freopen(err_file.c_str(), "w", stderr)) _exit(99);
+        execv(argv[0], argv.data());
+        _exit(98);
+    }
+    if (signal_number != 0) {
+        std::this_thread::sleep_for(delay);
+        kill(pid, signal_number);
+    }
+    int status = 0;
+    waitpid(pid, &status, 0);
+    Outcome run;
+    run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    std::ifstream in(err_file);
+    std::stringstream text;
+    text << in.rdbuf();
+    run.err = text.str();
+    fs::remove(err_file);
+    return run;
+}
+
+std::vector<std::string> with(std::vector<std::string> args, const std::vector<std::string>& more) {
+    args.insert(args.end(), more.begin(), more.end());
+    return args;
+}
+
+uint32_t spp_of(const fs::path& file) {
+    fh::ImageMetadata metadata;
+    fh::read_exr(file, &metadata);
+    return uint32_t(std::stoul(metadata.at("fredholm:spp")));
+}
+
+// Same RGB bits and same raw film bits.
+void expect_identical(const fs::path& a, const fs::path& b) {
+    const fh::Image ia = fh::read_exr(a), ib = fh::read_exr(b);
+    ASSERT_EQ(ia.rgb.size(), ib.rgb.size());
+    EXPECT_EQ(std::memcmp(ia.rgb.data(), ib.rgb.data(), ia.rgb.size() * sizeof(float)), 0)
+        << a << " and " << b << " differ in R, G, B";
+    const fh::ExtraChannels fa = fh::read_exr_channels(a, FILM), fb = fh::read_exr_channels(b, FILM);
+    for (const std::string& name : FILM)
+        EXPECT_EQ(std::memcmp(fa.at(name).data(), fb.at(name).data(), fa.at(name).size() * sizeof(float)), 0)
+            << a << " and " << b << " differ in " << name;
+}
+
+std::vector<fs::path> temp_files(const fs::path& dir) {
+    std::vector<fs::path> found;
+    for (const auto& entry : fs::directory_iterator(dir))
+        if (entry.path().extension() == ".tmp") found.push_back(entry.path());
+    return found;
+}
+
+TEST(Resume, ChunkedRenderEqualsStraightRender) {
+    const fs::path dir = work_dir();
+    const std::vector<std::string> settings = {"--width", "48", "--height", "40", "--seed", "3", "-q"};
+    ASSERT_EQ(run_fredholm(with({CORNELL, "-o", (dir / "straight.exr").string(), "--spp", "8"}, settings)).exit_code, 0);
+    const std::string chunked = (dir / "chunked.exr").string();
+    ASSERT_EQ(run_fredholm(with({CORNELL, "-o", chunked, "--spp", "4"}, settings)).exit_code, 0);
+    EXPECT_EQ(spp_of(chunked), 4u);
+    // Resume in place, with a different wave size (chunks need not line up with waves).
+    const Outcome resumed = run_fredholm(with({CORNELL, "-o", chunked, "--spp", "6", "--resume", "--wave-paths", "2048"}, settings));
+    ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+    // Resume from another file into a new one.
+    const std::string final_file = (dir / "final.exr").string();
+    ASSERT_EQ(run_fredholm(with({CORNELL, "-o", final_file, "--spp", "8", "--resume", chunked}, settings)).exit_code, 0);
+    EXPECT_EQ(spp_of(final_file), 8u);
+    expect_identical(final_file, dir / "straight.exr");
+}
+
+TEST(Resume, RejectsMismatchedSettingsWithOneLine) {
+    const fs::path dir = work_dir();
+    const std::string partial = (dir / "partial.exr").string();
+    // --width W --spp S, then the remaining changes.
+    auto args = [&](const std::string& width, const std::string& spp, const std::vector<std::string>& more) {
+        return with({CORNELL, "-o", partial, "--width", width, "--height", "16", "--spp", spp, "-q"}, more);
+    };
+    ASSERT_EQ(run_fredholm(args("16", "2", {})).exit_code, 0);
+    const auto before = fs::last_write_time(partial);
+    struct Case {
+        std::vector<std::string> args;
+        std::string expected;
+    };
+    const std::vector<Case> cases = {
+        {args("16", "4", {"--resume", "--seed", "9"}), "seed is 0 in the file but 9"},
+        {args("16", "4", {"--resume", "--max-depth", "3"}), "max_depth is 0 in the file but 3"},
+        {args("16", "4", {"--resume", "--nee", "off"}), "nee is on in the file but off"},
+        {args("16", "4", {"--resume", "--filter", "gaussian"}), "filter is box in the file but gaussian"},
+        {args("17", "4", {"--resume"}), "the image is 16x16 but this render is 17x16"},
+        {args("16", "1", {"--resume"}), "already has 2 spp, more than --spp 1"},
+    };
+    for (const Case& c : cases) {
+        const Outcome run = run_fredholm(c.args);
+        EXPECT_EQ(run.exit_code, 1) << run.err;
+        EXPECT_NE(run.err.find(c.expected), std::string::npos) << run.err;
+        EXPECT_NE(run.err.find(partial + ": cannot resume"), std::string::npos) << run.err;
+        EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
+    }
+    EXPECT_EQ(fs::last_write_time(partial), before);
+    // A file without the raw film (any other EXR) is refused naming the missing channel.
+    fh::Image plain{16, 16, std::vector<float>(16 * 16 * 3, 0.5f)};
+    fh::ImageMetadata metadata;
+    fh::read_exr(partial, &metadata);
+    const fs::path other = dir / "plain.exr";
+    fh::write_exr(other, plain, metadata);
+    const Outcome run = run_fredholm(args("16", "4", {"--resume", other.string()}));
+    EXPECT_EQ(run.exit_code, 1) << run.err;
+    EXPECT_NE(run.err.find("missing channel fredholm.sum"), std::string::npos) << run.err;
+}
+
+class Interrupt : public testing::TestWithParam<int> {};
+
+TEST_P(Interrupt, WritesAResumablePartialImage) {
+    const fs::path dir = work_dir();
+    const std::string straight = (dir / "straight.exr").string();
+    ASSERT_EQ(run_fredholm(with({CORNELL, "-o", straight, "-q"}, LONG_RENDER)).exit_code, 0);
+
+    const std::string partial = (dir / "partial.exr").string();
+    const Outcome stopped = run_fredholm(with({CORNELL, "-o", partial}, LONG_RENDER), GetParam(), std::chrono::seconds(1));
+    EXPECT_EQ(stopped.exit_code, 130) << stopped.err;
+    EXPECT_NE(stopped.err.find("interrupted: wrote " + partial), std::string::npos) << stopped.err;
+    ASSERT_TRUE(fs::exists(partial));
+    EXPECT_TRUE(temp_files(dir).empty()) << temp_files(dir).front();
+    const uint32_t spp = spp_of(partial);
+    EXPECT_GT(spp, 0u);
+    EXPECT_LT(spp, 600u) << "the render finished before the signal: make LONG_RENDER longer";
+    const fh::Image image = fh::read_exr(partial);
+    for (float v : image.rgb) ASSERT_TRUE(std::isfinite(v));
+
+    const Outcome resumed = run_fredholm(with({CORNELL, "-o", partial, "--resume", "-q"}, LONG_RENDER));
+    ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+    EXPECT_EQ(spp_of(partial), 600u);
+    expect_identical(partial, straight);
+}
+
+INSTANTIATE_TEST_SUITE_P(Signals, Interrupt, testing::Values(SIGINT, SIGTERM),
+                         [](const testing::TestParamInfo<int>& info) {
+                             return std::string(info.param == SIGINT ? "SIGINT" : "SIGTERM");
+                         });
+
+}  // namespace

@@ -1,0 +1,77 @@
+// The device-memory estimate and the limit checks run before any allocation (no Vulkan device needed).
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+#include <string>
+
+#include "render/memory_estimate.h"
+
+namespace {
+
+// lavapipe (Mesa 22.3): maxStorageBufferRange 128 MiB, maxMemoryAllocationSize 2 GiB, one 2 GiB heap.
+const fh::DeviceMemoryLimits LAVAPIPE{uint64_t(128) << 20, uint64_t(2) << 30, uint64_t(2) << 30};
+
+std::string check_error(const fh::MemoryEstimate& estimate, const fh::DeviceMemoryLimits& limits) {
+    try {
+        fh::check_render_memory(estimate, limits);
+    } catch (const std::runtime_error& e) {
+        return e.what();
+    }
+    return "";
+}
+
+uint64_t bytes_of(const fh::MemoryEstimate& e, const std::string& name) {
+    for (const auto& b : e.buffers)
+        if (b.name == name) return b.bytes;
+    ADD_FAILURE() << "no buffer " << name;
+    return 0;
+}
+
+TEST(MemoryEstimate, FilmIs32BytesAPixel) {
+    const fh::PackedScene scene;
+    const fh::MemoryEstimate e = fh::estimate_render_memory(scene, 8192, 8192, 1u << 18);
+    EXPECT_EQ(bytes_of(e, "film"), uint64_t(2) << 30);  // an 8192 x 8192 film is 2 GiB
+    EXPECT_EQ(e.film_readback_bytes, uint64_t(2) << 30);
+    EXPECT_EQ(bytes_of(e, "tri_positions"), sizeof(fh::gpu::TrianglePositions));  // empty arrays: one element
+}
+
+TEST(MemoryEstimate, WaveCapacityFollowsTheRenderer) {
+    fh::RenderSettings s;
+    s.width = 4;
+    s.height = 4;
+    s.spp = 2;  // 32 paths in all: the wave holds no more than that
+    const fh::MemoryEstimate e = fh::estimate_render_memory(fh::PackedScene{}, s);
+    EXPECT_EQ(bytes_of(e, "paths"), 32 * sizeof(fh::gpu::PathState));
+    EXPECT_EQ(bytes_of(e, "rays"), 2 * 32 * sizeof(fh::gpu::RayItem));
+}
+
+TEST(MemoryEstimate, RefusesAFilmBeyondTheStorageRangeWithTheNumbers) {
+    EXPECT_EQ(check_error(fh::estimate_render_memory(fh::PackedScene{}, 2048, 2048, 1u << 18), LAVAPIPE), "");
+    const std::string error = check_error(fh::estimate_render_memory(fh::PackedScene{}, 4096, 4096, 1u << 18), LAVAPIPE);
+    EXPECT_NE(error.find("the film buffer needs 512.0 MiB (536870912 bytes)"), std::string::npos) << error;
+    EXPECT_NE(error.find("maxStorageBufferRange of 128.0 MiB (134217728 bytes)"), std::string::npos) << error;
+    EXPECT_NE(error.find("--width/--height"), std::string::npos) << error;
+}
+
+TEST(MemoryEstimate, NamesTheSceneArrayThatIsTooLarge) {
+    fh::MemoryEstimate e = fh::estimate_render_memory(fh::PackedScene{}, 64, 64, 4096);
+    for (auto& b : e.buffers)
+        if (b.name == "tri_positions") b.bytes = uint64_t(200) << 20;
+    const std::string error = check_error(e, LAVAPIPE);
+    EXPECT_NE(error.find("the tri_positions buffer needs 200.0 MiB"), std::string::npos) << error;
+    EXPECT_NE(error.find("a smaller scene"), std::string::npos) << error;
+}
+
+TEST(MemoryEstimate, ChecksAllocationSizeAndTheHeap) {
+    const fh::MemoryEstimate e = fh::estimate_render_memory(fh::PackedScene{}, 8192, 8192, 1u << 18);
+    fh::DeviceMemoryLimits roomy{uint64_t(8) << 30, uint64_t(1) << 30, uint64_t(16) << 30};
+    std::string error = check_error(e, roomy);
+    EXPECT_NE(error.find("maxMemoryAllocationSize of 1.00 GiB"), std::string::npos) << error;
+    roomy.max_allocation_size = uint64_t(4) << 30;
+    roomy.device_local_heap = uint64_t(1) << 30;
+    error = check_error(e, roomy);
+    EXPECT_NE(error.find("more than the device-local heap of 1.00 GiB"), std::string::npos) << error;
+    EXPECT_NE(error.find("largest: film, 2.00 GiB"), std::string::npos) << error;
+}
+
+}  // namespace
