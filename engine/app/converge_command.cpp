@@ -276,10 +276,14 @@ int run_converge(const ConvergeCommand& c) {
         std::fprintf(stderr, "fredholm: usage error: --vary: %s\n", e.what());
         return 2;
     }
+    // As in render: without roulette and without a depth limit a path that never escapes never ends (its
+    // throughput can even stick at the smallest denormal instead of reaching 0).
     for (const NamedSettings& n : configs)
-        if (!n.settings.russian_roulette && n.settings.max_depth == 0)
-            std::fprintf(stderr, "converge: warning: %s has rr off and max-depth 0: its paths end only by escaping, "
-                                 "so in a closed scene its first step may never finish\n", n.name.c_str());
+        if (!n.settings.russian_roulette && n.settings.max_depth == 0) {
+            std::fprintf(stderr, "fredholm: usage error: configuration %s has rr off and no depth limit: give "
+                                 "--max-depth N (paths that never escape would never end)\n", n.name.c_str());
+            return 2;
+        }
     std::filesystem::create_directories(c.output_dir);
     check_writable(c.output_dir / "summary.json");
     if (c.keep_images) std::filesystem::create_directories(c.output_dir / "images");

@@ -1,5 +1,5 @@
-// The fredholm command line: sub-commands render and bench; one clear error line and a non-zero exit on
-// any failure (1: the scene, the device or a file; 2: bad usage).
+// The fredholm command line: sub-commands render, view, converge and bench; one clear error line and a
+// non-zero exit on any failure (1: the scene, the device or a file; 2: bad usage).
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
