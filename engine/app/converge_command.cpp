@@ -1,4 +1,5 @@
 // Runs `fredholm converge`: reference, then per configuration one film grown at doubling spp, then the report.
+#include "app/render_options.h"
 #include "app/converge_command.h"
 
 #include <CLI/CLI.hpp>
@@ -256,14 +257,7 @@ void add_converge_options(CLI::App& app, ConvergeCommand& c) {
         ->check(CLI::Range(0u, 100000u));
     app.add_option("--seed", s.seed, "random seed");
     app.add_option("--camera", s.camera, "glTF camera index")->check(CLI::NonNegativeNumber);
-    std::map<std::string, PixelFilter> filters{{"box", PixelFilter::box}, {"gaussian", PixelFilter::gaussian}};
-    app.add_option("--filter", s.filter, "pixel filter: box or gaussian")
-        ->transform(CLI::CheckedTransformer(filters, CLI::ignore_case));
-    std::map<std::string, bool> on_off{{"on", true}, {"off", false}};
-    app.add_option("--nee", s.nee, "next-event estimation: on/off")->transform(CLI::CheckedTransformer(on_off));
-    app.add_option("--mis", s.mis, "multiple importance sampling: on/off")->transform(CLI::CheckedTransformer(on_off));
-    app.add_option("--rr", s.russian_roulette, "Russian roulette: on/off")->transform(CLI::CheckedTransformer(on_off));
-    app.add_option("--wave-paths", s.wave_paths, "paths in flight per wave")->check(CLI::Range(1024u, 1u << 22));
+    add_sampling_options(app, s);
     app.add_flag("--validate", c.validation, "enable Vulkan validation layers (also FREDHOLM_VALIDATION=1)");
     app.add_option("--device", c.device, "use the first Vulkan device whose name contains this");
 }

@@ -1,4 +1,5 @@
 // Runs a render end to end: validate outputs, load, build, render with progress, write atomically.
+#include "app/render_options.h"
 #include "app/render_command.h"
 
 #include <CLI/CLI.hpp>
@@ -99,16 +100,7 @@ void add_render_options(CLI::App& app, RenderCommand& c) {
     app.add_option("--tonemap", c.tone_curve, "PNG tone curve: aces (Narkowicz ACES fit) or clamp")
         ->transform(CLI::CheckedTransformer(curves, CLI::ignore_case));
     app.add_option("--stats", c.stats, "write render statistics as JSON");
-    std::map<std::string, PixelFilter> filters{{"box", PixelFilter::box}, {"gaussian", PixelFilter::gaussian}};
-    app.add_option("--filter", s.filter, "pixel filter: box (1 pixel) or gaussian (importance sampled)")
-        ->transform(CLI::CheckedTransformer(filters, CLI::ignore_case));
-    app.add_option("--filter-radius", s.filter_radius, "Gaussian truncation radius in pixels")
-        ->check(CLI::Range(0.5f, 8.0f));
-    std::map<std::string, bool> on_off{{"on", true}, {"off", false}};
-    app.add_option("--nee", s.nee, "next-event estimation: on/off")->transform(CLI::CheckedTransformer(on_off));
-    app.add_option("--mis", s.mis, "multiple importance sampling: on/off")->transform(CLI::CheckedTransformer(on_off));
-    app.add_option("--rr", s.russian_roulette, "Russian roulette: on/off")->transform(CLI::CheckedTransformer(on_off));
-    app.add_option("--wave-paths", s.wave_paths, "paths in flight per wave")->check(CLI::Range(1024u, 1u << 22));
+    add_sampling_options(app, s);
     app.add_flag("--validate", c.validation, "enable Vulkan validation layers (also FREDHOLM_VALIDATION=1)");
     app.add_option("--device", c.device, "use the first Vulkan device whose name contains this");
     app.add_flag("-q,--quiet", c.quiet, "no summary line");

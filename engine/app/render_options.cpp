@@ -1,0 +1,23 @@
+// One definition of the sampling options, so render and converge accept the same words.
+#include "app/render_options.h"
+
+#include <CLI/CLI.hpp>
+#include <map>
+#include <string>
+
+namespace fh {
+
+void add_sampling_options(CLI::App& app, RenderSettings& s) {
+    std::map<std::string, PixelFilter> filters{{"box", PixelFilter::box}, {"gaussian", PixelFilter::gaussian}};
+    app.add_option("--filter", s.filter, "pixel filter: box (1 pixel) or gaussian (importance sampled)")
+        ->transform(CLI::CheckedTransformer(filters, CLI::ignore_case));
+    app.add_option("--filter-radius", s.filter_radius, "Gaussian truncation radius in pixels")
+        ->check(CLI::Range(0.5f, 8.0f));
+    std::map<std::string, bool> on_off{{"on", true}, {"off", false}};
+    app.add_option("--nee", s.nee, "next-event estimation: on/off")->transform(CLI::CheckedTransformer(on_off));
+    app.add_option("--mis", s.mis, "multiple importance sampling: on/off")->transform(CLI::CheckedTransformer(on_off));
+    app.add_option("--rr", s.russian_roulette, "Russian roulette: on/off")->transform(CLI::CheckedTransformer(on_off));
+    app.add_option("--wave-paths", s.wave_paths, "paths in flight per wave")->check(CLI::Range(1024u, 1u << 22));
+}
+
+}  // namespace fh

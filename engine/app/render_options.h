@@ -1,0 +1,15 @@
+// Command-line options shared by every sub-command that renders: the sampling switches of RenderSettings.
+#pragma once
+
+#include "render/settings.h"
+
+namespace CLI {
+class App;
+}
+
+namespace fh {
+
+// --filter, --filter-radius, --nee, --mis, --rr, --wave-paths.
+void add_sampling_options(CLI::App& app, RenderSettings& settings);
+
+}  // namespace fh
