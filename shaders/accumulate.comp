@@ -6,6 +6,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "lib/bindings.glsl"
 #include "lib/queue.glsl"
+#include "lib/techniques.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE) in;
 
@@ -22,12 +23,16 @@ void main() {
         vec3 radiance = vec3(paths[path].radiance_r, paths[path].radiance_g, paths[path].radiance_b);
         if (any(isnan(radiance)) || any(isinf(radiance))) {
             nonfinite += 1u;
-            radiance = vec3(0.0f);
+            if (FH_TECHNIQUE_ON(TECHNIQUE_FINITE_GUARD)) radiance = vec3(0.0f);
         }
-        precise vec3 y = radiance - comp;
-        precise vec3 t = sum + y;
-        comp = (t - sum) - y;
-        sum = t;
+        if (FH_TECHNIQUE_ON(TECHNIQUE_COMPENSATED_FILM)) {
+            precise vec3 y = radiance - comp;
+            precise vec3 t = sum + y;
+            comp = (t - sum) - y;
+            sum = t;
+        } else {
+            sum += radiance;
+        }
     }
     f.sum_r = sum.x;
     f.sum_g = sum.y;

@@ -13,7 +13,8 @@ void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= counters.shadow_count_active) return;
     ShadowRayItem s = shadow_rays[i];
-    TraceHit hit = trace_ray(vec3(s.origin_x, s.origin_y, s.origin_z), vec3(s.dir_x, s.dir_y, s.dir_z), s.t_max, true);
+    TraceHit hit = trace_ray(vec3(s.origin_x, s.origin_y, s.origin_z), vec3(s.dir_x, s.dir_y, s.dir_z), s.t_max, true,
+                             s.origin_triangle);
     COUNT_IN_SUBGROUP(counters.traced_shadow_rays, 1u);
     if (hit.triangle != INVALID_INDEX) return;
     paths[s.path].radiance_r += s.contrib_r;

@@ -15,7 +15,7 @@ void main() {
     if (i >= counters.ray_count[parity]) return;
     RayItem ray = rays[ray_slot(parity, i)];
     TraceHit hit = trace_ray(vec3(ray.origin_x, ray.origin_y, ray.origin_z), vec3(ray.dir_x, ray.dir_y, ray.dir_z),
-                             uintBitsToFloat(0x7f800000u), false);
+                             uintBitsToFloat(0x7f800000u), false, ray.origin_triangle);
     HitItem item;
     item.t = hit.t;
     item.triangle = hit.triangle;

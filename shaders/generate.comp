@@ -48,7 +48,7 @@ void main() {
     item.dir_x = ray.dir.x;
     item.dir_y = ray.dir.y;
     item.dir_z = ray.dir.z;
-    item.pad = 0.0f;
+    item.origin_triangle = INVALID_INDEX;
     rays[ray_slot(0u, i)] = item;
 
     PathState state;

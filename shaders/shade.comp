@@ -35,9 +35,9 @@ void main() {
     ShadowRayItem shadow;
     RayItem next;
     next.path = path;
-    next.pad = 0.0f;
+    next.origin_triangle = hit.triangle;
     shadow.path = path;
-    shadow.pad = 0.0f;
+    shadow.origin_triangle = hit.triangle;
 
     if (hit.triangle != INVALID_INDEX) {
         vec3 dir = vec3(ray.dir_x, ray.dir_y, ray.dir_z);
@@ -70,6 +70,10 @@ void main() {
             // Both normals on the side the ray came from: this BSDF reflects only.
             vec3 ng = front ? s.ng : -s.ng;
             vec3 ns = front ? s.ns : -s.ns;
+            // Interpolated normals can face away from a grazing viewer although the surface faces it; the
+            // BSDF would then return black (black facets at silhouettes). Shade such points with the
+            // geometric normal (README "Numerical stability", case 8).
+            if (dot(ns, wo) <= 0.0f) ns = ng;
             Frame frame = make_frame(ns);
             vec3 wo_local = to_local(frame, wo);
             BsdfParams bsdf = make_bsdf_params(m);
@@ -77,37 +81,36 @@ void main() {
             float u_pick = next_float(rng);
             vec2 u_light = vec2(next_float(rng), next_float(rng));
             if ((params.flags & RENDER_NEE) != 0u && params.emitter_count > 0u) {
-                LightSample light = sample_light(u_pick, u_light);
-                vec3 to_light = light.p - s.p;
-                float dist2 = dot(to_light, to_light);
-                float dist = sqrt(dist2);
-                vec3 wi = to_light / dist;
-                float cos_light = -dot(light.n, wi);
-                bool emits = cos_light > 0.0f || (light.double_sided != 0u && cos_light < 0.0f);
-                if (emits && dist > 0.0f && dot(wi, ng) > 0.0f) {
-                    float light_pdf = light.pdf_area * dist2 / abs(cos_light);
+                LightConnection light = sample_light_connection(s.p, u_pick, u_light);
+                vec3 wi = light.wi;
+                if (light.valid != 0u && dot(wi, ng) > 0.0f) {
                     vec3 wi_local = to_local(frame, wi);
                     vec3 f = eval_bsdf(bsdf, wo_local, wi_local);
-                    float weight = (params.flags & RENDER_MIS) != 0u
-                                       ? power_heuristic(light_pdf, pdf_bsdf(bsdf, wo_local, wi_local))
+                    float weight = (params.flags & RENDER_MIS) != 0u && light.delta == 0u
+                                       ? power_heuristic(light.pdf, pdf_bsdf(bsdf, wo_local, wi_local))
                                        : 1.0f;
-                    vec3 contrib = beta * f * light.radiance * (weight / light_pdf);
+                    vec3 contrib = beta * f * light.radiance_over_pdf * weight;
                     if (max_component(contrib) > 0.0f) {
                         vec3 origin = offset_ray_origin(s.p, s.p_error, ng, wi);
-                        vec3 target = offset_ray_origin(light.p, light.p_error, light.n, -wi);
-                        vec3 d = target - origin;
-                        float len = length(d);
+                        vec3 d = wi;
+                        float t_max = 3.0e38f;  // directional light: nothing beyond the scene can block it
+                        if (light.at_infinity == 0u) {
+                            d = light.target - origin;
+                            float len = length(d);
+                            d /= len;
+                            t_max = len * (1.0f - 1e-4f);  // pbrt's ShadowEpsilon
+                        }
                         shadow.origin_x = origin.x;
                         shadow.origin_y = origin.y;
                         shadow.origin_z = origin.z;
-                        shadow.dir_x = d.x / len;
-                        shadow.dir_y = d.y / len;
-                        shadow.dir_z = d.z / len;
-                        shadow.t_max = len * (1.0f - 1e-4f);  // pbrt's ShadowEpsilon
+                        shadow.dir_x = d.x;
+                        shadow.dir_y = d.y;
+                        shadow.dir_z = d.z;
+                        shadow.t_max = t_max;
                         shadow.contrib_r = contrib.x;
                         shadow.contrib_g = contrib.y;
                         shadow.contrib_b = contrib.z;
-                        push_shadow = len > 0.0f;
+                        push_shadow = t_max > 0.0f;
                     }
                 }
             }

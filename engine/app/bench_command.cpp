@@ -12,6 +12,8 @@
 #include "io/image.h"
 #include "render/camera_setup.h"
 #include "render/renderer.h"
+#include "render/techniques.h"
+#include "shared/layout.h"
 
 namespace fh {
 namespace {
@@ -19,12 +21,6 @@ namespace {
 #ifndef FREDHOLM_DEFAULT_SCENE
 #define FREDHOLM_DEFAULT_SCENE "scenes/cornell.gltf"
 #endif
-
-template <typename T>
-T median(std::vector<T> values) {
-    std::sort(values.begin(), values.end());
-    return values[values.size() / 2];
-}
 
 }  // namespace
 
@@ -34,53 +30,105 @@ void add_bench_options(CLI::App& app, BenchCommand& c) {
     app.add_option("--spp", c.spp, "samples per pixel")->check(CLI::Range(1u, 1u << 16));
     app.add_option("--max-depth", c.max_depth, "path length in segments (0 = unlimited)");
     app.add_option("--repeats", c.repeats, "renders per size; the median is reported")->check(CLI::Range(1u, 100u));
+    app.add_flag("--techniques", c.techniques,
+                 "also time each robustness technique switched off (the cost of each; rebase: load time)");
     app.add_option("--json", c.json, "also write the figures as JSON");
     app.add_option("--device", c.device, "use the first Vulkan device whose name contains this");
 }
 
+namespace {
+
+// The median-time render of `repeats` (one Renderer: pipelines are built once, outside the timing).
+RenderStats time_render(const vk::Context& context, const PreparedScene& prepared, const SceneCamera& camera,
+                        const RenderSettings& settings, uint32_t repeats) {
+    Renderer renderer(context, prepared.packed, camera, settings);
+    std::vector<RenderStats> runs;
+    for (uint32_t r = 0; r < repeats; ++r) runs.push_back(renderer.render());
+    std::sort(runs.begin(), runs.end(),
+              [](const RenderStats& a, const RenderStats& b) { return a.render_seconds < b.render_seconds; });
+    return runs[runs.size() / 2];
+}
+
+std::string format_stage_seconds(const RenderStats& m) {
+    std::string stages;
+    for (const auto& [name, seconds] : m.stage_seconds) {
+        char buf[64];
+        std::snprintf(buf, sizeof buf, "%s %.3f  ", name.c_str(), seconds);
+        stages += buf;
+    }
+    return stages;
+}
+
+nlohmann::json describe_run(uint32_t size, const RenderStats& m, const std::string& disabled) {
+    const double samples = double(size) * size * m.spp_done;
+    const double rays = double(m.traced_rays + m.traced_shadow_rays);
+    return {{"width", size},
+            {"height", size},
+            {"spp", m.spp_done},
+            {"disabled_technique", disabled},
+            {"render_seconds", m.render_seconds},
+            {"samples_per_second", samples / m.render_seconds},
+            {"rays_per_second", rays / m.render_seconds},
+            {"stage_seconds", m.stage_seconds},
+            {"nonfinite_samples", m.nonfinite_samples}};
+}
+
+}  // namespace
+
 int run_bench(const BenchCommand& c) {
     std::filesystem::path scene_file = c.scene.empty() ? std::filesystem::path(FREDHOLM_DEFAULT_SCENE) : c.scene;
-    PreparedScene prepared = prepare_scene(scene_file);
+    RenderSettings base;
+    base.spp = c.spp;
+    base.max_depth = c.max_depth;
+    PreparedScene prepared = prepare_scene(scene_file, base);
     auto context = make_compute_context(false, c.device);
     SceneCamera camera = choose_camera(prepared.scene, -1);
-    std::printf("scene %s: %zu triangles, BVH %zu nodes built in %.3f s (SAH cost %.2f)\n",
-                scene_file.string().c_str(), prepared.scene.triangle_count(), prepared.bvh_nodes,
-                prepared.bvh_build_seconds, prepared.sah_cost);
+    std::printf("scene %s: %zu triangles, loaded in %.3f s, BVH %zu nodes built in %.3f s (SAH cost %.2f)\n",
+                scene_file.string().c_str(), prepared.scene.triangle_count(), prepared.load_seconds,
+                prepared.bvh_nodes, prepared.bvh_build_seconds, prepared.sah_cost);
     std::printf("device %s; %u spp, max depth %u, median of %u\n\n", context->device_name().c_str(), c.spp,
                 c.max_depth, c.repeats);
-    std::printf("%-9s %10s %12s %12s   %s\n", "size", "seconds", "Msamples/s", "Mrays/s", "stage seconds (GPU timestamps)");
+    std::printf("%-9s %-18s %10s %12s %12s   %s\n", "size", "disabled", "seconds", "Msamples/s", "Mrays/s",
+                "stage seconds (GPU timestamps)");
+
+    // The host-only technique (rebase) costs load time, not render time.
+    std::vector<TechniqueInfo> switched;
+    if (c.techniques)
+        for (const TechniqueInfo& t : list_techniques())
+            if (t.bit != gpu::TECHNIQUE_REBASE) switched.push_back(t);
 
     nlohmann::json results = nlohmann::json::array();
     for (uint32_t size : c.sizes) {
-        RenderSettings settings;
+        RenderSettings settings = base;
         settings.width = settings.height = size;
-        settings.spp = c.spp;
-        settings.max_depth = c.max_depth;
-        Renderer renderer(*context, prepared.packed, camera, settings, prepared.scene.bounds_min,
-                          prepared.scene.bounds_max);
-        std::vector<RenderStats> runs;
-        for (uint32_t r = 0; r < c.repeats; ++r) runs.push_back(renderer.render());
-        std::sort(runs.begin(), runs.end(),
-                  [](const RenderStats& a, const RenderStats& b) { return a.render_seconds < b.render_seconds; });
-        const RenderStats& m = runs[runs.size() / 2];
-        double samples = double(size) * size * m.spp_done;
-        double rays = double(m.traced_rays + m.traced_shadow_rays);
-        std::string stages;
-        for (const auto& [name, seconds] : m.stage_seconds) {
-            char buf[64];
-            std::snprintf(buf, sizeof buf, "%s %.3f  ", name.c_str(), seconds);
-            stages += buf;
+        auto print_run = [&](const std::string& disabled, const RenderStats& m) {
+            const double samples = double(size) * size * m.spp_done;
+            const double rays = double(m.traced_rays + m.traced_shadow_rays);
+            std::printf("%4ux%-4u %-18s %10.3f %12.3f %12.3f   %s\n", size, size, disabled.c_str(), m.render_seconds,
+                        samples / m.render_seconds * 1e-6, rays / m.render_seconds * 1e-6,
+                        format_stage_seconds(m).c_str());
+            results.push_back(describe_run(size, m, disabled));
+        };
+        settings.disabled_techniques = 0;
+        print_run("none", time_render(*context, prepared, camera, settings, c.repeats));
+        // Each technique is timed against a baseline measured right before it, so that a machine whose speed
+        // drifts (other load, clocks) does not show up as a technique's cost.
+        for (const TechniqueInfo& t : switched) {
+            settings.disabled_techniques = 0;
+            const RenderStats with = time_render(*context, prepared, camera, settings, c.repeats);
+            settings.disabled_techniques = t.bit;
+            const RenderStats without = time_render(*context, prepared, camera, settings, c.repeats);
+            print_run(t.name, without);
+            std::printf("%-28s with it %.3f s, without %.3f s: it costs %+.1f%% of the render time\n", "",
+                        with.render_seconds, without.render_seconds,
+                        100.0 * (with.render_seconds - without.render_seconds) / without.render_seconds);
         }
-        std::printf("%4ux%-4u %10.3f %12.3f %12.3f   %s\n", size, size, m.render_seconds,
-                    samples / m.render_seconds * 1e-6, rays / m.render_seconds * 1e-6, stages.c_str());
-        results.push_back({{"width", size},
-                           {"height", size},
-                           {"spp", m.spp_done},
-                           {"render_seconds", m.render_seconds},
-                           {"samples_per_second", samples / m.render_seconds},
-                           {"rays_per_second", rays / m.render_seconds},
-                           {"stage_seconds", m.stage_seconds},
-                           {"nonfinite_samples", m.nonfinite_samples}});
+    }
+    if (c.techniques) {
+        RenderSettings world = base;
+        world.disabled_techniques = gpu::TECHNIQUE_REBASE;
+        const PreparedScene without = prepare_scene(scene_file, world);
+        std::printf("\nrebase (host): load %.4f s with, %.4f s without\n", prepared.load_seconds, without.load_seconds);
     }
     if (!c.json.empty()) {
         nlohmann::json j{{"scene", scene_file.string()}, {"device", context->device_name()}, {"max_depth", c.max_depth},

@@ -1,4 +1,5 @@
-// `fredholm bench`: renders a scene at several resolutions and prints samples/s, rays/s and stage times.
+// `fredholm bench`: renders a scene at several resolutions and prints samples/s, rays/s and stage times;
+// with --techniques, also the render time with each robustness technique switched off.
 #pragma once
 #include <filesystem>
 #include <string>
@@ -18,6 +19,7 @@ struct BenchCommand {
     uint32_t repeats = 3;
     std::filesystem::path json;
     std::string device;
+    bool techniques = false;  // also time each robustness technique switched off (README cost table)
 };
 
 void add_bench_options(CLI::App& app, BenchCommand& command);

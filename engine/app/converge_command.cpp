@@ -105,8 +105,7 @@ struct Session {
     Film make_film(RenderSettings settings, uint32_t spp_total) const {
         settings.spp = spp_total;
         Film f;
-        f.renderer = std::make_unique<Renderer>(*context, prepared.packed, camera, settings, prepared.scene.bounds_min,
-                                                prepared.scene.bounds_max);
+        f.renderer = std::make_unique<Renderer>(*context, prepared.packed, camera, settings);
         f.renderer->clear_film();
         return f;
     }
@@ -258,6 +257,7 @@ void add_converge_options(CLI::App& app, ConvergeCommand& c) {
     app.add_option("--seed", s.seed, "random seed");
     app.add_option("--camera", s.camera, "glTF camera index")->check(CLI::NonNegativeNumber);
     add_sampling_options(app, s);
+    add_robustness_options(app, s);
     app.add_flag("--validate", c.validation, "enable Vulkan validation layers (also FREDHOLM_VALIDATION=1)");
     app.add_option("--device", c.device, "use the first Vulkan device whose name contains this");
 }
@@ -284,7 +284,7 @@ int run_converge(const ConvergeCommand& c) {
 
     ConvergeReport report;
     report.command_line = describe_command(c);
-    Session s{c, prepare_scene(c.scene), {}, nullptr};
+    Session s{c, prepare_scene(c.scene, c.settings), {}, nullptr};
     s.camera = choose_camera(s.prepared.scene, c.settings.camera);
     Film reference;
     if (!c.reference.empty()) {

@@ -1,4 +1,5 @@
-// Ctrl-C and SIGTERM during a render: the handler only sets a flag that the wave loop polls.
+// Ctrl-C and SIGTERM during a render: the first only sets a flag that the wave loop polls; a second one
+// while the first is pending exits at once (status 130, async-signal-safe).
 #pragma once
 
 namespace fh {

@@ -18,6 +18,7 @@
 #include "io/png.h"
 #include "render/camera_setup.h"
 #include "render/memory_estimate.h"
+#include "render/techniques.h"
 
 namespace fh {
 namespace {
@@ -40,6 +41,8 @@ ImageMetadata make_metadata(const RenderCommand& c, uint32_t spp_done) {
             {"fredholm:nee", s.nee ? "on" : "off"},
             {"fredholm:mis", s.mis ? "on" : "off"},
             {"fredholm:rr", s.russian_roulette ? "on" : "off"},
+            {"fredholm:disabled_techniques", name_techniques(s.disabled_techniques)},
+            {"fredholm:bvh_leaf_size", std::to_string(s.bvh_max_leaf_size)},
             {"fredholm:colorspace", "scene-linear Rec.709"}};
 }
 
@@ -71,6 +74,9 @@ void write_stats(const std::filesystem::path& file, const RenderCommand& c, cons
     j["bvh_sah_cost"] = prepared.sah_cost;
     j["triangles"] = prepared.scene.triangle_count();
     j["emitters"] = prepared.packed.emitters.size();
+    j["punctual_lights"] = prepared.packed.punctual_lights.size();
+    j["disabled_techniques"] = name_techniques(s.disabled_techniques);
+    j["render_origin"] = {prepared.scene.origin.x, prepared.scene.origin.y, prepared.scene.origin.z};
     j["stage_seconds"] = stats.stage_seconds;
     write_file_atomically(file, [&](const std::filesystem::path& temp) {
         std::ofstream out(temp);
@@ -101,6 +107,7 @@ void add_render_options(CLI::App& app, RenderCommand& c) {
         ->transform(CLI::CheckedTransformer(curves, CLI::ignore_case));
     app.add_option("--stats", c.stats, "write render statistics as JSON");
     add_sampling_options(app, s);
+    add_robustness_options(app, s);
     app.add_flag("--validate", c.validation, "enable Vulkan validation layers (also FREDHOLM_VALIDATION=1)");
     app.add_option("--device", c.device, "use the first Vulkan device whose name contains this");
     app.add_flag("-q,--quiet", c.quiet, "no summary line");
@@ -138,7 +145,7 @@ int run_render(const RenderCommand& c) {
     // From here on Ctrl-C and SIGTERM finish the sample index in progress, then write what they have.
     install_interrupt_handlers();
 
-    PreparedScene prepared = prepare_scene(c.scene);
+    PreparedScene prepared = prepare_scene(c.scene, settings);
     SceneCamera camera = apply_camera_pose(choose_camera(prepared.scene, settings.camera), c.pose);
     auto context = make_compute_context(c.validation, c.device);
     try {
@@ -147,8 +154,7 @@ int run_render(const RenderCommand& c) {
         throw std::runtime_error(c.scene.string() + ": " + std::to_string(settings.width) + "x" +
                                  std::to_string(settings.height) + " on " + context->device_name() + ": " + e.what());
     }
-    Renderer renderer(*context, prepared.packed, camera, settings, prepared.scene.bounds_min,
-                      prepared.scene.bounds_max);
+    Renderer renderer(*context, prepared.packed, camera, settings);
     if (!c.resume) renderer.clear_film();
     else renderer.write_film_state(saved.film);
 

@@ -3,7 +3,11 @@
 
 #include <CLI/CLI.hpp>
 #include <map>
+#include <stdexcept>
 #include <string>
+#include <vector>
+
+#include "render/techniques.h"
 
 namespace fh {
 
@@ -18,6 +22,28 @@ void add_sampling_options(CLI::App& app, RenderSettings& s) {
     app.add_option("--mis", s.mis, "multiple importance sampling: on/off")->transform(CLI::CheckedTransformer(on_off));
     app.add_option("--rr", s.russian_roulette, "Russian roulette: on/off")->transform(CLI::CheckedTransformer(on_off));
     app.add_option("--wave-paths", s.wave_paths, "paths in flight per wave")->check(CLI::Range(1024u, 1u << 22));
+}
+
+void add_robustness_options(CLI::App& app, RenderSettings& s) {
+    std::string words;
+    for (const TechniqueInfo& t : list_techniques()) words += (words.empty() ? "" : ", ") + std::string(t.name);
+    app.add_option_function<std::vector<std::string>>(
+           "--disable-technique",
+           [&s](const std::vector<std::string>& names) {
+               for (const std::string& name : names) s.disabled_techniques |= find_technique(name);
+           },
+           "switch a robustness technique off, to measure its cost or show what it prevents (" + words + ")")
+        ->delimiter(',')
+        ->check([](const std::string& name) {
+            try {
+                find_technique(name);
+                return std::string();
+            } catch (const std::invalid_argument& e) {
+                return std::string(e.what());
+            }
+        });
+    app.add_option("--bvh-leaf-size", s.bvh_max_leaf_size, "most triangles per BVH leaf")
+        ->check(CLI::Range(1u, 64u));
 }
 
 }  // namespace fh

@@ -12,4 +12,7 @@ namespace fh {
 // --filter, --filter-radius, --nee, --mis, --rr, --wave-paths.
 void add_sampling_options(CLI::App& app, RenderSettings& settings);
 
+// --disable-technique NAME[,NAME...] (robustness techniques, to measure their cost) and --bvh-leaf-size.
+void add_robustness_options(CLI::App& app, RenderSettings& settings);
+
 }  // namespace fh

@@ -17,15 +17,19 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 }
 }  // namespace
 
-PreparedScene prepare_scene(const std::filesystem::path& file) {
+PreparedScene prepare_scene(const std::filesystem::path& file, const RenderSettings& settings) {
     PreparedScene prepared;
     auto start = std::chrono::steady_clock::now();
-    prepared.scene = load_gltf(file);
+    LoadOptions load;
+    load.rebase = (settings.disabled_techniques & gpu::TECHNIQUE_REBASE) == 0;
+    prepared.scene = load_gltf(file, load);
     prepared.load_seconds = seconds_since(start);
     for (const std::string& warning : prepared.scene.warnings)
         std::fprintf(stderr, "fredholm: warning: %s\n", warning.c_str());
 
-    Bvh bvh = build_bvh(prepared.scene.positions);
+    BvhOptions bvh_options;
+    bvh_options.max_leaf_size = settings.bvh_max_leaf_size;
+    Bvh bvh = build_bvh(prepared.scene.positions, bvh_options);
     if (bvh.max_depth >= MAX_TRAVERSAL_DEPTH)
         throw SceneError(file.string() + ": BVH depth " + std::to_string(bvh.max_depth) +
                          " exceeds the traversal stack (" + std::to_string(MAX_TRAVERSAL_DEPTH) + ")");

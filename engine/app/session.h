@@ -6,6 +6,7 @@
 
 #include "scene/bvh.h"
 #include "scene/pack.h"
+#include "render/settings.h"
 #include "scene/scene.h"
 #include "vk/context.h"
 
@@ -21,8 +22,9 @@ struct PreparedScene {
     uint32_t bvh_depth = 0;
 };
 
-// Loads and packs a scene; prints the loader's warnings to stderr.
-PreparedScene prepare_scene(const std::filesystem::path& file);
+// Loads and packs a scene (TECHNIQUE_REBASE and the BVH leaf size from `settings`); prints the loader's
+// warnings to stderr.
+PreparedScene prepare_scene(const std::filesystem::path& file, const RenderSettings& settings);
 
 // A Vulkan context for compute; validation when asked or when FREDHOLM_VALIDATION=1.
 std::unique_ptr<vk::Context> make_compute_context(bool validation, const std::string& device_filter);

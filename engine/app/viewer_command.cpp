@@ -149,7 +149,7 @@ int run_view(const ViewCommand& c) {
     const std::vector<std::string> script = split_script(c.script);
     if (!script.empty() && c.frames == 0) throw CLI::ValidationError("--script", "needs --frames");
 
-    PreparedScene prepared = prepare_scene(c.scene);
+    PreparedScene prepared = prepare_scene(c.scene, c.settings);
     const Scene& scene = prepared.scene;
     const SceneCamera start = apply_camera_pose(choose_camera(scene, c.settings.camera), c.pose);
     const glm::dvec3 center = 0.5 * (scene.bounds_min + scene.bounds_max);
@@ -174,8 +174,7 @@ int run_view(const ViewCommand& c) {
         renderer.reset();
         s.settings.width = swapchain->extent().width;
         s.settings.height = swapchain->extent().height;
-        renderer = std::make_unique<Renderer>(*context, prepared.packed, s.camera.scene_camera(), s.settings,
-                                              scene.bounds_min, scene.bounds_max);
+        renderer = std::make_unique<Renderer>(*context, prepared.packed, s.camera.scene_camera(), s.settings);
         renderer->clear_film();
         s.spp = 0;
         slicer.cursor = 0;

@@ -6,9 +6,10 @@
 
 namespace fh {
 
-void set_frame_camera(gpu::FrameParams& frame, const SceneCamera& camera, uint32_t width, uint32_t height) {
+void set_frame_camera(gpu::FrameParams& frame, const SceneCamera& camera, uint32_t width, uint32_t height,
+                      const glm::dvec3& render_origin) {
     const glm::dmat4& m = camera.world_from_camera;
-    glm::dvec3 origin = glm::dvec3(m[3]);
+    glm::dvec3 origin = glm::dvec3(m[3]) - render_origin;  // in double, then rounded: render space
     // glTF cameras look down -Z with +Y up; columns of the matrix are the camera axes in world space.
     glm::dvec3 right = glm::normalize(glm::dvec3(m[0]));
     glm::dvec3 up = glm::normalize(glm::dvec3(m[1]));

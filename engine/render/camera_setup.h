@@ -8,8 +8,10 @@
 namespace fh {
 
 // The image aspect is width / height; perspective uses the glTF yfov, orthographic the glTF ymag (and
-// ymag * aspect horizontally, so pixels stay square).
-void set_frame_camera(gpu::FrameParams& frame, const SceneCamera& camera, uint32_t width, uint32_t height);
+// ymag * aspect horizontally, so pixels stay square). The camera is in world space; `render_origin`
+// (Scene::origin) is subtracted in double so the frame is in the scene's render space.
+void set_frame_camera(gpu::FrameParams& frame, const SceneCamera& camera, uint32_t width, uint32_t height,
+                      const glm::dvec3& render_origin);
 
 // The camera a render uses: index < 0 picks the scene's first camera, or a default framing camera.
 // Throws SceneError for an index the scene does not have.

@@ -50,6 +50,7 @@ GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& sce
     b.tri_shading = make_filled_buffer(context, scene.shading, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
     b.materials = make_filled_buffer(context, scene.materials, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
     b.emitters = make_filled_buffer(context, scene.emitters, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
+    b.punctual_lights = make_filled_buffer(context, scene.punctual_lights);
     b.ggx_albedo = make_filled_buffer(context, flatten_ggx_albedo_table(), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
     const size_t capacity = frame.wave_capacity;
     b.counters = make_state_buffer(context, sizeof(gpu::QueueCounters), VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT);
@@ -62,7 +63,7 @@ GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& sce
     // The limits check before rendering relies on the estimate: keep it exact.
     uint64_t allocated = 0;
     for (const vk::Buffer* buffer : {&b.params, &b.nodes, &b.tri_positions, &b.tri_shading, &b.materials, &b.emitters,
-                                     &b.ggx_albedo, &b.counters, &b.counters_readback, &b.paths, &b.rays, &b.hits,
+                                     &b.punctual_lights, &b.ggx_albedo, &b.counters, &b.counters_readback, &b.paths, &b.rays, &b.hits,
                                      &b.shadow_rays, &b.film})
         allocated += buffer->size();
     if (allocated != estimate_render_memory(scene, frame.width, frame.height, frame.wave_capacity).device_bytes())
@@ -83,6 +84,7 @@ void bind_gpu_buffers(vk::BindingTable& table, const GpuBuffers& b) {
     table.bind_buffer(gpu::BINDING_HITS, b.hits);
     table.bind_buffer(gpu::BINDING_SHADOW_RAYS, b.shadow_rays);
     table.bind_buffer(gpu::BINDING_FILM, b.film);
+    table.bind_buffer(gpu::BINDING_PUNCTUAL_LIGHTS, b.punctual_lights);
     table.bind_buffer(gpu::BINDING_BVH_NODES_UNIFORM, b.nodes);
     table.bind_buffer(gpu::BINDING_TRI_POSITIONS_UNIFORM, b.tri_positions);
     table.bind_buffer(gpu::BINDING_TRI_SHADING_UNIFORM, b.tri_shading);

@@ -20,6 +20,7 @@ struct GpuBuffers {
     vk::Buffer tri_shading;
     vk::Buffer materials;
     vk::Buffer emitters;
+    vk::Buffer punctual_lights;
     vk::Buffer ggx_albedo;         // the GGX albedo table of the energy-conserving BSDF (uniform)
     vk::Buffer counters;           // device-local: atomics stay on the device
     vk::Buffer counters_readback;  // host-visible copy made at the end of each submission

@@ -32,12 +32,14 @@ gpu::StagePush make_push(uint32_t depth, const Wave& wave) {
     return push;
 }
 
-gpu::FrameParams make_frame(const PackedScene& scene, const SceneCamera& camera, const RenderSettings& s,
-                            glm::dvec3 bounds_min, glm::dvec3 bounds_max) {
+gpu::FrameParams make_frame(const PackedScene& scene, const SceneCamera& camera, const RenderSettings& s) {
     gpu::FrameParams f{};
-    set_frame_camera(f, camera, s.width, s.height);
-    f.scene_min = glm::vec4(glm::vec3(bounds_min), 0.0f);
-    f.scene_max = glm::vec4(glm::vec3(bounds_max), 0.0f);
+    set_frame_camera(f, camera, s.width, s.height, scene.origin);
+    if (!scene.nodes.empty()) {  // the BVH root bounds the scene (render space)
+        const gpu::BvhNode& root = scene.nodes[0];
+        f.scene_min = glm::vec4(root.min_x, root.min_y, root.min_z, 0.0f);
+        f.scene_max = glm::vec4(root.max_x, root.max_y, root.max_z, 0.0f);
+    }
     f.width = s.width;
     f.height = s.height;
     f.max_depth = s.max_depth;
@@ -72,15 +74,28 @@ std::vector<Wave> plan_waves(uint32_t pixel_count, uint32_t sample_begin, uint32
     return waves;
 }
 
+namespace {
+
+StageOptions make_stage_options(const vk::Context& context, const PackedScene& scene, const RenderSettings& s) {
+    StageOptions o;
+    o.scene_in_uniform_buffers = fits_uniform_buffers(scene, context.properties().limits.maxUniformBufferRange);
+    o.punctual_lights = !scene.punctual_lights.empty();
+    o.disabled_techniques = s.disabled_techniques;
+    return o;
+}
+
+}  // namespace
+
 Renderer::Renderer(const vk::Context& context, const PackedScene& scene, const SceneCamera& camera,
-                   const RenderSettings& settings, glm::dvec3 bounds_min, glm::dvec3 bounds_max)
+                   const RenderSettings& settings)
     : context_(context),
       settings_(settings),
-      frame_(make_frame(scene, camera, settings, bounds_min, bounds_max)),
-      stages_(context, fits_uniform_buffers(scene, context.properties().limits.maxUniformBufferRange)),
+      frame_(make_frame(scene, camera, settings)),
+      stages_(context, make_stage_options(context, scene, settings)),
       buffers_(create_gpu_buffers(context, scene, frame_)),
       recorder_(context, MAX_DISPATCHES_PER_SUBMIT),
-      has_lights_(!scene.emitters.empty()) {
+      has_lights_(!scene.emitters.empty()),
+      origin_(scene.origin) {
     bind_gpu_buffers(stages_.bindings(), buffers_);
 }
 
@@ -184,7 +199,7 @@ void Renderer::submit(RenderStats& stats) {
 }
 
 void Renderer::set_camera(const SceneCamera& camera) {
-    set_frame_camera(frame_, camera, settings_.width, settings_.height);
+    set_frame_camera(frame_, camera, settings_.width, settings_.height, origin_);
     vk::upload_to_buffer(context_, buffers_.params, &frame_, sizeof(frame_));
 }
 

@@ -38,8 +38,9 @@ using ProgressCallback = std::function<bool(uint32_t spp_done, uint32_t spp_tota
 
 class Renderer {
 public:
+    // The camera is in world space; the scene's arrays are in render space (PackedScene::origin).
     Renderer(const vk::Context& context, const PackedScene& scene, const SceneCamera& camera,
-             const RenderSettings& settings, glm::dvec3 bounds_min, glm::dvec3 bounds_max);
+             const RenderSettings& settings);
 
     // Renders settings.spp samples per pixel into a cleared film.
     RenderStats render(const ProgressCallback& progress = {});
@@ -73,6 +74,7 @@ private:
     GpuBuffers buffers_;
     vk::CommandRecorder recorder_;
     bool has_lights_;
+    glm::dvec3 origin_;  // world position of the render-space origin
 };
 
 }  // namespace fh

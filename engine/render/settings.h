@@ -21,6 +21,8 @@ struct RenderSettings {
     bool russian_roulette = true;
     uint32_t rr_start_depth = 3;   // roulette from this many segments on
     uint32_t wave_paths = 1u << 18;  // paths in flight per wave (memory ~ 160 bytes each)
+    uint32_t disabled_techniques = 0;  // layout.h TECHNIQUE_* bits switched off (cost measurements only)
+    uint32_t bvh_max_leaf_size = 4;    // triangles per BVH leaf at most
 };
 
 const char* to_string(PixelFilter filter);

@@ -31,10 +31,12 @@ std::array<VkDescriptorType, gpu::BINDING_COUNT> binding_types() {
     return types;
 }
 
-StageTable::StageTable(const vk::Context& context, bool scene_in_uniform_buffers)
+StageTable::StageTable(const vk::Context& context, const StageOptions& options)
     : bindings_(context, binding_types(), sizeof(gpu::StagePush)) {
-    std::array<uint32_t, 1> spec{};
-    spec[gpu::SPEC_SCENE_IN_UNIFORM_BUFFERS] = scene_in_uniform_buffers ? 1u : 0u;
+    std::array<uint32_t, 3> spec{};
+    spec[gpu::SPEC_SCENE_IN_UNIFORM_BUFFERS] = options.scene_in_uniform_buffers ? 1u : 0u;
+    spec[gpu::SPEC_HAS_PUNCTUAL_LIGHTS] = options.punctual_lights ? 1u : 0u;
+    spec[gpu::SPEC_DISABLED_TECHNIQUES] = options.disabled_techniques;
     auto make = [&](Stage stage, std::span<const uint32_t> spirv) {
         pipelines_[size_t(stage)] =
             std::make_unique<vk::ComputePipeline>(context, bindings_, stage_name(stage), spirv, spec);

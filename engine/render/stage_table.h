@@ -11,10 +11,16 @@ enum class Stage { generate, extend, shade, advance, connect, accumulate };
 inline constexpr size_t STAGE_COUNT = 6;
 const char* stage_name(Stage stage);
 
+// What the pipelines are specialised for (layout.h SPEC_*): branches a scene does not need compile away.
+struct StageOptions {
+    bool scene_in_uniform_buffers = false;  // traversal reads the uniform bindings (pack.h fits_uniform_buffers)
+    bool punctual_lights = false;           // the scene has KHR_lights_punctual lights
+    uint32_t disabled_techniques = 0;       // layout.h TECHNIQUE_* bits switched off
+};
+
 class StageTable {
 public:
-    // scene_in_uniform_buffers: traversal reads the uniform bindings (pack.h fits_uniform_buffers).
-    explicit StageTable(const vk::Context& context, bool scene_in_uniform_buffers = false);
+    explicit StageTable(const vk::Context& context, const StageOptions& options = {});
     const vk::ComputePipeline& operator[](Stage stage) const { return *pipelines_[size_t(stage)]; }
     vk::BindingTable& bindings() { return bindings_; }
 

@@ -1,6 +1,13 @@
 // load_gltf: walks the node hierarchy of a glTF 2.0 file and flattens every triangle into world space.
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
 #include <array>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <limits>
 #include <map>
@@ -10,6 +17,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/constants.hpp>
 #include <glm/gtc/type_ptr.hpp>
 #include <tiny_gltf.h>
 
@@ -25,8 +33,15 @@ constexpr int MAX_NODE_DEPTH = 1024;  // deeper hierarchies are treated as malfo
 // nodes to form disjoint trees). Sharing can multiply: 40 nodes that each list the next twice make 2^40
 // paths, so the walk stops at this many node instances, and the flattened scene at this many triangles
 // (about 5 GB on the host; the device limits in render/memory_estimate.h are usually far lower).
+#ifndef FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION
 constexpr size_t MAX_NODE_INSTANCES = size_t(1) << 22;
 constexpr size_t MAX_SCENE_TRIANGLES = size_t(1) << 26;
+#else
+// The fuzz build (tests/fuzz) gives each input 10 s and 2 GiB and runs ~10x slower under its sanitizers: a
+// 1 KB file that merely reaches the limits above (1.4 s in release) would read as a finding there.
+constexpr size_t MAX_NODE_INSTANCES = size_t(1) << 16;
+constexpr size_t MAX_SCENE_TRIANGLES = size_t(1) << 20;
+#endif
 
 // Textures are not read yet: skip decoding images (tinygltf would otherwise decode every one).
 bool skip_image(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int,
@@ -47,6 +62,49 @@ std::string join_lines(const std::string& text, const char* separator) {
     return out;
 }
 
+// The .gltf, its .bin buffers and its images are read only if they are regular files of at most this size.
+// A URI may name anything: a FIFO blocked tinygltf's fopen() forever (deaf to SIGTERM), a directory reports a
+// size near 2^63 that tinygltf tried to allocate, a device is no data, and a huge file would be read whole.
+constexpr uint64_t MAX_FILE_BYTES = uint64_t(2) << 30;
+
+// tinygltf's FileExists opens the file, which blocks on a FIFO; stat() does not.
+bool file_exists(const std::string& path, void*) {
+    struct stat info;
+    return ::stat(path.c_str(), &info) == 0;
+}
+
+// Reads a regular file whole; `err` gets the problem without the path (tinygltf prefixes it).
+bool read_regular_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
+    const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);  // O_NONBLOCK: a FIFO opens at once
+    if (fd < 0) {
+        *err += std::string("cannot open: ") + std::strerror(errno);
+        return false;
+    }
+    struct stat info;
+    std::string problem;
+    if (::fstat(fd, &info) != 0 || !S_ISREG(info.st_mode))
+        problem = "not a regular file (a directory, device or pipe)";
+    else if (uint64_t(info.st_size) > MAX_FILE_BYTES)
+        problem = std::to_string(info.st_size) + " bytes, more than the limit of " + std::to_string(MAX_FILE_BYTES);
+    else if (info.st_size == 0)
+        problem = "File is empty";
+    size_t done = 0;
+    if (problem.empty()) {
+        out->resize(size_t(info.st_size));
+        while (done < out->size()) {
+            const ssize_t n = ::read(fd, out->data() + done, out->size() - done);
+            if (n < 0 && errno == EINTR) continue;
+            if (n < 0) problem = std::string("read error: ") + std::strerror(errno);
+            if (n <= 0) break;
+            done += size_t(n);
+        }
+        out->resize(done);  // a file that shrank meanwhile: the size checks of the callers see the short read
+    }
+    ::close(fd);
+    *err += problem;
+    return problem.empty();
+}
+
 bool has_glb_magic(const std::filesystem::path& file) {
     std::ifstream in(file, std::ios::binary);
     char magic[4] = {};
@@ -54,15 +112,38 @@ bool has_glb_magic(const std::filesystem::path& file) {
     return in.gcount() == 4 && std::string(magic, 4) == "glTF";
 }
 
+uint64_t load_le32(const unsigned char* p) { return p[0] | p[1] << 8 | p[2] << 16 | uint64_t(p[3]) << 24; }
+
+// tinygltf 2.7.0 checks a GLB's BIN chunk against the file length without the chunk's 8-byte header, then reads
+// up to 8 bytes past the end of the file (a heap-buffer-overflow found by the fuzzer:
+// tests/fuzz/regressions/crash_glb_bin_chunk_past_end.glb). The header layout is in glTF 2.0 spec section 4.4.
+void check_glb_bin_chunk(const std::filesystem::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    unsigned char header[20] = {}, chunk[4] = {};
+    if (!in.read(reinterpret_cast<char*>(header), sizeof header)) return;  // tinygltf reports a short file
+    const uint64_t length = load_le32(header + 8), bin_at = 20 + load_le32(header + 12);
+    std::error_code ec;
+    if (length > std::filesystem::file_size(file, ec) || ec || bin_at + 12 > length) return;  // tinygltf's cases
+    if (!in.seekg(std::streamoff(bin_at)) || !in.read(reinterpret_cast<char*>(chunk), sizeof chunk)) return;
+    if (bin_at + 8 + load_le32(chunk) > length)
+        throw SceneError("invalid GLB: the BIN chunk (" + std::to_string(load_le32(chunk)) + " bytes from byte " +
+                         std::to_string(bin_at + 8) + ") ends past the " + std::to_string(length) +
+                         "-byte file");
+}
+
 tinygltf::Model read_model(const std::filesystem::path& file, std::vector<std::string>& warnings) {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(file, ec)) throw SceneError("file not found");
     tinygltf::TinyGLTF parser;
     parser.SetImageLoader(&skip_image, nullptr);
+    parser.SetFsCallbacks(
+        {&file_exists, &tinygltf::ExpandFilePath, &read_regular_file, &tinygltf::WriteWholeFile, nullptr});
     tinygltf::Model model;
     std::string err, warn;
-    const bool ok = has_glb_magic(file) ? parser.LoadBinaryFromFile(&model, &err, &warn, file.string())
-                                        : parser.LoadASCIIFromFile(&model, &err, &warn, file.string());
+    const bool is_glb = has_glb_magic(file);
+    if (is_glb) check_glb_bin_chunk(file);
+    const bool ok = is_glb ? parser.LoadBinaryFromFile(&model, &err, &warn, file.string())
+                           : parser.LoadASCIIFromFile(&model, &err, &warn, file.string());
     std::istringstream lines(warn);
     for (std::string line; std::getline(lines, line);)
         if (!line.empty()) warnings.push_back("tinygltf: " + line);
@@ -136,6 +217,7 @@ std::vector<std::array<uint32_t, 3>> make_triangles(int mode, const std::vector<
 }
 
 bool is_finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool is_finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 bool is_finite(const glm::dmat4& m) {
     for (int c = 0; c < 4; ++c)
@@ -172,6 +254,8 @@ public:
         if (node.skin >= 0) warn_once("skins are not supported: skinned meshes are drawn in their bind pose");
         if (node.mesh >= 0) add_mesh(node.mesh, world);
         if (node.camera >= 0) add_camera(node.camera, index, world);
+        if (const auto it = node.extensions.find("KHR_lights_punctual"); it != node.extensions.end())
+            add_light(it->second, index, world);
         for (int child : node.children) {
             if (child < 0 || size_t(child) >= model_.nodes.size())
                 throw SceneError(describe_node(model_, index) + " has child " + std::to_string(child) +
@@ -181,7 +265,19 @@ public:
         on_path_[size_t(index)] = 0;
     }
 
-    void finish() {
+    // Places the triangles in render space (LoadOptions::rebase) and drops those without area there.
+    void finish(bool rebase) {
+        glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+        for (const glm::dvec3& p : world_positions_) {
+            lo = glm::min(lo, p);
+            hi = glm::max(hi, p);
+        }
+        if (!world_positions_.empty()) {
+            scene_.bounds_min = lo;
+            scene_.bounds_max = hi;
+            if (rebase) scene_.origin = 0.5 * (lo + hi);
+        }
+        place_triangles(scene_.origin);
         for (const auto& [mode, count] : skipped_modes_)
             scene_.warnings.push_back("skipped " + std::to_string(count) + " primitive(s) drawn as " + mode);
         if (dropped_nonfinite_ > 0)
@@ -190,12 +286,38 @@ public:
         if (flat_nonfinite_normals_ > 0)
             scene_.warnings.push_back("shaded " + std::to_string(flat_nonfinite_normals_) +
                                       " triangle(s) flat: NaN, infinite or zero normals");
+        if (dropped_degenerate_ > 0)
+            scene_.warnings.push_back("dropped " + std::to_string(dropped_degenerate_) +
+                                      " triangle(s) without area (collinear or repeated vertices)");
         if (leftover_indices_ > 0)
             scene_.warnings.push_back("ignored " + std::to_string(leftover_indices_) +
                                       " trailing index(es) that do not complete a triangle");
     }
 
 private:
+    // Rounds world positions (double) minus `origin` to float, keeping the triangles whose float cross
+    // product is not zero: the GPU could neither hit them (zero determinant) nor give them a normal.
+    void place_triangles(const glm::dvec3& origin) {
+        for (size_t t = 0; t < triangle_material_.size(); ++t) {
+            std::array<glm::vec3, 3> p;
+            for (int k = 0; k < 3; ++k) p[size_t(k)] = glm::vec3(world_positions_[3 * t + size_t(k)] - origin);
+            const glm::vec3 c = glm::cross(p[1] - p[0], p[2] - p[0]);
+            if (!(glm::dot(c, c) > 0.0f) || !is_finite(c)) {
+                ++dropped_degenerate_;
+                continue;
+            }
+            for (int k = 0; k < 3; ++k) {
+                scene_.positions.push_back(p[size_t(k)]);
+                scene_.normals.push_back(normals_[3 * t + size_t(k)]);
+            }
+            scene_.triangle_material.push_back(triangle_material_[t]);
+            scene_.triangle_has_normals.push_back(triangle_has_normals_[t]);
+        }
+        world_positions_.clear();
+        world_positions_.shrink_to_fit();
+        for (SceneLight& light : scene_.lights) light.position -= origin;
+    }
+
     void warn_once(const std::string& message) {
         if (warned_.emplace(message, 1).second) scene_.warnings.push_back(message);
     }
@@ -255,7 +377,7 @@ private:
         if (mode == TINYGLTF_MODE_TRIANGLES) leftover_indices_ += indices.size() % 3;
         const uint32_t material = material_index(prim.material, where);
         const size_t new_triangles = mode == TINYGLTF_MODE_TRIANGLES ? indices.size() / 3 : indices.size();
-        if (scene_.triangle_count() + new_triangles > MAX_SCENE_TRIANGLES)
+        if (triangle_material_.size() + new_triangles > MAX_SCENE_TRIANGLES)
             throw SceneError("the flattened scene exceeds " + std::to_string(MAX_SCENE_TRIANGLES) +
                              " triangles (at " + where + ")");
 
@@ -265,10 +387,16 @@ private:
         const bool mirrored = glm::determinant(linear) < 0.0;
         for (std::array<uint32_t, 3> tri : make_triangles(mode, indices)) {
             if (mirrored) std::swap(tri[1], tri[2]);
-            std::array<glm::vec3, 3> p;
-            for (int k = 0; k < 3; ++k) p[k] = glm::vec3(world * glm::dvec4(glm::dvec3(positions[tri[k]]), 1.0));
+            std::array<glm::dvec3, 3> p;
+            for (int k = 0; k < 3; ++k) p[k] = glm::dvec3(world * glm::dvec4(glm::dvec3(positions[tri[k]]), 1.0));
             if (!is_finite(p[0]) || !is_finite(p[1]) || !is_finite(p[2])) {
                 ++dropped_nonfinite_;
+                continue;
+            }
+            // Without area already in double: dropped before the bounds (and the render origin) see it.
+            const glm::dvec3 c = glm::cross(p[1] - p[0], p[2] - p[0]);
+            if (!(glm::dot(c, c) > 0.0)) {
+                ++dropped_degenerate_;
                 continue;
             }
             std::array<glm::vec3, 3> n{glm::vec3(0.0f), glm::vec3(0.0f), glm::vec3(0.0f)};
@@ -281,10 +409,10 @@ private:
             }
             if (!has_normals && !normals.empty()) ++flat_nonfinite_normals_;
             if (!has_normals) n = {glm::vec3(0.0f), glm::vec3(0.0f), glm::vec3(0.0f)};
-            scene_.positions.insert(scene_.positions.end(), p.begin(), p.end());
-            scene_.normals.insert(scene_.normals.end(), n.begin(), n.end());
-            scene_.triangle_material.push_back(material);
-            scene_.triangle_has_normals.push_back(has_normals ? 1 : 0);
+            world_positions_.insert(world_positions_.end(), p.begin(), p.end());
+            normals_.insert(normals_.end(), n.begin(), n.end());
+            triangle_material_.push_back(material);
+            triangle_has_normals_.push_back(has_normals ? 1 : 0);
         }
     }
 
@@ -303,8 +431,57 @@ private:
         scene_.cameras.push_back(camera);
     }
 
+    // A KHR_lights_punctual reference on a node: {"light": index}.
+    void add_light(const tinygltf::Value& extension, int node_index, const glm::dmat4& world) {
+        const tinygltf::Value& index_value = extension.Get("light");
+        if (!index_value.IsInt() && !index_value.IsNumber())
+            throw SceneError(describe_node(model_, node_index) + ": KHR_lights_punctual has no light index");
+        const double index = index_value.IsInt() ? double(index_value.Get<int>()) : index_value.Get<double>();
+        if (!(index >= 0.0 && index < double(model_.lights.size())) || index != std::floor(index))
+            throw SceneError(describe_node(model_, node_index) + ": KHR_lights_punctual light " +
+                             (index == std::floor(index) && std::abs(index) < 1e15 ? std::to_string((long long)index)
+                                                                                 : std::to_string(index)) +
+                             " does not exist (" + std::to_string(model_.lights.size()) +
+                             " lights)");
+        const tinygltf::Light& source = model_.lights[size_t(index)];
+        const std::string where = "light " + std::to_string(size_t(index)) + " on " + describe_node(model_, node_index);
+        SceneLight light;
+        light.name = source.name;
+        if (source.type == "point") light.type = gpu::LIGHT_POINT;
+        else if (source.type == "spot") light.type = gpu::LIGHT_SPOT;
+        else if (source.type == "directional") light.type = gpu::LIGHT_DIRECTIONAL;
+        else throw SceneError(where + " has unknown type '" + source.type + "'");
+        glm::dvec3 color(1.0);
+        if (source.color.size() == 3) color = glm::dvec3(source.color[0], source.color[1], source.color[2]);
+        const glm::dvec3 intensity = color * source.intensity;
+        if (!(intensity.x >= 0.0 && intensity.y >= 0.0 && intensity.z >= 0.0) ||
+            !std::isfinite(intensity.x + intensity.y + intensity.z) || std::max({intensity.x, intensity.y, intensity.z}) > 3.0e38)
+            throw SceneError(where + " has a negative or non-finite color * intensity");
+        light.intensity = glm::vec3(intensity);
+        light.position = glm::dvec3(world[3]);
+        const glm::dvec3 axis = -glm::dvec3(world[2]);  // the node's local -Z
+        const double length = glm::length(axis);
+        if (!(length > 0.0) || !std::isfinite(length))
+            throw SceneError(where + ": the node's transform has no direction (zero or non-finite -Z axis)");
+        light.direction = axis / length;
+        if (light.type == gpu::LIGHT_SPOT) {
+            light.inner_cone = float(source.spot.innerConeAngle);
+            light.outer_cone = float(source.spot.outerConeAngle);
+            if (!(light.inner_cone >= 0.0f && light.inner_cone < light.outer_cone &&
+                  light.outer_cone <= 0.5f * glm::pi<float>()))
+                throw SceneError(where + ": spot cone angles must satisfy 0 <= inner < outer <= pi/2");
+        }
+        if (source.range > 0.0) warn_once("KHR_lights_punctual range is ignored (lights follow the inverse-square law)");
+        scene_.lights.push_back(light);
+    }
+
     const tinygltf::Model& model_;
     Scene& scene_;
+    std::vector<glm::dvec3> world_positions_;  // 3 per triangle, until finish() places them in render space
+    std::vector<glm::vec3> normals_;
+    std::vector<uint32_t> triangle_material_;
+    std::vector<uint8_t> triangle_has_normals_;
+    size_t dropped_degenerate_ = 0;
     std::vector<uint8_t> on_path_;  // 1 while a node is an ancestor of the one being visited
     uint32_t default_material_ = gpu::INVALID_INDEX;
     std::map<std::string, size_t> skipped_modes_;
@@ -331,6 +508,10 @@ std::vector<int> find_root_nodes(const tinygltf::Model& model, std::vector<std::
     std::vector<int> roots;
     for (size_t i = 0; i < model.nodes.size(); ++i)
         if (!is_child[i]) roots.push_back(int(i));
+    // Finite trees always have a root; without one, "no triangles" would hide the real problem.
+    if (roots.empty() && !model.nodes.empty())
+        throw SceneError("every node is the child of another: the node hierarchy is a cycle "
+                         "(and no scene lists roots)");
     return roots;
 }
 
@@ -349,7 +530,39 @@ void warn_about_shared_nodes(const tinygltf::Model& model, std::vector<std::stri
                            describe_node(model, first) + "): drawn once per parent, although glTF requires a tree");
 }
 
-Scene load_unprefixed(const std::filesystem::path& file) {
+// The walk visits a node once per path from a root, so shared children multiply: a 600-byte file of 40 nodes
+// that each list the next twice took seconds to reach MAX_NODE_INSTANCES (a fuzzer timeout under ASan).
+// Counting paths in topological order (Kahn) costs O(nodes + children) and refuses such files at once. Nodes on
+// or below a cycle are not counted: the walk reports the cycle, or stops at the limit itself.
+void check_node_instances(const tinygltf::Model& model, const std::vector<int>& roots) {
+    const size_t n = model.nodes.size();
+    std::vector<size_t> parents(n, 0), paths(n, 0);
+    for (const tinygltf::Node& node : model.nodes)
+        for (int child : node.children)
+            if (child >= 0 && size_t(child) < n) ++parents[size_t(child)];
+    for (int root : roots)
+        if (root >= 0 && size_t(root) < n) ++paths[size_t(root)];
+    std::vector<size_t> ready;
+    for (size_t i = 0; i < n; ++i)
+        if (parents[i] == 0) ready.push_back(i);
+    size_t instances = 0;
+    while (!ready.empty()) {
+        const size_t i = ready.back();
+        ready.pop_back();
+        instances += paths[i];  // each term is at most MAX_NODE_INSTANCES: no overflow before the check
+        if (instances > MAX_NODE_INSTANCES)
+            throw SceneError("the node hierarchy has more than " + std::to_string(MAX_NODE_INSTANCES) +
+                             " node instances (nodes shared by several parents multiply; at " +
+                             describe_node(model, int(i)) + ")");
+        for (int child : model.nodes[i].children) {
+            if (child < 0 || size_t(child) >= n) continue;
+            paths[size_t(child)] = std::min(paths[size_t(child)] + paths[i], MAX_NODE_INSTANCES + 1);
+            if (--parents[size_t(child)] == 0) ready.push_back(size_t(child));
+        }
+    }
+}
+
+Scene load_unprefixed(const std::filesystem::path& file, const LoadOptions& options) {
     Scene scene;
     scene.source = file;
     const tinygltf::Model model = read_model(file, scene.warnings);
@@ -359,24 +572,19 @@ Scene load_unprefixed(const std::filesystem::path& file) {
 
     warn_about_shared_nodes(model, scene.warnings);
     Flattener flattener(model, scene);
-    for (int root : find_root_nodes(model, scene.warnings)) flattener.visit_node(root, glm::dmat4(1.0), 0);
-    flattener.finish();
+    const std::vector<int> roots = find_root_nodes(model, scene.warnings);
+    check_node_instances(model, roots);
+    for (int root : roots) flattener.visit_node(root, glm::dmat4(1.0), 0);
+    flattener.finish(options.rebase);
     if (scene.triangle_count() == 0) throw SceneError("no triangles in the scene");
-
-    scene.bounds_min = glm::dvec3(std::numeric_limits<double>::infinity());
-    scene.bounds_max = -scene.bounds_min;
-    for (const glm::vec3& p : scene.positions) {
-        scene.bounds_min = glm::min(scene.bounds_min, glm::dvec3(p));
-        scene.bounds_max = glm::max(scene.bounds_max, glm::dvec3(p));
-    }
     return scene;
 }
 
 }  // namespace
 
-Scene load_gltf(const std::filesystem::path& file) {
+Scene load_gltf(const std::filesystem::path& file, const LoadOptions& options) {
     try {
-        return load_unprefixed(file);
+        return load_unprefixed(file, options);
     } catch (const SceneError& e) {
         throw SceneError(file.string() + ": " + e.what());
     } catch (const std::bad_alloc&) {

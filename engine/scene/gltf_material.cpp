@@ -10,6 +10,7 @@ constexpr const char* SUPPORTED_EXTENSIONS[] = {
     "KHR_materials_emissive_strength",
     "KHR_materials_specular",
     "KHR_materials_ior",
+    "KHR_lights_punctual",  // read by gltf_loader.cpp
 };
 
 // The object of extension `name` on `material`, or nullptr.

@@ -2,6 +2,7 @@
 #include "scene/pack.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -18,6 +19,28 @@ double luminance(const glm::vec4& rgb) { return 0.2126 * rgb.r + 0.7152 * rgb.g 
 double triangle_area(const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& p2) {
     const glm::dvec3 a(p0), b(p1), c(p2);
     return 0.5 * glm::length(glm::cross(b - a, c - a));
+}
+
+// Emitted power of a punctual light, by luminance: what the alias table picks lights in proportion to. A
+// directional light delivers irradiance E over the scene's bounding disc (pi r^2 E, as pbrt-v4).
+double punctual_light_power(const SceneLight& light, double scene_radius) {
+    const double i = luminance(glm::vec4(light.intensity, 0.0f));
+    if (light.type == gpu::LIGHT_DIRECTIONAL) return glm::pi<double>() * scene_radius * scene_radius * i;
+    if (light.type == gpu::LIGHT_SPOT)  // pbrt-v4 SpotLight::Phi: the cone between inner and outer counts half
+        return 2.0 * glm::pi<double>() * i *
+               (1.0 - 0.5 * (std::cos(double(light.inner_cone)) + std::cos(double(light.outer_cone))));
+    return 4.0 * glm::pi<double>() * i;
+}
+
+gpu::PunctualLight pack_punctual_light(const SceneLight& light) {
+    gpu::PunctualLight p{};
+    p.position = gpu::vec4(glm::vec3(light.position), 1.0f);
+    p.direction = gpu::vec4(glm::vec3(light.direction), 0.0f);
+    p.intensity = gpu::vec4(light.intensity, 0.0f);
+    p.type = light.type;
+    p.cos_inner = float(std::cos(double(light.inner_cone)));
+    p.cos_outer = float(std::cos(double(light.outer_cone)));
+    return p;
 }
 
 uint32_t leaf_count(const gpu::BvhNode& node) {
@@ -74,6 +97,7 @@ PackedScene pack_scene(const Scene& scene, const Bvh& bvh) {
         throw std::invalid_argument("pack.cpp: the BVH and the scene arrays disagree on the triangle count");
 
     PackedScene packed;
+    packed.origin = scene.origin;
     packed.nodes = bvh.nodes;
     packed.pair_nodes = make_pair_nodes(bvh.nodes);
     packed.materials = scene.materials;
@@ -86,7 +110,7 @@ PackedScene pack_scene(const Scene& scene, const Bvh& bvh) {
         const size_t t = bvh.triangle_order[i];
         const glm::vec3* p = &scene.positions[3 * t];
         const glm::vec3* nrm = &scene.normals[3 * t];
-        packed.positions[i] = {p[0].x, p[0].y, p[0].z, p[1].x, p[1].y, p[1].z, p[2].x, p[2].y, p[2].z, 0.0f, 0.0f, 0.0f};
+        packed.positions[i] = {p[0].x, p[0].y, p[0].z, p[1].x, p[1].y, p[1].z, p[2].x, p[2].y, p[2].z, uint32_t(t), 0.0f, 0.0f};
         gpu::TriangleShading& s = packed.shading[i];
         s = {nrm[0].x, nrm[0].y, nrm[0].z, nrm[1].x, nrm[1].y, nrm[1].z, nrm[2].x, nrm[2].y, nrm[2].z,
              scene.triangle_material[t], scene.triangle_has_normals[t] ? gpu::TRIANGLE_HAS_NORMALS : 0u, 0.0f};
@@ -105,6 +129,15 @@ PackedScene pack_scene(const Scene& scene, const Bvh& bvh) {
             area.push_back(a);
         }
     }
+    const size_t triangle_lights = emissive.size();
+    const double scene_radius = 0.5 * glm::length(scene.bounds_max - scene.bounds_min);
+    for (size_t l = 0; l < scene.lights.size(); ++l) {
+        const double w = punctual_light_power(scene.lights[l], scene_radius);
+        if (!(w > 0.0)) continue;  // black lights are never picked
+        emissive.push_back(gpu::PUNCTUAL_LIGHT_BIT | uint32_t(packed.punctual_lights.size()));
+        packed.punctual_lights.push_back(pack_punctual_light(scene.lights[l]));
+        power.push_back(w);
+    }
     if (emissive.empty()) return packed;
 
     for (double w : power) packed.total_emitted_power += w;
@@ -113,7 +146,7 @@ PackedScene pack_scene(const Scene& scene, const Bvh& bvh) {
     for (size_t e = 0; e < emissive.size(); ++e) {
         const double pick_pdf = power[e] / packed.total_emitted_power;
         packed.emitters[e] = {emissive[e], float(table[e].threshold), table[e].alias, float(pick_pdf)};
-        packed.shading[emissive[e]].light_pdf_area = float(pick_pdf / area[e]);
+        if (e < triangle_lights) packed.shading[emissive[e]].light_pdf_area = float(pick_pdf / area[e]);
     }
     return packed;
 }

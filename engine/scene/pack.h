@@ -15,8 +15,10 @@ struct PackedScene {
     std::vector<gpu::TrianglePositions> positions;  // BVH leaf order
     std::vector<gpu::TriangleShading> shading;      // same order
     std::vector<gpu::Material> materials;
-    std::vector<gpu::Emitter> emitters;             // alias table over emissive triangles (may be empty)
+    std::vector<gpu::Emitter> emitters;             // alias table over every light (may be empty)
+    std::vector<gpu::PunctualLight> punctual_lights;  // render space
     double total_emitted_power = 0.0;               // watts if emission is in W / (m^2 sr)
+    glm::dvec3 origin{0.0};                         // world position of the render-space origin (Scene::origin)
 };
 
 // The pair nodes of a depth-first linear BVH (layout.h): one per interior node, in node order; a BVH that is

@@ -27,15 +27,35 @@ struct SceneCamera {
     double xmag = 0.0, ymag = 0.0;  // half extents, orthographic only
 };
 
+// A KHR_lights_punctual light placed by its node (world space; it shines down its node's local -Z).
+struct SceneLight {
+    std::string name;
+    uint32_t type = gpu::LIGHT_POINT;  // gpu::LIGHT_POINT / LIGHT_SPOT / LIGHT_DIRECTIONAL
+    glm::dvec3 position{0.0};          // world
+    glm::dvec3 direction{0.0, 0.0, -1.0};  // unit, the way the light travels
+    glm::vec3 intensity{1.0f};         // color * intensity (candela or lux, taken as the scene's units)
+    float inner_cone = 0.0f;           // spot: radians
+    float outer_cone = 0.7853982f;
+};
+
+struct LoadOptions {
+    // Render-space origin at the centre of the scene bounds: world positions are composed in double and the
+    // origin subtracted before rounding to float, so a scene far from the world origin keeps the precision
+    // it has near it (off: render space = world space, only to show what that costs).
+    bool rebase = true;
+};
+
 struct Scene {
     std::filesystem::path source;
-    std::vector<glm::vec3> positions;          // world space, 3 per triangle (flattened, non-indexed)
-    std::vector<glm::vec3> normals;            // world space, 3 per triangle (zero where absent)
+    glm::dvec3 origin{0.0};                    // world position of the render-space origin (LoadOptions::rebase)
+    std::vector<glm::vec3> positions;          // render space (world - origin), 3 per triangle (non-indexed)
+    std::vector<glm::vec3> normals;            // world directions, 3 per triangle (zero where absent)
     std::vector<uint32_t> triangle_material;   // index into materials
     std::vector<uint8_t> triangle_has_normals; // 1: normals hold unit vertex normals; 0: flat shading
     std::vector<gpu::Material> materials;      // a default material appended if any primitive has none
-    std::vector<SceneCamera> cameras;          // in scene-traversal order
-    glm::dvec3 bounds_min{0.0}, bounds_max{0.0};
+    std::vector<SceneCamera> cameras;          // in scene-traversal order, world space
+    std::vector<SceneLight> lights;            // punctual lights, world space
+    glm::dvec3 bounds_min{0.0}, bounds_max{0.0};  // world space, of the triangles
     std::vector<std::string> warnings;         // printed by the app
 
     size_t triangle_count() const { return positions.size() / 3; }
@@ -43,7 +63,8 @@ struct Scene {
 
 // Loads the default scene (or the first) of a .gltf (external or embedded buffers) or .glb file.
 // Throws SceneError for a missing or malformed file, an unsupported required extension, or no triangles.
-Scene load_gltf(const std::filesystem::path& file);
+// Triangles with NaN/Inf positions or no area in float are dropped (counted in a warning).
+Scene load_gltf(const std::filesystem::path& file, const LoadOptions& options = {});
 
 // A perspective camera (yfov 45 degrees) that frames the scene bounds, looking down -Z from the +Z side.
 SceneCamera make_default_camera(const Scene& scene);

@@ -15,6 +15,7 @@ layout(std430, binding = BINDING_RAYS) buffer RayBuffer { RayItem rays[]; };
 layout(std430, binding = BINDING_HITS) buffer HitBuffer { HitItem hits[]; };
 layout(std430, binding = BINDING_SHADOW_RAYS) buffer ShadowBuffer { ShadowRayItem shadow_rays[]; };
 layout(std430, binding = BINDING_FILM) buffer FilmBuffer { FilmPixel film[]; };
+layout(std430, binding = BINDING_PUNCTUAL_LIGHTS) readonly buffer PunctualLightBuffer { PunctualLight punctual_lights[]; };
 
 layout(std140, binding = BINDING_BVH_NODES_UNIFORM) uniform NodeUniforms {
     BvhPairNode uniform_nodes[UNIFORM_NODE_CAPACITY];

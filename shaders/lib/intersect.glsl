@@ -7,6 +7,7 @@
 // FMAs, which would break that symmetry (x86-64 C++ without -mfma never contracts).
 #ifndef FREDHOLM_LIB_INTERSECT_GLSL
 #define FREDHOLM_LIB_INTERSECT_GLSL
+#include "techniques.glsl"
 
 #ifdef __cplusplus
 #define FH_PRECISE
@@ -18,11 +19,17 @@
 // (swapped when dir[kz] < 0 to keep the winding), and the shear that maps the direction to +z.
 struct RayPrecomp {
     vec3 origin;
+    vec3 dir;
     uint kx, ky, kz;
     float sx, sy, sz;
 };
 
 // hit != 0 when the ray meets the triangle at t in (0, t_max); b1, b2 weight p1 and p2 (p0 gets 1 - b1 - b2).
+// hit == HIT_UNCERTAIN: t is positive but within its own rounding error of 0, so the ray may really start on
+// the far side of the triangle's plane (traverse.glsl rejects such a hit on the surface the ray leaves).
+const uint HIT_CERTAIN = 1u;
+const uint HIT_UNCERTAIN = 2u;
+
 struct TriangleHit {
     float t;
     float b1;
@@ -47,6 +54,7 @@ RayPrecomp make_ray_precomp(vec3 origin, vec3 dir) {
     }
     RayPrecomp r;
     r.origin = origin;
+    r.dir = dir;
     r.kx = kx;
     r.ky = ky;
     r.kz = kz;
@@ -56,8 +64,37 @@ RayPrecomp make_ray_precomp(vec3 origin, vec3 dir) {
     return r;
 }
 
+// The classic test (Moller & Trumbore 1997, "Fast, Minimum Storage Ray/Triangle Intersection"), used only
+// when TECHNIQUE_WATERTIGHT is switched off: its edge tests are not consistent between neighbouring
+// triangles, so rays through shared edges and vertices can slip through a closed mesh.
+TriangleHit intersect_triangle_unsafe(RayPrecomp r, vec3 p0, vec3 p1, vec3 p2, float t_max) {
+    TriangleHit h;
+    h.t = t_max;
+    h.b1 = 0.0f;
+    h.b2 = 0.0f;
+    h.hit = 0u;
+    vec3 e1 = p1 - p0;
+    vec3 e2 = p2 - p0;
+    vec3 pv = cross(r.dir, e2);
+    float det = dot(e1, pv);
+    if (det == 0.0f) return h;
+    float inv_det = 1.0f / det;
+    vec3 tv = r.origin - p0;
+    float b1 = dot(tv, pv) * inv_det;
+    vec3 qv = cross(tv, e1);
+    float b2 = dot(r.dir, qv) * inv_det;
+    float t = dot(e2, qv) * inv_det;
+    if (b1 < 0.0f || b2 < 0.0f || b1 + b2 > 1.0f || !(t > 0.0f && t < t_max)) return h;
+    h.t = t;
+    h.b1 = b1;
+    h.b2 = b2;
+    h.hit = 1u;
+    return h;
+}
+
 // Backfaces count (no culling).
 TriangleHit intersect_triangle(RayPrecomp r, vec3 p0, vec3 p1, vec3 p2, float t_max) {
+    if (!FH_TECHNIQUE_ON(TECHNIQUE_WATERTIGHT)) return intersect_triangle_unsafe(r, p0, p1, p2, t_max);
     TriangleHit miss;
     miss.t = t_max;
     miss.b1 = 0.0f;
@@ -97,15 +134,36 @@ TriangleHit intersect_triangle(RayPrecomp r, vec3 p0, vec3 p1, vec3 p2, float t_
     float t_scaled = u * az + v * bz + w * cz;
     float inv_det = 1.0f / det;
     float t = t_scaled * inv_det;
-    if (!(t > 0.0f && t < t_max)) {
+    if (!(t < t_max)) {
         return miss;
     }
+    // Is t farther from 0 than its own rounding error? If not, the ray may start on either side of the
+    // triangle's plane: a ray leaving a large triangle could re-hit it at a spurious positive t (the error of
+    // t grows with the triangle's size, the origin offset of ray_offset.glsl only with |p|), and a ray leaving
+    // a wall near a corner may start a rounding error behind the adjacent wall. The bound is pbrt-v4's
+    // (Triangle::Intersect, Pharr et al. 2023, sec. 6.8.7; gamma(n) = n u / (1 - n u)). pbrt rejects every
+    // t <= bound, which lets rays out of closed rooms through their corners; here such a hit is reported as
+    // HIT_UNCERTAIN at t >= 0 and traverse.glsl rejects it only on the surface the ray leaves.
+    float max_xt = max(abs(ax), max(abs(bx), abs(cx)));
+    float max_yt = max(abs(ay), max(abs(by), abs(cy)));
+    float max_zt = max(abs(az), max(abs(bz), abs(cz)));
+    const float gamma2 = 1.1920930376163766e-7f, gamma3 = 1.788139663006007e-7f, gamma5 = 2.9802331269482156e-7f;
+    float delta_z = gamma3 * max_zt;
+    float delta_x = gamma5 * (max_xt + max_zt);
+    float delta_y = gamma5 * (max_yt + max_zt);
+    float delta_e = 2.0f * (gamma2 * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
+    float max_e = max(abs(u), max(abs(v), abs(w)));
+    float delta_t = 3.0f * (gamma3 * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * abs(inv_det);
+    if (!(t > -delta_t)) {
+        return miss;
+    }
+    uint certainty = t <= delta_t ? HIT_UNCERTAIN : HIT_CERTAIN;
 
     TriangleHit h;
-    h.t = t;
+    h.t = max(t, 0.0f);
     h.b1 = v * inv_det;
     h.b2 = w * inv_det;
-    h.hit = 1u;
+    h.hit = certainty;
     return h;
 }
 
@@ -117,14 +175,16 @@ TriangleHit intersect_triangle(RayPrecomp r, vec3 p0, vec3 p1, vec3 p2, float t_
 // inv_dir: 1 / dir with each component clamped to +-1e30, so a zero component never makes 0 * inf.
 // Returns (enter, leave): the box is hit when enter <= leave; enter orders the children of a node.
 vec2 box_entry_exit(vec3 origin, vec3 inv_dir, vec3 lo, vec3 hi, float t_max) {
+    bool conservative = FH_TECHNIQUE_ON(TECHNIQUE_CONSERVATIVE_BOX);
     vec3 reach = max(abs(lo - origin), abs(hi - origin));
-    float pad = max(max(reach.x, reach.y), reach.z) * 9.5367431640625e-7f;  // 2^-20
+    float pad = conservative ? max(max(reach.x, reach.y), reach.z) * 9.5367431640625e-7f : 0.0f;  // 2^-20
     vec3 t0 = (lo - vec3(pad) - origin) * inv_dir;
     vec3 t1 = (hi + vec3(pad) - origin) * inv_dir;
     vec3 t_near = min(t0, t1);
     vec3 t_far = max(t0, t1);
     float enter = max(max(t_near.x, t_near.y), max(t_near.z, 0.0f));
-    float leave = min(min(t_far.x, t_far.y), min(t_far.z, t_max)) * 1.0000004768371582f;  // 1 + 2^-21 >= 1 + 2 gamma(3)
+    float leave = min(min(t_far.x, t_far.y), min(t_far.z, t_max)) *
+                  (conservative ? 1.0000004768371582f : 1.0f);  // 1 + 2^-21 >= 1 + 2 gamma(3)
     vec2 range;
     range.x = enter;
     range.y = leave;
@@ -137,7 +197,10 @@ uint intersect_box(vec3 origin, vec3 inv_dir, vec3 lo, vec3 hi, float t_max) {
 }
 
 // 1 / dir, clamped so that intersect_box needs no special case for zero components.
+// Without TECHNIQUE_CONSERVATIVE_BOX it is the plain 1 / dir: an origin on a slab plane of an axis-parallel
+// ray then computes 0 x inf = NaN, and min/max drop or keep the box depending on argument order.
 vec3 make_safe_inverse_dir(vec3 dir) {
+    if (!FH_TECHNIQUE_ON(TECHNIQUE_CONSERVATIVE_BOX)) return vec3(1.0f) / dir;
     return clamp(vec3(1.0f) / dir, vec3(-1e30f), vec3(1e30f));
 }
 

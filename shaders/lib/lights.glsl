@@ -1,29 +1,80 @@
-// Emissive-triangle light sampling: pick a triangle in proportion to its power from the alias table
-// (Walker 1977; Vose 1991), then a uniform point on it. Pdfs are per unit area; solid angle conversion
-// (dist^2 / cos) happens at the caller.
+// Light sampling for next-event estimation: pick a light in proportion to its power from the alias table
+// over every light (Walker 1977; Vose 1991), then a point on it. Emissive triangles are sampled uniformly
+// by area; punctual lights (KHR_lights_punctual: point, spot, directional) are delta lights, reached by NEE
+// only, and never MIS-weighted.
 #ifndef FH_LIGHTS_GLSL
 #define FH_LIGHTS_GLSL
 #include "sampling.glsl"
+#include "ray_offset.glsl"
 
-struct LightSample {
-    vec3 p;
-    vec3 p_error;
-    vec3 n;              // unit normal of the emitting triangle
-    vec3 radiance;       // emitted radiance towards the front (double-sided: both sides)
-    float pdf_area;      // pick probability / area
-    uint double_sided;
+// Scenes without punctual lights compile their code out (the host sets this from the scene).
+layout(constant_id = SPEC_HAS_PUNCTUAL_LIGHTS) const bool has_punctual_lights = false;
+
+// What a shading point at p needs to connect to a sampled light.
+struct LightConnection {
+    vec3 wi;                 // unit direction from p towards the light
+    vec3 target;             // where the shadow ray ends (off an area light's surface by its error bound)
+    vec3 radiance_over_pdf;  // incident radiance along wi divided by the solid-angle pdf of choosing wi
+    float pdf;               // that solid-angle pdf (area lights, for MIS); 0 for delta lights
+    uint delta;              // 1: punctual light (no MIS: BSDF sampling can never hit it)
+    uint at_infinity;        // 1: directional light (shadow ray unbounded; target unused)
+    uint valid;              // 0: the light sends nothing towards p
 };
 
-uint pick_emitter(float u) {
+Emitter pick_emitter(float u) {
     uint n = params.emitter_count;
     float scaled = u * float(n);
     uint i = min(uint(scaled), n - 1u);
     Emitter e = load_emitter(i);
-    return (scaled - float(i) < e.alias_threshold) ? e.triangle : load_emitter(e.alias).triangle;
+    return (scaled - float(i) < e.alias_threshold) ? e : load_emitter(e.alias);
 }
 
-LightSample sample_light(float u_pick, vec2 u_point) {
-    uint tri = pick_emitter(u_pick);
+PunctualLight load_punctual_light(uint index) { return punctual_lights[index]; }
+
+LightConnection make_invalid_connection() {
+    LightConnection c;
+    c.wi = vec3(0.0f, 0.0f, 1.0f);
+    c.target = vec3(0.0f);
+    c.radiance_over_pdf = vec3(0.0f);
+    c.pdf = 0.0f;
+    c.delta = 0u;
+    c.at_infinity = 0u;
+    c.valid = 0u;
+    return c;
+}
+
+// KHR_lights_punctual spot falloff: smooth from the outer cone (0) to the inner cone (1), squared.
+float spot_attenuation(PunctualLight light, float cos_angle) {
+    float scale = 1.0f / max(0.001f, light.cos_inner - light.cos_outer);
+    float a = clamp((cos_angle - light.cos_outer) * scale, 0.0f, 1.0f);
+    return a * a;
+}
+
+LightConnection connect_punctual_light(uint index, float pick_pdf, vec3 p) {
+    PunctualLight light = load_punctual_light(index);
+    LightConnection c = make_invalid_connection();
+    c.delta = 1u;
+    vec3 intensity = light.intensity.xyz / pick_pdf;
+    if (light.type == LIGHT_DIRECTIONAL) {
+        c.wi = -light.direction.xyz;
+        c.radiance_over_pdf = intensity;  // irradiance normal to the light: a delta in direction
+        c.at_infinity = 1u;
+        c.valid = 1u;
+        return c;
+    }
+    vec3 to_light = light.position.xyz - p;
+    float dist2 = dot(to_light, to_light);
+    if (!(dist2 > 0.0f)) return c;
+    c.wi = to_light * inversesqrt(dist2);
+    c.target = light.position.xyz;
+    float falloff = 1.0f;
+    if (light.type == LIGHT_SPOT) falloff = spot_attenuation(light, dot(-c.wi, light.direction.xyz));
+    c.radiance_over_pdf = intensity * (falloff / dist2);  // inverse-square law
+    c.valid = falloff > 0.0f ? 1u : 0u;
+    return c;
+}
+
+LightConnection connect_triangle_light(uint tri, vec3 p, vec2 u_point) {
     TrianglePositions tp = load_triangle_positions(tri);
     TriangleShading ts = load_triangle_shading(tri);
     vec3 p0 = vec3(tp.p0_x, tp.p0_y, tp.p0_z);
@@ -32,13 +83,28 @@ LightSample sample_light(float u_pick, vec2 u_point) {
     vec2 b = sample_uniform_triangle(u_point);
     float b0 = 1.0f - b.x - b.y;
     Material m = load_material(ts.material);
-    LightSample s;
-    s.p = b0 * p0 + b.x * p1 + b.y * p2;
-    s.p_error = bound_interpolation_error(p0, p1, p2, b0, b.x, b.y);
-    s.n = normalize(cross(p1 - p0, p2 - p0));
-    s.radiance = m.emission.xyz;
-    s.pdf_area = ts.light_pdf_area;
-    s.double_sided = m.flags & MATERIAL_DOUBLE_SIDED;
-    return s;
+    vec3 q = b0 * p0 + b.x * p1 + b.y * p2;
+    vec3 q_error = bound_interpolation_error(p0, p1, p2, b0, b.x, b.y);
+    vec3 n = normalize(cross(p1 - p0, p2 - p0));
+    LightConnection c = make_invalid_connection();
+    vec3 to_light = q - p;
+    float dist2 = dot(to_light, to_light);
+    if (!(dist2 > 0.0f)) return c;
+    c.wi = to_light * inversesqrt(dist2);
+    float cos_light = -dot(n, c.wi);
+    bool emits = cos_light > 0.0f || ((m.flags & MATERIAL_DOUBLE_SIDED) != 0u && cos_light < 0.0f);
+    if (!emits) return c;
+    c.pdf = ts.light_pdf_area * dist2 / abs(cos_light);  // area to solid angle
+    c.radiance_over_pdf = m.emission.xyz / c.pdf;
+    c.target = offset_ray_origin(q, q_error, n, -c.wi);
+    c.valid = c.pdf > 0.0f ? 1u : 0u;
+    return c;
+}
+
+LightConnection sample_light_connection(vec3 p, float u_pick, vec2 u_point) {
+    Emitter e = pick_emitter(u_pick);
+    if (has_punctual_lights && (e.light & PUNCTUAL_LIGHT_BIT) != 0u)
+        return connect_punctual_light(e.light & ~PUNCTUAL_LIGHT_BIT, e.pick_pdf, p);
+    return connect_triangle_light(e.light, p, u_point);
 }
 #endif

@@ -4,6 +4,7 @@
 // works for a scene of size 1e-4 or one translated to 1e5; no fixed epsilon.
 #ifndef FH_RAY_OFFSET_GLSL
 #define FH_RAY_OFFSET_GLSL
+#include "techniques.glsl"
 
 // gamma(n) = n u / (1 - n u), u = 2^-24 (Higham 2002): bound on the relative error of n roundings.
 float error_gamma(float n) {
@@ -33,7 +34,13 @@ vec3 bound_interpolation_error(vec3 p0, vec3 p1, vec3 p2, float b0, float b1, fl
 }
 
 // Origin for a ray leaving point p (error bound p_error, geometric normal n) in direction w.
+// Without TECHNIQUE_ERROR_OFFSETS: the classic fixed epsilon (1e-4 scene units), too large for a scene of
+// size 1e-4 and too small for one at 1e5.
 vec3 offset_ray_origin(vec3 p, vec3 p_error, vec3 n, vec3 w) {
+    if (!FH_TECHNIQUE_ON(TECHNIQUE_ERROR_OFFSETS)) {
+        const float fixed_epsilon = 1e-4f;
+        return p + (dot(w, n) < 0.0f ? -fixed_epsilon : fixed_epsilon) * n;
+    }
     float d = dot(abs(n), p_error);
     vec3 offset = d * n;
     if (dot(w, n) < 0.0f) offset = -offset;

@@ -21,8 +21,15 @@ SurfaceHit load_surface(uint triangle, float b1, float b2) {
     vec3 p2 = vec3(tp.p2_x, tp.p2_y, tp.p2_z);
     float b0 = 1.0f - b1 - b2;
     SurfaceHit s;
-    s.p = b0 * p0 + b1 * p1 + b2 * p2;
-    s.p_error = bound_interpolation_error(p0, p1, p2, b0, b1, b2);
+    // The point is pulled 3 x 2^-18 of the way towards the centroid: a hit exactly on an edge or a vertex
+    // (barycentrics of 0 come out of the float test) also lies on the planes of the neighbouring triangles,
+    // and a ray spawned there can leave a closed room through its corner without crossing any triangle.
+    const float nudge = 3.814697265625e-6f;  // 2^-18
+    float c0 = b0 * (1.0f - 3.0f * nudge) + nudge;
+    float c1 = b1 * (1.0f - 3.0f * nudge) + nudge;
+    float c2 = b2 * (1.0f - 3.0f * nudge) + nudge;
+    s.p = c0 * p0 + c1 * p1 + c2 * p2;
+    s.p_error = bound_interpolation_error(p0, p1, p2, c0, c1, c2);
     vec3 c = cross(p1 - p0, p2 - p0);
     float len = length(c);
     s.area = 0.5f * len;

@@ -5,6 +5,7 @@
 #ifndef FH_TRAVERSE_GLSL
 #define FH_TRAVERSE_GLSL
 #include "intersect.glsl"
+#include "ray_offset.glsl"
 
 const uint TRAVERSAL_STACK_SIZE = 64u;
 
@@ -15,13 +16,33 @@ struct TraceHit {
     float b2;
 };
 
-// any_hit: stop at the first intersection closer than t_max (shadow rays).
+// any_hit: stop at the first intersection closer than t_max (shadow rays). origin_triangle: the triangle the
+// ray leaves (INVALID_INDEX for camera rays). A hit whose t lies within its own rounding error of 0
+// (intersect.glsl HIT_UNCERTAIN) is rejected on that triangle and on any triangle parallel to it (its
+// coplanar neighbours: the same surface), and kept on any other (the adjacent wall of a corner).
+//
+// Closest hit is deterministic whatever the BVH: hits at exactly the same t (coplanar overlapping triangles,
+// a ray through a shared edge) go to the triangle that comes first in the scene (TrianglePositions.
+// source_index), not to the one visited first. Triangles are tested up to the next float above the best t
+// so that ties come back; the index is loaded only for a tie.
 //
 // "While-while" traversal (Aila & Laine 2009): the inner loop descends through pair nodes until this lane
 // holds a leaf, then the lanes test their leaves' triangles together. On lavapipe every branch of an `if`
 // runs (masked) for the whole SIMD group, so keeping triangle tests out of the node loop means a node step
 // never pays for a triangle test, and each leaf loop tests the triangles of all lanes at once.
-TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit) {
+bool is_same_surface(uint tri, TrianglePositions tp, uint origin_triangle) {
+    if (origin_triangle == INVALID_INDEX) return false;
+    if (tri == origin_triangle) return true;
+    TrianglePositions op = load_triangle_positions(origin_triangle);
+    vec3 n = cross(vec3(tp.p1_x, tp.p1_y, tp.p1_z) - vec3(tp.p0_x, tp.p0_y, tp.p0_z),
+                   vec3(tp.p2_x, tp.p2_y, tp.p2_z) - vec3(tp.p0_x, tp.p0_y, tp.p0_z));
+    vec3 m = cross(vec3(op.p1_x, op.p1_y, op.p1_z) - vec3(op.p0_x, op.p0_y, op.p0_z),
+                   vec3(op.p2_x, op.p2_y, op.p2_z) - vec3(op.p0_x, op.p0_y, op.p0_z));
+    float c = dot(normalize(n), normalize(m));
+    return abs(c) > 0.99999f;  // parallel within ~0.26 degrees
+}
+
+TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin_triangle) {
     TraceHit best;
     best.t = t_max;
     best.triangle = INVALID_INDEX;
@@ -54,12 +75,19 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit) {
             index = b_first ? n.b_index : (hit_a ? n.a_index : INVALID_INDEX);
             count = b_first ? n.b_count : (hit_a ? n.a_count : 0u);
         }
+        bool tie_break = !any_hit && FH_TECHNIQUE_ON(TECHNIQUE_TIE_BREAK);
         for (uint k = 0u; k < count; ++k) {
             uint tri = index + k;
             TrianglePositions tp = load_triangle_positions(tri);
+            bool have_hit = best.triangle != INVALID_INDEX;
+            float limit = tie_break && have_hit ? next_float_up(best.t) : best.t;
             TriangleHit h = intersect_triangle(pre, vec3(tp.p0_x, tp.p0_y, tp.p0_z), vec3(tp.p1_x, tp.p1_y, tp.p1_z),
-                                               vec3(tp.p2_x, tp.p2_y, tp.p2_z), best.t);
-            if (h.hit != 0u) {  // intersect_triangle only reports t < best.t
+                                               vec3(tp.p2_x, tp.p2_y, tp.p2_z), limit);
+            // intersect_triangle only reports t < limit: closer, or (tie-break) equal.
+            if (h.hit == HIT_UNCERTAIN && is_same_surface(tri, tp, origin_triangle)) h.hit = 0u;
+            bool take = h.hit != 0u && (!have_hit || h.t < best.t ||
+                                        tp.source_index < load_triangle_positions(best.triangle).source_index);
+            if (take) {
                 best.t = h.t;
                 best.triangle = tri;
                 best.b1 = h.b1;

@@ -28,7 +28,7 @@ FH_CONST uint BINDING_BVH_NODES = 1u;       // BvhPairNode[], depth-first, root 
 FH_CONST uint BINDING_TRI_POSITIONS = 2u;   // TrianglePositions[], in BVH leaf order
 FH_CONST uint BINDING_TRI_SHADING = 3u;     // TriangleShading[], same order
 FH_CONST uint BINDING_MATERIALS = 4u;       // Material[]
-FH_CONST uint BINDING_EMITTERS = 5u;        // Emitter[] (alias table over emissive triangles)
+FH_CONST uint BINDING_EMITTERS = 5u;        // Emitter[] (alias table over emissive triangles and punctual lights)
 FH_CONST uint BINDING_COUNTERS = 6u;        // QueueCounters, one element (also the indirect-dispatch source)
 FH_CONST uint BINDING_PATHS = 7u;           // PathState[wave capacity]
 FH_CONST uint BINDING_RAYS = 8u;            // RayItem[2 * wave capacity]: two queues, by depth parity
@@ -44,12 +44,25 @@ FH_CONST uint BINDING_TRI_SHADING_UNIFORM = 14u;
 FH_CONST uint BINDING_MATERIALS_UNIFORM = 15u;
 FH_CONST uint BINDING_EMITTERS_UNIFORM = 16u;
 FH_CONST uint BINDING_GGX_ALBEDO_UNIFORM = 17u;  // the GGX albedo table (shaders/lib/ggx_albedo_table.glsl)
-FH_CONST uint BINDING_COUNT = 18u;
+FH_CONST uint BINDING_PUNCTUAL_LIGHTS = 18u;    // PunctualLight[] (KHR_lights_punctual), read by NEE only
+FH_CONST uint BINDING_COUNT = 19u;
 FH_CONST uint UNIFORM_BUFFER_BYTES = 65536u;  // declared size of each; Vulkan guarantees only 16 KiB of
                                               // maxUniformBufferRange, so fits_uniform_buffers (pack.h) checks
 
 // ---- Specialization constants (constant_id) -------------------------------------------------------------
 FH_CONST uint SPEC_SCENE_IN_UNIFORM_BUFFERS = 0u;  // bool: every scene array fits its uniform binding
+FH_CONST uint SPEC_HAS_PUNCTUAL_LIGHTS = 1u;       // bool: the scene has point/spot/directional lights
+FH_CONST uint SPEC_DISABLED_TECHNIQUES = 2u;       // TECHNIQUE_* bits switched off (cost measurements only)
+
+// ---- Robustness techniques (all on by default; `--disable-technique` turns one off to measure its cost and
+// to show what goes wrong without it). README "Numerical stability" has the table.
+FH_CONST uint TECHNIQUE_WATERTIGHT = 1u;        // Woop et al. 2013 triangle test (off: Moller-Trumbore 1997)
+FH_CONST uint TECHNIQUE_CONSERVATIVE_BOX = 2u;  // padded slab test without 0 x inf (off: plain slab test)
+FH_CONST uint TECHNIQUE_ERROR_OFFSETS = 4u;     // error-bound ray origins (off: fixed epsilon along the normal)
+FH_CONST uint TECHNIQUE_FINITE_GUARD = 8u;      // non-finite samples dropped before the film (off: added)
+FH_CONST uint TECHNIQUE_COMPENSATED_FILM = 16u; // Kahan-compensated film sums (off: plain float sums)
+FH_CONST uint TECHNIQUE_TIE_BREAK = 32u;        // equal-t hits resolved by scene triangle index (off: visit order)
+FH_CONST uint TECHNIQUE_REBASE = 64u;           // host: render space centred on the scene (off: world space)
 
 // ---- Constants -----------------------------------------------------------------------------------------
 FH_CONST uint INVALID_INDEX = 0xffffffffu;
@@ -63,6 +76,10 @@ FH_CONST uint RENDER_NEE = 1u;             // FrameParams.flags: next-event esti
 FH_CONST uint RENDER_MIS = 2u;             // combine NEE and BSDF sampling by MIS (else NEE only)
 FH_CONST uint RENDER_RR = 4u;              // Russian roulette
 FH_CONST uint BVH_LEAF_COUNT_BITS = 16u;   // BvhNode.count_and_axis: low bits count, high bits axis
+FH_CONST uint PUNCTUAL_LIGHT_BIT = 0x80000000u;  // Emitter.light: set = PunctualLight index, clear = triangle
+FH_CONST uint LIGHT_POINT = 0u;            // PunctualLight.type
+FH_CONST uint LIGHT_SPOT = 1u;
+FH_CONST uint LIGHT_DIRECTIONAL = 2u;
 
 FH_CONST uint UNIFORM_NODE_CAPACITY = UNIFORM_BUFFER_BYTES / 64u;      // BvhPairNode
 FH_CONST uint UNIFORM_TRIANGLE_CAPACITY = UNIFORM_BUFFER_BYTES / 48u;  // TrianglePositions, TriangleShading
@@ -100,7 +117,8 @@ struct TrianglePositions {
     float p0_x, p0_y, p0_z;
     float p1_x, p1_y, p1_z;
     float p2_x, p2_y, p2_z;
-    float pad0, pad1, pad2;
+    uint source_index;  // the triangle's index in scene order: equal-t hits go to the lowest (BVH-independent)
+    float pad1, pad2;
 };
 
 // What the shade stage needs of a hit triangle besides its positions.
@@ -128,12 +146,25 @@ struct Material {
     uint emissive_texture;
 };
 
-// One entry of the alias table over emissive triangles (Walker 1977; Vose 1991).
+// One entry of the alias table over every light: emissive triangles and punctual lights (Walker 1977;
+// Vose 1991).
 struct Emitter {
-    uint triangle;          // index into the TrianglePositions/TriangleShading arrays
+    uint light;             // triangle index (TrianglePositions order), or PUNCTUAL_LIGHT_BIT | PunctualLight index
     float alias_threshold;  // keep this entry if u < threshold, else take `alias`
     uint alias;
-    float pick_pdf;         // probability of picking this triangle (power / total power)
+    float pick_pdf;         // probability of picking this light (power / total power)
+};
+
+// A KHR_lights_punctual light placed in world space. Intensities are taken as the scene's radiometric units:
+// point and spot lights give radiant intensity (radiance-units x m^2), directional lights irradiance.
+struct PunctualLight {
+    vec4 position;          // xyz (point, spot)
+    vec4 direction;         // xyz: unit direction the light travels (spot axis; directional light)
+    vec4 intensity;         // rgb = color * intensity
+    uint type;              // LIGHT_POINT / LIGHT_SPOT / LIGHT_DIRECTIONAL
+    float cos_inner;        // spot: full intensity inside this cone
+    float cos_outer;        // spot: none outside this cone
+    float pad;
 };
 
 // ---- Per-render parameters (uploaded once per render) ----------------------------------------------------
@@ -200,7 +231,7 @@ struct RayItem {
     float origin_x, origin_y, origin_z;
     uint path;
     float dir_x, dir_y, dir_z;
-    float pad;
+    uint origin_triangle;       // the triangle it leaves (INVALID_INDEX: camera ray); see traverse.glsl
 };
 
 // Result of the extend stage for the ray at the same queue index.
@@ -217,7 +248,7 @@ struct ShadowRayItem {
     float dir_x, dir_y, dir_z;
     float t_max;
     float contrib_r, contrib_g, contrib_b;
-    float pad;
+    uint origin_triangle;       // the triangle it leaves
 };
 
 // Accumulated film pixel: Kahan-compensated sum of sample radiance (Kahan 1965).

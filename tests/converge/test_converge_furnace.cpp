@@ -134,8 +134,11 @@ TEST_F(ConvergeFurnace, DefaultConvergesAtTheMonteCarloRate) {
     const double by_spp = slope(c.spp, c.mse), by_seconds = slope(c.seconds, c.mse);
     EXPECT_GE(by_spp, -1.2);
     EXPECT_LE(by_spp, -0.8);
-    EXPECT_GE(by_seconds, -1.2);
-    EXPECT_LE(by_seconds, -0.8);
+    // Against seconds only loosely: step times jitter with the machine's load (ctest -j, other tenants), and
+    // timing belongs to benchmarks; the rate itself is checked against spp above.
+    for (size_t i = 1; i < c.seconds.size(); ++i) EXPECT_GT(c.seconds[i], c.seconds[i - 1]);
+    EXPECT_GE(by_seconds, -1.6);
+    EXPECT_LE(by_seconds, -0.5);
     EXPECT_NEAR(config("default")["slope_mse_vs_spp"].get<double>(), by_spp, 1e-6);
     EXPECT_FALSE(config("default")["floor_significant"].get<bool>()) << "the default configuration is unbiased";
 }

@@ -35,13 +35,19 @@ ExtendResult run_extend_once(vk::Context& context, const PackedScene& packed, co
     frame.wave_capacity = uint32_t(rays.size());
     frame.triangle_count = uint32_t(packed.positions.size());
     GpuBuffers buffers = create_gpu_buffers(context, packed, frame);
-    StageTable stages(context, uniform_scene);
+    StageOptions stage_options;
+    stage_options.scene_in_uniform_buffers = uniform_scene;
+    StageTable stages(context, stage_options);
     bind_gpu_buffers(stages.bindings(), buffers);
 
+    std::vector<uint32_t> leaf_index_of(bvh.triangle_order.size());
+    for (size_t i = 0; i < bvh.triangle_order.size(); ++i) leaf_index_of[bvh.triangle_order[i]] = uint32_t(i);
     std::vector<gpu::RayItem> items(rays.size());
     for (size_t i = 0; i < rays.size(); ++i) {
+        const uint32_t from = rays[i].origin_triangle == gpu::INVALID_INDEX ? gpu::INVALID_INDEX
+                                                                            : leaf_index_of[rays[i].origin_triangle];
         items[i] = {rays[i].origin.x, rays[i].origin.y, rays[i].origin.z, uint32_t(i),
-                    rays[i].dir.x,    rays[i].dir.y,    rays[i].dir.z,    0.0f};
+                    rays[i].dir.x,    rays[i].dir.y,    rays[i].dir.z,    from};
     }
     vk::upload_to_buffer(context, buffers.rays, items.data(), items.size() * sizeof(gpu::RayItem));
     gpu::QueueCounters counters{};

@@ -14,6 +14,7 @@ namespace fh::test {
 struct Ray {
     glm::vec3 origin;
     glm::vec3 dir;
+    uint32_t origin_triangle = gpu::INVALID_INDEX;  // the triangle (original index) the ray leaves, if any
 };
 
 struct ExtendResult {

@@ -22,6 +22,7 @@ constexpr const char* USAGE = R"(usage:
   fh_compare TEST.exr --expect-constant VALUE [--tolerance 0.01] [--ignore-border 0] [--diff-out DIFF.exr]
   fh_compare TEST.exr --identical OTHER.exr [--diff-out DIFF.exr]
   fh_compare TEST.exr --finite [--diff-out DIFF.exr]
+  fh_compare T1.exr,T2.exr,... --same-distribution R1.exr,R2.exr,... [--alpha 0.01] [--diff-out DIFF.exr]
 Exit status: 0 pass; 1 fail (one line per failing criterion, difference image written to --diff-out,
 default TEST.diff.exr; --z-out adds each tile's z-score) or an unreadable image; 2 bad usage.
 The exact pass/fail rules are documented in tests/render/image_compare.h.
@@ -37,6 +38,7 @@ const std::map<std::string, std::vector<std::string>> MODE_OPTIONS = {
     {"--expect-constant", {"--tolerance", "--ignore-border", "--diff-out"}},
     {"--identical", {"--diff-out"}},
     {"--finite", {"--diff-out"}},
+    {"--same-distribution", {"--alpha", "--diff-out"}},
 };
 
 const std::map<std::string, std::string> DIFFERENCE_CONTENT = {
@@ -44,6 +46,7 @@ const std::map<std::string, std::string> DIFFERENCE_CONTENT = {
     {"--expect-constant", "test minus expected constant"},
     {"--identical", "test minus other"},
     {"--finite", "1 where a value is NaN or infinite"},
+    {"--same-distribution", "mean of test batches minus mean of reference batches"},
 };
 
 struct Arguments {
@@ -98,7 +101,8 @@ Arguments parse_arguments(int argc, char** argv) {
         args.options[arg] = argv[++i];
     }
     if (args.test.empty()) throw UsageError("no test image given");
-    if (args.mode.empty()) throw UsageError("choose one of --reference, --expect-constant, --identical, --finite");
+    if (args.mode.empty())
+        throw UsageError("choose one of --reference, --expect-constant, --identical, --finite, --same-distribution");
     for (const auto& [name, value] : args.options) {
         if (name == args.mode) continue;
         bool known = false;
@@ -112,8 +116,32 @@ Arguments parse_arguments(int argc, char** argv) {
     return args;
 }
 
+// The first file of a comma-separated list (where a difference image goes by default).
+std::string read_first(const std::filesystem::path& list) {
+    const std::string s = list.string();
+    return s.substr(0, s.find(','));
+}
+
+std::vector<fh::Image> read_batches(const std::string& list) {
+    std::vector<fh::Image> images;
+    size_t begin = 0;
+    while (begin <= list.size()) {
+        const size_t end = std::min(list.find(',', begin), list.size());
+        if (end > begin) images.push_back(fh::read_exr(list.substr(begin, end - begin)));
+        begin = end + 1;
+    }
+    return images;
+}
+
 // Runs the chosen check; writes the z-score image itself because only the reference mode has one.
-fh::CheckResult run_check(const Arguments& args, const fh::Image& test) {
+fh::CheckResult run_check(const Arguments& args) {
+    if (args.mode == "--same-distribution") {
+        const double alpha = args.number("--alpha", 0.01);
+        if (!(alpha > 0 && alpha < 1)) throw UsageError("--alpha must lie in (0, 1)");
+        return fh::compare_distributions(read_batches(args.test.string()),
+                                         read_batches(args.options.at("--same-distribution")), alpha);
+    }
+    const fh::Image test = fh::read_exr(args.test);
     if (args.mode == "--reference") {
         fh::ReferenceOptions options;
         options.block = args.integer("--block", options.block, 2);
@@ -147,7 +175,7 @@ int main(int argc, char** argv) {
     }
     try {
         const Arguments args = parse_arguments(argc, argv);
-        const fh::CheckResult result = run_check(args, fh::read_exr(args.test));
+        const fh::CheckResult result = run_check(args);
         if (result.passed()) {
             std::printf("fh_compare: %s: %s\n", args.test.c_str(), result.summary.c_str());
             return 0;
@@ -156,7 +184,7 @@ int main(int argc, char** argv) {
         std::printf("fh_compare: %s: %s\n", args.test.c_str(), result.summary.c_str());
         if (!result.difference.rgb.empty()) {
             std::filesystem::path diff = args.has("--diff-out") ? std::filesystem::path(args.options.at("--diff-out"))
-                                                                : std::filesystem::path(args.test).replace_extension(".diff.exr");
+                                                                : std::filesystem::path(read_first(args.test)).replace_extension(".diff.exr");
             fh::write_exr(diff, result.difference, {{"fredholm:content", DIFFERENCE_CONTENT.at(args.mode)}});
             std::printf("fh_compare: wrote difference image %s\n", diff.c_str());
         }

@@ -89,7 +89,32 @@ CheckResult check_identical(const Image& test, const Image& other);
 // Every value finite; `difference` is 1 where a channel is NaN or infinite, else 0.
 CheckResult check_finite(const Image& test);
 
+// ---- Same distribution, pixel by pixel -----------------------------------------------------------------
+//
+// test and reference are K >= 2 independent renders each (different seeds) of images that should have the
+// same expected value in every pixel (e.g. a scene and the same scene scaled by 1e4). Per pixel and channel,
+// Welch's t statistic of the two sets of batch means, t = (m_t - m_r) / sqrt(s_t^2/K_t + s_r^2/K_r), with
+// Welch-Satterthwaite degrees of freedom, gives a two-sided p-value from Student's t; a value fails when
+// p < alpha / (pixels x 3) (Bonferroni: a correct renderer fails with probability at most alpha). Batch means
+// of >= 64 samples are close enough to normal for the t test. Both noiseless but different: p = 0.
+
+struct DistributionResult : CheckResult {
+    size_t tests = 0;            // pixels x 3
+    size_t failing = 0;
+    double p_critical = 0;
+    double worst_p = 1;
+    size_t worst_index = 0;      // into rgb
+    double worst_test_mean = 0, worst_reference_mean = 0;
+};
+
+DistributionResult compare_distributions(const std::vector<Image>& test, const std::vector<Image>& reference,
+                                         double alpha = 0.01);
+
 // ---- Statistics helpers (exposed for tests) ------------------------------------------------------------
+
+// I_x(a, b), and the two-sided tail P(|T| > |t|) of Student's t with `dof` degrees of freedom.
+double regularized_incomplete_beta(double a, double b, double x);
+double student_t_two_sided_p(double t, double dof);
 
 // The z with P(Z > z) = upper_tail for a standard normal Z (upper_tail in (0, 0.5]).
 double normal_upper_quantile(double upper_tail);

@@ -32,6 +32,7 @@ const std::vector<std::string> LONG_RENDER = {"--width", "32", "--height", "32",
 
 struct Outcome {
     int exit_code = -1;  // 128 + signal when killed by one
+    bool killed = false;  // by a signal, not exited
     std::string err;
 };
 
@@ -43,10 +44,13 @@ fs::path work_dir() {
     return dir;
 }
 
-// Starts `fredholm render args...` with stderr to a file; sends `signal_number` after `delay` if it is non-zero.
-Outcome run_fredholm(const std::vector<std::string>& args, int signal_number = 0,
-                 std::chrono::milliseconds delay = std::chrono::milliseconds(0)) {
-    const fs::path err_file = fs::temp_directory_path() / ("fh_robustness_" + std::to_string(getpid()) + ".err");
+fs::path err_file_of(pid_t parent) {
+    return fs::temp_directory_path() / ("fh_robustness_" + std::to_string(parent) + ".err");
+}
+
+// Starts `fredholm render args...` with stderr to err_file_of(getpid()).
+pid_t start_fredholm(const std::vector<std::string>& args) {
+    const fs::path err_file = err_file_of(getpid());
     std::vector<std::string> argv_strings = {FH_FREDHOLM, "render"};
     argv_strings.insert(argv_strings.end(), args.begin(), args.end());
     std::vector<char*> argv;
@@ -58,20 +62,47 @@ Outcome run_fredholm(const std::vector<std::string>& args, int signal_number = 0
         execv(argv[0], argv.data());
         _exit(98);
     }
-    if (signal_number != 0) {
-        std::this_thread::sleep_for(delay);
-        kill(pid, signal_number);
-    }
+    return pid;
+}
+
+Outcome wait_fredholm(pid_t pid) {
     int status = 0;
     waitpid(pid, &status, 0);
     Outcome run;
     run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    run.killed = WIFSIGNALED(status);
+    const fs::path err_file = err_file_of(getpid());
     std::ifstream in(err_file);
     std::stringstream text;
     text << in.rdbuf();
     run.err = text.str();
     fs::remove(err_file);
     return run;
+}
+
+// Runs `fredholm render args...`; sends `signal_number` after `delay` if it is non-zero.
+Outcome run_fredholm(const std::vector<std::string>& args, int signal_number = 0,
+                 std::chrono::milliseconds delay = std::chrono::milliseconds(0)) {
+    const pid_t pid = start_fredholm(args);
+    if (signal_number != 0) {
+        std::this_thread::sleep_for(delay);
+        kill(pid, signal_number);
+    }
+    return wait_fredholm(pid);
+}
+
+// Whether `pid` has installed its SIGINT handler yet (bit SIGINT - 1 of SigCgt in /proc/PID/status).
+bool catches_sigint(pid_t pid) {
+    std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+    for (std::string line; std::getline(status, line);)
+        if (line.rfind("SigCgt:", 0) == 0) return (std::stoull(line.substr(7), nullptr, 16) >> (SIGINT - 1)) & 1;
+    return false;
+}
+
+// Whether `pid` has ended, leaving it to be waited for.
+bool has_exited(pid_t pid) {
+    siginfo_t info = {};
+    return waitid(P_PID, id_t(pid), &info, WEXITED | WNOHANG | WNOWAIT) != 0 || info.si_pid != 0;
 }
 
 std::vector<std::string> with(std::vector<std::string> args, const std::vector<std::string>& more) {
@@ -184,6 +215,32 @@ TEST_P(Interrupt, WritesAResumablePartialImage) {
     ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
     EXPECT_EQ(spp_of(partial), 600u);
     expect_identical(partial, straight);
+}
+
+// An impatient Ctrl-C: once the first signal is pending, the next one exits at once (status 130) without
+// waiting for the sample index to finish. At 1024 x 1024 a sample index takes over a second on lavapipe, so
+// a normal stop would write the image long after the second signal; signals are re-sent every 50 ms because
+// two sent together may merge into one.
+TEST(ForcedExit, SecondSignalExitsAtOnce) {
+    const fs::path dir = work_dir();
+    const std::string image = (dir / "out.exr").string();
+    const pid_t pid = start_fredholm({CORNELL, "-o", image, "--width", "1024", "--height", "1024", "--spp", "64"});
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    while (!catches_sigint(pid) && std::chrono::steady_clock::now() < deadline)
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    const auto first = std::chrono::steady_clock::now();
+    for (int i = 0; i < 100 && !has_exited(pid); ++i) {
+        kill(pid, SIGINT);
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    const Outcome run = wait_fredholm(pid);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - first).count();
+    EXPECT_FALSE(run.killed) << "killed by the signal itself: the handler was not installed";
+    EXPECT_EQ(run.exit_code, 130) << run.err;
+    EXPECT_NE(run.err.find("fredholm: interrupted again: exiting at once"), std::string::npos) << run.err;
+    EXPECT_EQ(run.err.find("interrupted: wrote"), std::string::npos) << run.err;
+    EXPECT_LT(seconds, 1.0);
+    EXPECT_FALSE(fs::exists(image));
 }
 
 INSTANTIATE_TEST_SUITE_P(Signals, Interrupt, testing::Values(SIGINT, SIGTERM),

@@ -17,6 +17,8 @@ using fh::test::GltfBuilder;
 using nlohmann::json;
 
 const std::vector<glm::vec3> UNIT_TRIANGLE = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+// Positions in world space (no render-space origin), for the tests that check transforms.
+const fh::LoadOptions WORLD_SPACE{.rebase = false};
 
 glm::vec3 geometric_normal(const Scene& s, size_t t) {
     const glm::vec3* p = &s.positions[3 * t];
@@ -85,14 +87,14 @@ TEST(GltfLoader, ComposesTrsAndMatrixHierarchyInOrder) {
     const int parent = b.add_node({{"children", {child}}, {"translation", {1, 2, 3}}, {"rotation", {0, 0, h, h}},
                                    {"scale", {2, 2, 2}}});
     b.set_scene({parent});
-    const Scene s = fh::load_gltf(b.write_gltf());
+    const Scene s = fh::load_gltf(b.write_gltf(), WORLD_SPACE);
     ASSERT_EQ(s.triangle_count(), 1u);
     // (0,0,0) -> +x (1,0,0) -> *2 (2,0,0) -> rot z (0,2,0) -> + (1,2,3)
     expect_near(s.positions[0], {1, 4, 3});
     expect_near(s.positions[1], {1, 6, 3});   // (1,0,0) -> (2,0,0) -> (4,0,0) -> (0,4,0)
     expect_near(s.positions[2], {-1, 4, 3});  // (0,1,0) -> (1,1,0) -> (2,2,0) -> (-2,2,0)
     expect_near(s.normals[0], {0, 0, 1});
-    EXPECT_EQ(s.bounds_min, glm::dvec3(glm::vec3(-1, 4, 3)));
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(s.bounds_min[k], glm::dvec3(-1, 4, 3)[k], 1e-12);  // double world
 }
 
 TEST(GltfLoader, TransformsNormalsByTheInverseTranspose) {
@@ -100,7 +102,7 @@ TEST(GltfLoader, TransformsNormalsByTheInverseTranspose) {
     const glm::vec3 n = glm::normalize(glm::vec3(1, 1, 0));
     const int mesh = b.add_simple_mesh({{0, 0, 0}, {0, 0, 1}, {1, -1, 0}}, {n, n, n});
     b.set_scene({b.add_node({{"mesh", mesh}, {"scale", {2, 1, 1}}})});
-    const Scene s = fh::load_gltf(b.write_gltf());
+    const Scene s = fh::load_gltf(b.write_gltf(), WORLD_SPACE);
     ASSERT_EQ(s.triangle_count(), 1u);
     expect_near(s.normals[1], glm::normalize(glm::vec3(1, 2, 0)));  // plane x + 2y = 0 after scaling
     EXPECT_NEAR(std::abs(glm::dot(geometric_normal(s, 0), s.normals[0])), 1.0f, 1e-6f);
@@ -110,7 +112,7 @@ TEST(GltfLoader, MirroringTransformsFlipTheWinding) {
     GltfBuilder b;
     const int mesh = b.add_simple_mesh(UNIT_TRIANGLE, {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}});
     b.set_scene({b.add_node({{"mesh", mesh}, {"scale", {-1, 1, 1}}}), b.add_node({{"mesh", mesh}, {"scale", {1, 1, -3}}})});
-    const Scene s = fh::load_gltf(b.write_gltf());
+    const Scene s = fh::load_gltf(b.write_gltf(), WORLD_SPACE);
     ASSERT_EQ(s.triangle_count(), 2u);
     for (size_t t = 0; t < 2; ++t)
         EXPECT_NEAR(glm::dot(geometric_normal(s, t), s.normals[3 * t]), 1.0f, 1e-6f) << "triangle " << t;
@@ -122,7 +124,7 @@ TEST(GltfLoader, ConvertsStripsAndFansWithConsistentWinding) {
     const int strip = b.add_simple_mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 2, 0}}, {}, {}, 5);
     const int fan = b.add_simple_mesh({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {-1, 1, 0}}, {}, {0, 1, 2, 3, 4}, 6);
     b.set_scene({b.add_node({{"mesh", strip}}), b.add_node({{"mesh", fan}})});
-    const Scene s = fh::load_gltf(b.write_gltf());
+    const Scene s = fh::load_gltf(b.write_gltf(), WORLD_SPACE);
     ASSERT_EQ(s.triangle_count(), 6u);
     for (size_t t = 0; t < 6; ++t) expect_near(geometric_normal(s, t), {0, 0, 1});
     // The fan covers the unit square and the triangle to its left: area 1.5.
@@ -144,7 +146,7 @@ TEST(GltfLoader, ReadsNonIndexedTrianglesAndSmallIndexTypes) {
     const int shorts = b.add_mesh({{"attributes", {{"POSITION", b.add_vec3(UNIT_TRIANGLE)}}},
                                    {"indices", b.add_indices(std::vector<uint16_t>{2, 1, 0})}});
     b.set_scene({b.add_node({{"mesh", plain}}), b.add_node({{"mesh", bytes}}), b.add_node({{"mesh", shorts}})});
-    const Scene s = fh::load_gltf(b.write_gltf());
+    const Scene s = fh::load_gltf(b.write_gltf(), WORLD_SPACE);
     ASSERT_EQ(s.triangle_count(), 4u);
     EXPECT_EQ(s.positions[5], glm::vec3(0, 1, 0));
     EXPECT_EQ(s.positions[9], glm::vec3(0, 1, 0));
@@ -155,7 +157,7 @@ TEST(GltfLoader, ReadsNonIndexedTrianglesAndSmallIndexTypes) {
 TEST(GltfLoader, MissingNormalsMeanFlatShading) {
     GltfBuilder b;
     b.set_scene({b.add_node({{"mesh", b.add_simple_mesh(UNIT_TRIANGLE)}})});
-    const Scene s = fh::load_gltf(b.write_gltf());
+    const Scene s = fh::load_gltf(b.write_gltf(), WORLD_SPACE);
     ASSERT_EQ(s.triangle_count(), 1u);
     EXPECT_EQ(s.triangle_has_normals[0], 0);
     EXPECT_EQ(s.normals[0], glm::vec3(0.0f));
@@ -184,7 +186,7 @@ TEST(GltfLoader, ReadsInterleavedStridedAndSparseAccessors) {
     const int m1 = b.add_mesh({{"attributes", {{"POSITION", pos}, {"NORMAL", nrm}}}});
     const int m2 = b.add_mesh({{"attributes", {{"POSITION", sparse}}}});
     b.set_scene({b.add_node({{"mesh", m1}}), b.add_node({{"mesh", m2}})});
-    const Scene s = fh::load_gltf(b.write_gltf());
+    const Scene s = fh::load_gltf(b.write_gltf(), WORLD_SPACE);
     ASSERT_EQ(s.triangle_count(), 2u);
     EXPECT_EQ(s.positions[1], glm::vec3(1, 0, 0));
     EXPECT_EQ(s.normals[2], glm::vec3(0, 0, 1));
@@ -196,7 +198,7 @@ TEST(GltfLoader, ReadsInterleavedStridedAndSparseAccessors) {
 TEST(GltfLoader, LoadsBinaryGlb) {
     GltfBuilder b;
     b.set_scene({b.add_node({{"mesh", b.add_simple_mesh(UNIT_TRIANGLE, {}, {0, 1, 2})}})});
-    const Scene s = fh::load_gltf(b.write_glb());
+    const Scene s = fh::load_gltf(b.write_glb(), WORLD_SPACE);
     ASSERT_EQ(s.triangle_count(), 1u);
     EXPECT_EQ(s.positions[2], glm::vec3(0, 1, 0));
 }
@@ -214,7 +216,7 @@ TEST(GltfLoader, ReadsMaterialFactorsAndExtensions) {
     b.doc["extensionsUsed"] = {"KHR_materials_emissive_strength", "KHR_materials_specular", "KHR_materials_ior",
                                "EXT_something_new"};
     b.set_scene({b.add_node({{"mesh", b.add_simple_mesh(UNIT_TRIANGLE, {}, {}, 4, mat)}})});
-    const Scene s = fh::load_gltf(b.write_gltf());
+    const Scene s = fh::load_gltf(b.write_gltf(), WORLD_SPACE);
     ASSERT_EQ(s.materials.size(), 1u);
     const fh::gpu::Material& m = s.materials[0];
     EXPECT_EQ(m.base_color, glm::vec4(0.1f, 0.2f, 0.3f, 0.5f));
@@ -237,7 +239,7 @@ TEST(GltfLoader, ReadsCamerasFromTheirNodes) {
     const int cam1 = b.add_node({{"camera", 1}, {"name", "eye"}, {"rotation", {0, 1, 0, 0}}});
     const int root = b.add_node({{"children", {cam0, cam1}}, {"translation", {1, 0, 0}}});
     b.set_scene({b.add_node({{"mesh", b.add_simple_mesh(UNIT_TRIANGLE)}}), root});
-    const Scene s = fh::load_gltf(b.write_gltf());
+    const Scene s = fh::load_gltf(b.write_gltf(), WORLD_SPACE);
     ASSERT_EQ(s.cameras.size(), 2u);
     EXPECT_TRUE(s.cameras[0].orthographic);
     EXPECT_EQ(s.cameras[0].name, "ortho");
@@ -259,7 +261,7 @@ TEST(GltfLoader, SkipsPointsAndLinesAndNonFiniteTrianglesWithWarnings) {
     const int points = b.add_simple_mesh(UNIT_TRIANGLE, {}, {}, 0);
     const int bad = b.add_simple_mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {nan, 0, 0}, {1, 0, 0}, {0, 1, 0}});
     b.set_scene({b.add_node({{"mesh", lines}}), b.add_node({{"mesh", points}}), b.add_node({{"mesh", bad}})});
-    const Scene s = fh::load_gltf(b.write_gltf());
+    const Scene s = fh::load_gltf(b.write_gltf(), WORLD_SPACE);
     EXPECT_EQ(s.triangle_count(), 1u);
     std::string all;
     for (const std::string& w : s.warnings) all += w + "\n";
@@ -344,7 +346,7 @@ TEST(GltfLoader, DrawsASharedNodeOncePerParentWithAWarning) {
     const int left = b.add_node({{"children", {shared}}, {"translation", {-2, 0, 0}}});
     const int right = b.add_node({{"children", {shared}}, {"translation", {2, 0, 0}}});
     b.set_scene({left, right});
-    const Scene s = fh::load_gltf(b.write_gltf());
+    const Scene s = fh::load_gltf(b.write_gltf(), WORLD_SPACE);
     EXPECT_EQ(s.triangle_count(), 2u);
     EXPECT_EQ(s.bounds_min.x, -2.0);
     EXPECT_EQ(s.bounds_max.x, 3.0);
@@ -377,7 +379,7 @@ TEST(GltfLoader, CountsTrianglesWithNonFiniteNormalsAsFlatShaded) {
     GltfBuilder b;
     const float inf = std::numeric_limits<float>::infinity();
     b.set_scene({b.add_node({{"mesh", b.add_simple_mesh(UNIT_TRIANGLE, {{0, 0, 1}, {0, 0, inf}, {0, 0, 1}})}})});
-    const Scene s = fh::load_gltf(b.write_gltf());
+    const Scene s = fh::load_gltf(b.write_gltf(), WORLD_SPACE);
     ASSERT_EQ(s.triangle_count(), 1u);
     EXPECT_EQ(s.triangle_has_normals[0], 0);
     std::string all;
@@ -403,3 +405,77 @@ TEST(GltfLoader, DefaultCameraFramesTheBounds) {
 }
 
 }  // namespace
+
+namespace {
+
+// A unit triangle at `offset` (node translation), and its scene loaded with and without rebasing.
+Scene load_translated_triangle(const glm::dvec3& offset, bool rebase) {
+    GltfBuilder b;
+    const int mesh = b.add_simple_mesh({{0.1f, 0.2f, 0.3f}, {1.3f, 0.2f, 0.3f}, {0.1f, 1.7f, 0.3f}});
+    b.set_scene({b.add_node({{"mesh", mesh}, {"translation", {offset.x, offset.y, offset.z}}})});
+    return fh::load_gltf(b.write_gltf(), fh::LoadOptions{.rebase = rebase});
+}
+
+}  // namespace
+
+// Composed in double and rebased before rounding: a triangle moved far away keeps its float coordinates
+// relative to the scene centre exactly, where world-space floats lose them.
+TEST(GltfLoader, RebasingKeepsPrecisionFarFromTheOrigin) {
+    const Scene near = load_translated_triangle({0, 0, 0}, true);
+    const Scene far = load_translated_triangle({148376, 1234, -223423}, true);
+    ASSERT_EQ(far.triangle_count(), 1u);
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(far.positions[k], near.positions[k]) << "vertex " << k;
+    EXPECT_NEAR(far.origin.x - near.origin.x, 148376.0, 1e-9);
+    EXPECT_NEAR(far.bounds_min.x, 148376.1, 1e-6);  // bounds stay in world space
+    const Scene world = load_translated_triangle({148376, 1234, -223423}, false);
+    EXPECT_EQ(world.origin, glm::dvec3(0.0));
+    EXPECT_GT(std::abs((world.positions[1].x - world.positions[0].x) - 1.2f), 1e-3f);  // float ulp at 1.5e5 is 1/64
+}
+
+TEST(GltfLoader, DropsTrianglesWithoutAreaAndCountsThem) {
+    GltfBuilder b;
+    const std::vector<glm::vec3> positions = {
+        {0, 0, 0}, {1, 0, 0}, {0, 1, 0},   // kept
+        {0, 0, 0}, {1, 1, 1}, {2, 2, 2},   // collinear
+        {3, 3, 3}, {3, 3, 3}, {4, 5, 6},   // repeated vertex
+        {5, 5, 5}, {5, 5, 5}, {5, 5, 5}};  // a point
+    b.set_scene({b.add_node({{"mesh", b.add_simple_mesh(positions)}})});
+    const Scene s = fh::load_gltf(b.write_gltf());
+    EXPECT_EQ(s.triangle_count(), 1u);
+    bool warned = false;
+    for (const std::string& w : s.warnings) warned = warned || w.find("dropped 3 triangle(s) without area") != std::string::npos;
+    EXPECT_TRUE(warned);
+}
+
+TEST(GltfLoader, ReadsPunctualLightsWithTheirNodeTransforms) {
+    GltfBuilder b;
+    const int mesh = b.add_simple_mesh(UNIT_TRIANGLE);
+    b.doc["extensionsUsed"] = {"KHR_lights_punctual"};
+    b.doc["extensions"]["KHR_lights_punctual"]["lights"] = {
+        {{"type", "point"}, {"color", {1.0, 0.5, 0.25}}, {"intensity", 8.0}},
+        {{"type", "spot"}, {"intensity", 2.0}, {"spot", {{"innerConeAngle", 0.2}, {"outerConeAngle", 0.5}}}},
+        {{"type", "directional"}, {"intensity", 3.0}}};
+    const double h = std::sqrt(0.5);  // 90 degrees about x: local -Z becomes +Y... (0,0,-1) -> (0,1,0)
+    b.set_scene({b.add_node({{"mesh", mesh}}),
+                 b.add_node({{"translation", {1, 2, 3}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}}),
+                 b.add_node({{"rotation", {h, 0, 0, h}}, {"extensions", {{"KHR_lights_punctual", {{"light", 1}}}}}}),
+                 b.add_node({{"extensions", {{"KHR_lights_punctual", {{"light", 2}}}}}})});
+    const Scene s = fh::load_gltf(b.write_gltf(), WORLD_SPACE);
+    ASSERT_EQ(s.lights.size(), 3u);
+    EXPECT_EQ(s.lights[0].type, fh::gpu::LIGHT_POINT);
+    EXPECT_EQ(s.lights[0].position, glm::dvec3(1, 2, 3));
+    EXPECT_EQ(s.lights[0].intensity, glm::vec3(8.0f, 4.0f, 2.0f));
+    EXPECT_EQ(s.lights[1].type, fh::gpu::LIGHT_SPOT);
+    EXPECT_NEAR(s.lights[1].direction.y, 1.0, 1e-12);
+    EXPECT_FLOAT_EQ(s.lights[1].outer_cone, 0.5f);
+    EXPECT_EQ(s.lights[2].type, fh::gpu::LIGHT_DIRECTIONAL);
+    EXPECT_EQ(s.lights[2].direction, glm::dvec3(0, 0, -1));
+}
+
+TEST(GltfLoader, RejectsAMissingLightWithItsNode) {
+    GltfBuilder b;
+    const int mesh = b.add_simple_mesh(UNIT_TRIANGLE);
+    b.set_scene({b.add_node({{"mesh", mesh}, {"extensions", {{"KHR_lights_punctual", {{"light", 4}}}}}})});
+    const std::string error = load_error(b.write_gltf());
+    EXPECT_NE(error.find("node 0: KHR_lights_punctual light 4"), std::string::npos) << error;
+}

@@ -185,3 +185,37 @@ TEST(CheckFinite, FindsInfinity) {
     EXPECT_NE(result.failures[0].find("(4,9) R"), std::string::npos) << result.failures[0];
     EXPECT_EQ(result.difference.rgb[(std::size_t(9) * 256 + 4) * 3], 1.0f);
 }
+
+// ---- compare_distributions: the per-pixel Welch t test of the stability suite ---------------------------
+
+TEST(DistributionCompare, StudentTailMatchesKnownValues) {
+    EXPECT_NEAR(fh::student_t_two_sided_p(2.228, 10.0), 0.05, 2e-4);   // t table: 97.5% quantile, 10 dof
+    EXPECT_NEAR(fh::student_t_two_sided_p(12.706, 1.0), 0.05, 2e-4);   // 1 dof
+    EXPECT_NEAR(fh::student_t_two_sided_p(0.0, 5.0), 1.0, 1e-12);
+    EXPECT_NEAR(fh::student_t_two_sided_p(3.0, 1e6), std::erfc(3.0 / std::sqrt(2.0)), 1e-5);  // normal limit
+}
+
+namespace {
+// K noisy batches of a 32x32 image whose every pixel has expected value `mean` (Gaussian noise, sd 0.1).
+std::vector<fh::Image> make_batches(int k, double mean, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::normal_distribution<float> noise(0.0f, 0.1f);
+    std::vector<fh::Image> out;
+    for (int b = 0; b < k; ++b) {
+        fh::Image image{32, 32, std::vector<float>(32 * 32 * 3)};
+        for (float& v : image.rgb) v = float(mean) + noise(rng);
+        out.push_back(image);
+    }
+    return out;
+}
+}  // namespace
+
+TEST(DistributionCompare, PassesSameMeansAndFailsAShiftedPixel) {
+    const auto a = make_batches(8, 1.0, 1), b = make_batches(8, 1.0, 2);
+    EXPECT_TRUE(fh::compare_distributions(a, b).passed());
+    auto shifted = make_batches(8, 1.0, 3);
+    for (fh::Image& image : shifted) image.rgb[3 * 100 + 1] += 0.5f;  // one pixel, green, 5 sigma of a batch
+    const fh::DistributionResult r = fh::compare_distributions(shifted, b);
+    EXPECT_FALSE(r.passed()) << r.summary;
+    EXPECT_EQ(r.worst_index, size_t(3 * 100 + 1));
+}

@@ -45,7 +45,7 @@ static_assert(sizeof(TriangleShading) % 16 == 0 && sizeof(Material) % 16 == 0 &&
               "std140 stride");
 
 FH_SIZE(TrianglePositions, 48);
-FH_OFFSET(TrianglePositions, pad0, 36);
+FH_OFFSET(TrianglePositions, source_index, 36);
 FH_OFFSET(TrianglePositions, p1_x, 12);
 FH_OFFSET(TrianglePositions, p2_z, 32);
 
@@ -70,10 +70,17 @@ FH_OFFSET(Material, normal_texture, 72);
 FH_OFFSET(Material, emissive_texture, 76);
 
 FH_SIZE(Emitter, 16);
-FH_OFFSET(Emitter, triangle, 0);
+FH_OFFSET(Emitter, light, 0);
 FH_OFFSET(Emitter, alias_threshold, 4);
 FH_OFFSET(Emitter, alias, 8);
 FH_OFFSET(Emitter, pick_pdf, 12);
+FH_SIZE(PunctualLight, 64);
+FH_OFFSET(PunctualLight, position, 0);
+FH_OFFSET(PunctualLight, direction, 16);
+FH_OFFSET(PunctualLight, intensity, 32);
+FH_OFFSET(PunctualLight, type, 48);
+FH_OFFSET(PunctualLight, cos_inner, 52);
+FH_OFFSET(PunctualLight, cos_outer, 56);
 
 FH_SIZE(FrameParams, 144);
 FH_OFFSET(FrameParams, camera_origin, 0);

@@ -34,7 +34,7 @@ TEST(LightPdf, AreaPdfIntegratesToOne) {
     PackedScene packed = pack_scene(scene, bvh);
     double integral = 0, pick_total = 0;
     for (const gpu::Emitter& e : packed.emitters) {
-        integral += double(packed.shading[e.triangle].light_pdf_area) * triangle_area(packed.positions[e.triangle]);
+        integral += double(packed.shading[e.light].light_pdf_area) * triangle_area(packed.positions[e.light]);
         pick_total += e.pick_pdf;
     }
     EXPECT_NEAR(pick_total, 1.0, 1e-6);

@@ -89,23 +89,23 @@ TEST(Pack, WeighsEmittersByPower) {
     double total = 0.0, pdf_sum = 0.0;
     std::vector<int> is_emitter(packed.shading.size(), 0);
     for (const Emitter& e : packed.emitters) {
-        ASSERT_LT(e.triangle, packed.shading.size());
-        ++is_emitter[e.triangle];
-        const fh::gpu::Material& m = s.materials[packed.shading[e.triangle].material];
+        ASSERT_LT(e.light, packed.shading.size());
+        ++is_emitter[e.light];
+        const fh::gpu::Material& m = s.materials[packed.shading[e.light].material];
         const double lum = 0.2126 * m.emission.r + 0.7152 * m.emission.g + 0.0722 * m.emission.b;
-        const double area = area_of(packed.positions[e.triangle]);
+        const double area = area_of(packed.positions[e.light]);
         const double power = lum * area * glm::pi<double>() * ((m.flags & fh::gpu::MATERIAL_DOUBLE_SIDED) ? 2.0 : 1.0);
         total += power;
         pdf_sum += e.pick_pdf;
-        EXPECT_NEAR(packed.shading[e.triangle].light_pdf_area, e.pick_pdf / area, 1e-6 * e.pick_pdf / area);
+        EXPECT_NEAR(packed.shading[e.light].light_pdf_area, e.pick_pdf / area, 1e-6 * e.pick_pdf / area);
         EXPECT_LT(e.alias, packed.emitters.size());
     }
     EXPECT_NEAR(packed.total_emitted_power, total, 1e-9 * total);
     EXPECT_NEAR(pdf_sum, 1.0, 1e-5);
     for (const Emitter& e : packed.emitters) {
-        const fh::gpu::Material& m = s.materials[packed.shading[e.triangle].material];
+        const fh::gpu::Material& m = s.materials[packed.shading[e.light].material];
         const double lum = 0.2126 * m.emission.r + 0.7152 * m.emission.g + 0.0722 * m.emission.b;
-        const double power = lum * area_of(packed.positions[e.triangle]) * glm::pi<double>() *
+        const double power = lum * area_of(packed.positions[e.light]) * glm::pi<double>() *
                              ((m.flags & fh::gpu::MATERIAL_DOUBLE_SIDED) ? 2.0 : 1.0);
         EXPECT_NEAR(e.pick_pdf, power / total, 1e-6 * power / total);
     }
@@ -151,7 +151,7 @@ TEST(Pack, CornellLightPower) {
     const double lum = 0.2126 * radiance.r + 0.7152 * radiance.g + 0.0722 * radiance.b;
     const double area = 0.46 * 0.38;  // x in [-0.23, 0.23], z in [-0.18, 0.2]
     EXPECT_NEAR(packed.total_emitted_power, lum * area * glm::pi<double>(), 1e-5 * packed.total_emitted_power);
-    for (const Emitter& e : packed.emitters) EXPECT_NEAR(packed.shading[e.triangle].light_pdf_area, 1.0 / area, 1e-3);
+    for (const Emitter& e : packed.emitters) EXPECT_NEAR(packed.shading[e.light].light_pdf_area, 1.0 / area, 1e-3);
 }
 
 TEST(Pack, SceneWithoutEmittersHasNoTable) {

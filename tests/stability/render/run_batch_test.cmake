@@ -1,0 +1,41 @@
+# Renders K independent batches (seeds 1..K) of a test scene and of a reference scene with the same settings,
+# requires zero non-finite samples in each, then fh_compare --same-distribution (per-pixel Welch t test,
+# Bonferroni-corrected; tests/render/image_compare.h).
+#
+#   cmake -DFREDHOLM=exe -DCOMPARE=exe -DOUT=dir -DNAME=name -DTEST_SCENE=file -DREFERENCE_SCENE=file
+#         -DBATCHES=K -DRENDER="args" [-DTEST_EXTRA="args"] -P run_batch_test.cmake
+cmake_minimum_required(VERSION 3.25)
+file(MAKE_DIRECTORY ${OUT})
+separate_arguments(render_args UNIX_COMMAND "${RENDER}")
+separate_arguments(test_extra UNIX_COMMAND "${TEST_EXTRA}")
+
+function(render_batches scene prefix extra out_list)
+  set(images "")
+  foreach(seed RANGE 1 ${BATCHES})
+    set(image ${OUT}/${prefix}_${seed}.exr)
+    set(stats ${OUT}/${prefix}_${seed}.json)
+    set(command ${FREDHOLM} render ${scene} ${render_args} ${extra} --seed ${seed} -o ${image} --stats ${stats} --quiet)
+    execute_process(COMMAND ${command} RESULT_VARIABLE rc ERROR_VARIABLE err)
+    list(JOIN command " " printable)
+    if(NOT rc EQUAL 0)
+      message(FATAL_ERROR "${NAME}: fredholm exited with ${rc}: ${err}\n  reproduce: ${printable}")
+    endif()
+    file(READ ${stats} json)
+    string(JSON nonfinite GET "${json}" nonfinite_samples)
+    if(NOT nonfinite EQUAL 0)
+      message(FATAL_ERROR "${NAME}: ${nonfinite} non-finite samples\n  reproduce: ${printable}")
+    endif()
+    list(APPEND images ${image})
+  endforeach()
+  list(JOIN images "," joined)
+  set(${out_list} "${joined}" PARENT_SCOPE)
+endfunction()
+
+render_batches(${TEST_SCENE} ${NAME}_test "${test_extra}" test_images)
+render_batches(${REFERENCE_SCENE} ${NAME}_reference "" reference_images)
+execute_process(COMMAND ${COMPARE} ${test_images} --same-distribution ${reference_images}
+                        --diff-out ${OUT}/${NAME}.diff.exr RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "${NAME}: the test scene's pixels differ in distribution from the reference's (images in ${OUT})")
+endif()
+message(STATUS "${NAME}: passed")
