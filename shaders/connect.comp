@@ -13,8 +13,10 @@ void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= counters.shadow_count_active) return;
     ShadowRayItem s = shadow_rays[i];
+    // A key other than extend's for the same path state: the shadow ray's alpha decisions are its own.
+    uint alpha_seed = effect_on(EFFECT_ALPHA) ? pcg_hash(paths[s.path].rng ^ 0x5ad0e11fu) : 0u;
     TraceHit hit = trace_ray(vec3(s.origin_x, s.origin_y, s.origin_z), vec3(s.dir_x, s.dir_y, s.dir_z), s.t_max, true,
-                             s.origin_triangle);
+                             s.origin_triangle, alpha_seed);
     COUNT_IN_SUBGROUP(counters.traced_shadow_rays, 1u);
     if (hit.triangle != INVALID_INDEX) return;
     paths[s.path].radiance_r += s.contrib_r;

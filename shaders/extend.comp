@@ -1,5 +1,6 @@
 // Stage "extend": finds the closest hit of every ray in the current queue.
-// Reads: rays[queue depth & 1], counters.ray_count, BVH nodes, triangle positions.
+// Reads: rays[queue depth & 1], counters.ray_count, BVH nodes, triangle positions (with EFFECT_ALPHA also
+// paths[].rng, materials and textures).
 // Writes: hits[i] for ray i; counters.escaped_rays.
 #version 460
 #extension GL_GOOGLE_include_directive : require
@@ -14,8 +15,10 @@ void main() {
     uint parity = push.depth & 1u;
     if (i >= counters.ray_count[parity]) return;
     RayItem ray = rays[ray_slot(parity, i)];
+    // Stochastic alpha keys on the path's RNG state, which differs for every path, sample and depth.
+    uint alpha_seed = effect_on(EFFECT_ALPHA) ? pcg_hash(paths[ray.path].rng ^ 0x0a1fa0e5u) : 0u;
     TraceHit hit = trace_ray(vec3(ray.origin_x, ray.origin_y, ray.origin_z), vec3(ray.dir_x, ray.dir_y, ray.dir_z),
-                             uintBitsToFloat(0x7f800000u), false, ray.origin_triangle);
+                             uintBitsToFloat(0x7f800000u), false, ray.origin_triangle, alpha_seed);
     HitItem item;
     item.t = hit.t;
     item.triangle = hit.triangle;

@@ -1,7 +1,8 @@
-// Stage "shade": one path vertex per queued ray. Adds emission seen by the ray (MIS-weighted against light
-// sampling), samples a light and pushes a shadow ray (next-event estimation), samples the BSDF, applies
+// Stage "shade": one path vertex per queued ray. Adds emission seen by the ray, or the environment's radiance
+// when it escaped (both MIS-weighted against light sampling), resolves the material (textures, vertex colours,
+// normal map: only the effects the scene has are compiled in), samples a light and pushes a shadow ray (next-event estimation), samples the BSDF, applies
 // Russian roulette and pushes the continuation ray.
-// Reads: rays[queue depth & 1], hits, paths, triangles, materials, emitters.
+// Reads: rays[queue depth & 1], hits, paths, triangles, materials, emitters, textures, environment.
 // Writes: paths, rays[queue (depth + 1) & 1], shadow_rays, counters.ray_count / shadow_count.
 #version 460
 #extension GL_GOOGLE_include_directive : require
@@ -39,11 +40,22 @@ void main() {
     shadow.path = path;
     shadow.origin_triangle = hit.triangle;
 
+    if (hit.triangle == INVALID_INDEX && effect_on(EFFECT_ENVIRONMENT)) {
+        // The ray escaped: environment radiance, weighted against NEE's sampling of the environment.
+        vec3 dir = vec3(ray.dir_x, ray.dir_y, ray.dir_z);
+        float weight = 1.0f;
+        if ((params.flags & RENDER_NEE) != 0u && state.bsdf_pdf > 0.0f && params.env_pick_pdf > 0.0f)
+            weight = (params.flags & RENDER_MIS) != 0u
+                         ? power_heuristic(state.bsdf_pdf, params.env_pick_pdf * pdf_environment(dir))
+                         : 0.0f;
+        radiance += beta * eval_environment(dir) * weight;
+    }
     if (hit.triangle != INVALID_INDEX) {
         vec3 dir = vec3(ray.dir_x, ray.dir_y, ray.dir_z);
         vec3 wo = -dir;
         SurfaceHit s = load_surface(hit.triangle, hit.b1, hit.b2);
-        Material m = load_material(s.material);
+        Material m = resolve_material(load_material(s.material), hit.triangle, hit.b1, hit.b2);
+        s.ns = apply_normal_texture(m, hit.triangle, hit.b1, hit.b2, s.ns);
         bool front = dot(s.ng, wo) > 0.0f;
         bool double_sided = (m.flags & MATERIAL_DOUBLE_SIDED) != 0u;
 

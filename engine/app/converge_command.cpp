@@ -258,6 +258,7 @@ void add_converge_options(CLI::App& app, ConvergeCommand& c) {
     app.add_option("--camera", s.camera, "glTF camera index")->check(CLI::NonNegativeNumber);
     add_sampling_options(app, s);
     add_robustness_options(app, s);
+    add_environment_options(app, s);
     app.add_flag("--validate", c.validation, "enable Vulkan validation layers (also FREDHOLM_VALIDATION=1)");
     app.add_option("--device", c.device, "use the first Vulkan device whose name contains this");
 }

@@ -25,8 +25,22 @@ namespace {
 
 const char* VERSION = "fredholm 0.1.0";
 
+// "none", "background R,G,B" or "FILE intensity I rotation D".
+std::string describe_environment(const RenderSettings& s) {
+    char text[128];
+    if (s.has_background) {
+        std::snprintf(text, sizeof text, "background %.9g,%.9g,%.9g", double(s.background[0]), double(s.background[1]),
+                      double(s.background[2]));
+        return text;
+    }
+    if (s.environment_file.empty()) return "none";
+    std::snprintf(text, sizeof text, " intensity %.9g rotation %.9g", double(s.environment_intensity),
+                  double(s.environment_rotation));
+    return std::filesystem::path(s.environment_file).filename().string() + text;
+}
+
 // The settings that decide every sample's value (what a resume must match), plus the samples done.
-ImageMetadata make_metadata(const RenderCommand& c, uint32_t spp_done) {
+ImageMetadata make_metadata(const RenderCommand& c, uint32_t spp_done, uint32_t effects) {
     const RenderSettings& s = c.settings;
     char radius[32];
     std::snprintf(radius, sizeof radius, "%.9g", double(s.filter_radius));
@@ -43,6 +57,8 @@ ImageMetadata make_metadata(const RenderCommand& c, uint32_t spp_done) {
             {"fredholm:rr", s.russian_roulette ? "on" : "off"},
             {"fredholm:disabled_techniques", name_techniques(s.disabled_techniques)},
             {"fredholm:bvh_leaf_size", std::to_string(s.bvh_max_leaf_size)},
+            {"fredholm:effects", describe_effects(effects)},
+            {"fredholm:environment", describe_environment(s)},
             {"fredholm:colorspace", "scene-linear Rec.709"}};
 }
 
@@ -75,6 +91,11 @@ void write_stats(const std::filesystem::path& file, const RenderCommand& c, cons
     j["triangles"] = prepared.scene.triangle_count();
     j["emitters"] = prepared.packed.emitters.size();
     j["punctual_lights"] = prepared.packed.punctual_lights.size();
+    j["effects"] = describe_effects(prepared.packed.effects.bits);
+    j["environment"] = describe_environment(s);
+    j["textures"] = prepared.packed.texture_images.size();
+    j["texels"] = prepared.packed.texels.size();
+    j["texture_bytes"] = prepared.packed.texels.size() * 4;
     j["disabled_techniques"] = name_techniques(s.disabled_techniques);
     j["render_origin"] = {prepared.scene.origin.x, prepared.scene.origin.y, prepared.scene.origin.z};
     j["stage_seconds"] = stats.stage_seconds;
@@ -108,6 +129,7 @@ void add_render_options(CLI::App& app, RenderCommand& c) {
     app.add_option("--stats", c.stats, "write render statistics as JSON");
     add_sampling_options(app, s);
     add_robustness_options(app, s);
+    add_environment_options(app, s);
     app.add_flag("--validate", c.validation, "enable Vulkan validation layers (also FREDHOLM_VALIDATION=1)");
     app.add_option("--device", c.device, "use the first Vulkan device whose name contains this");
     app.add_flag("-q,--quiet", c.quiet, "no summary line");
@@ -136,7 +158,7 @@ int run_render(const RenderCommand& c) {
     SavedFilm saved;
     if (c.resume) {
         const std::filesystem::path& file = c.resume_file.empty() ? c.output : c.resume_file;
-        saved = read_saved_film(file, make_metadata(c, 0), settings.width, settings.height);
+        saved = read_saved_film(file, make_metadata(c, 0, 0), settings.width, settings.height);
         if (saved.spp > settings.spp)
             throw std::runtime_error(file.string() + ": cannot resume: it already has " +
                                      std::to_string(saved.spp) + " spp, more than --spp " +
@@ -171,7 +193,7 @@ int run_render(const RenderCommand& c) {
     progress.finish();
 
     const Image image = renderer.read_film();
-    write_exr(c.output, image, make_metadata(c, stats.spp_done), film_channels(renderer.read_film_state()));
+    write_exr(c.output, image, make_metadata(c, stats.spp_done, prepared.packed.effects.bits), film_channels(renderer.read_film_state()));
     if (!c.png.empty()) write_png(c.png, image, c.exposure_ev, c.tone_curve);
     if (!c.stats.empty()) write_stats(c.stats, c, prepared, stats, saved.spp, context->device_name());
 

@@ -46,4 +46,25 @@ void add_robustness_options(CLI::App& app, RenderSettings& s) {
         ->check(CLI::Range(1u, 64u));
 }
 
+void add_environment_options(CLI::App& app, RenderSettings& s) {
+    auto* env = app.add_option("--env", s.environment_file,
+                               "environment light: equirectangular OpenEXR or Radiance .hdr map around the scene")
+                    ->check(CLI::ExistingFile);
+    app.add_option("--env-intensity", s.environment_intensity, "scale of the --env radiance")
+        ->check(CLI::Range(0.0f, 1.0e30f));
+    app.add_option("--env-rotation", s.environment_rotation, "turn the --env map about +Y, degrees")
+        ->check(CLI::Range(-36000.0f, 36000.0f));
+    app.add_option_function<std::vector<float>>(
+           "--background",
+           [&s](const std::vector<float>& rgb) {
+               s.has_background = true;
+               for (int i = 0; i < 3; ++i) s.background[i] = rgb[size_t(i)];
+           },
+           "constant environment radiance R,G,B (default: none, black)")
+        ->delimiter(',')
+        ->expected(3)
+        ->check(CLI::Range(0.0f, 1.0e30f))
+        ->excludes(env);
+}
+
 }  // namespace fh

@@ -6,6 +6,11 @@
 #include <cstdlib>
 #include <cstring>
 
+#include <fstream>
+#include <iterator>
+
+#include "io/exr.h"
+#include "scene/image_decode.h"
 #include "shared/layout.h"
 
 namespace fh {
@@ -37,8 +42,50 @@ PreparedScene prepare_scene(const std::filesystem::path& file, const RenderSetti
     prepared.sah_cost = bvh.sah_cost;
     prepared.bvh_nodes = bvh.nodes.size();
     prepared.bvh_depth = bvh.max_depth;
-    prepared.packed = pack_scene(prepared.scene, bvh);
+    prepared.packed = pack_scene(prepared.scene, bvh, load_environment(settings));
     return prepared;
+}
+
+namespace {
+// An OpenEXR or Radiance .hdr file, told apart by its magic bytes (not by its name).
+Image read_environment_image(const std::string& file) {
+    std::ifstream in(file, std::ios::binary);
+    if (!in) throw IoError(file + ": cannot open the environment map");
+    char magic[4] = {};
+    in.read(magic, 4);
+    if (in.gcount() == 4 && std::memcmp(magic, "\x76\x2f\x31\x01", 4) == 0) return read_exr(file);
+    in.seekg(0);
+    const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    Image image;
+    uint32_t width = 0, height = 0;
+    std::string error;
+    if (!decode_radiance_hdr(bytes.data(), bytes.size(), width, height, image.rgb, error))
+        throw IoError(file + ": not an OpenEXR or Radiance .hdr environment map (" + error + ")");
+    image.width = int(width);
+    image.height = int(height);
+    return image;
+}
+}  // namespace
+
+EnvironmentMap load_environment(const RenderSettings& settings) {
+    const float rotation = settings.environment_rotation * 3.14159265358979f / 180.0f;
+    if (settings.has_background) {
+        EnvironmentMap env = make_constant_environment(
+            glm::vec3(settings.background[0], settings.background[1], settings.background[2]));
+        return env;
+    }
+    if (settings.environment_file.empty()) return {};
+    const Image image = read_environment_image(settings.environment_file);
+    try {
+        EnvironmentMap env = make_environment_map(uint32_t(image.width), uint32_t(image.height), image.rgb,
+                                                  settings.environment_intensity, rotation, settings.environment_file);
+        if (env.clamped_texels > 0)
+            std::fprintf(stderr, "fredholm: warning: %s: %zu texel(s) with negative values set to 0\n",
+                         settings.environment_file.c_str(), env.clamped_texels);
+        return env;
+    } catch (const std::invalid_argument& e) {
+        throw IoError(e.what());
+    }
 }
 
 bool validation_requested_by_environment() {

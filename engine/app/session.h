@@ -26,6 +26,10 @@ struct PreparedScene {
 // warnings to stderr.
 PreparedScene prepare_scene(const std::filesystem::path& file, const RenderSettings& settings);
 
+// The environment light the settings ask for (--env, --background), or an empty map. Throws IoError naming
+// the file for an unreadable or invalid map.
+EnvironmentMap load_environment(const RenderSettings& settings);
+
 // A Vulkan context for compute; validation when asked or when FREDHOLM_VALIDATION=1.
 std::unique_ptr<vk::Context> make_compute_context(bool validation, const std::string& device_filter);
 bool validation_requested_by_environment();

@@ -60,11 +60,18 @@ GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& sce
     b.hits = make_state_buffer(context, capacity * sizeof(gpu::HitItem));
     b.shadow_rays = make_state_buffer(context, capacity * sizeof(gpu::ShadowRayItem));
     b.film = make_state_buffer(context, size_t(frame.width) * frame.height * sizeof(gpu::FilmPixel));
+    b.tri_attributes = make_filled_buffer(context, scene.attributes);
+    b.texture_slots = make_filled_buffer(context, scene.texture_slots);
+    b.texture_images = make_filled_buffer(context, scene.texture_images);
+    b.texels = make_filled_buffer(context, scene.texels);
+    b.env_radiance = make_filled_buffer(context, scene.environment.texels);
+    b.env_cdf = make_filled_buffer(context, scene.environment.cdf);
     // The limits check before rendering relies on the estimate: keep it exact.
     uint64_t allocated = 0;
     for (const vk::Buffer* buffer : {&b.params, &b.nodes, &b.tri_positions, &b.tri_shading, &b.materials, &b.emitters,
                                      &b.punctual_lights, &b.ggx_albedo, &b.counters, &b.counters_readback, &b.paths, &b.rays, &b.hits,
-                                     &b.shadow_rays, &b.film})
+                                     &b.shadow_rays, &b.film, &b.tri_attributes, &b.texture_slots, &b.texture_images,
+                                     &b.texels, &b.env_radiance, &b.env_cdf})
         allocated += buffer->size();
     if (allocated != estimate_render_memory(scene, frame.width, frame.height, frame.wave_capacity).device_bytes())
         throw std::logic_error("create_gpu_buffers: allocated sizes differ from estimate_render_memory");
@@ -91,6 +98,12 @@ void bind_gpu_buffers(vk::BindingTable& table, const GpuBuffers& b) {
     table.bind_buffer(gpu::BINDING_MATERIALS_UNIFORM, b.materials);
     table.bind_buffer(gpu::BINDING_EMITTERS_UNIFORM, b.emitters);
     table.bind_buffer(gpu::BINDING_GGX_ALBEDO_UNIFORM, b.ggx_albedo);
+    table.bind_buffer(gpu::BINDING_TRI_ATTRIBUTES, b.tri_attributes);
+    table.bind_buffer(gpu::BINDING_TEXTURE_SLOTS, b.texture_slots);
+    table.bind_buffer(gpu::BINDING_TEXTURE_IMAGES, b.texture_images);
+    table.bind_buffer(gpu::BINDING_TEXELS, b.texels);
+    table.bind_buffer(gpu::BINDING_ENV_RADIANCE, b.env_radiance);
+    table.bind_buffer(gpu::BINDING_ENV_CDF, b.env_cdf);
 }
 
 }  // namespace fh

@@ -29,6 +29,12 @@ struct GpuBuffers {
     vk::Buffer hits;
     vk::Buffer shadow_rays;
     vk::Buffer film;
+    vk::Buffer tri_attributes;     // textures and vertex colours (one dummy element when the scene has none)
+    vk::Buffer texture_slots;
+    vk::Buffer texture_images;
+    vk::Buffer texels;
+    vk::Buffer env_radiance;       // environment light (EFFECT_ENVIRONMENT)
+    vk::Buffer env_cdf;
 };
 
 GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& scene, const gpu::FrameParams& frame);

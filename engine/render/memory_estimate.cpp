@@ -47,6 +47,12 @@ MemoryEstimate estimate_render_memory(const PackedScene& scene, uint32_t width, 
         {"hits", capacity * sizeof(gpu::HitItem), true},
         {"shadow_rays", capacity * sizeof(gpu::ShadowRayItem), true},
         {"film", film, true},
+        {"tri_attributes", array_bytes(scene.attributes), true},
+        {"texture_slots", array_bytes(scene.texture_slots), true},
+        {"texture_images", array_bytes(scene.texture_images), true},
+        {"texels", array_bytes(scene.texels), true},
+        {"env_radiance", array_bytes(scene.environment.texels), true},
+        {"env_cdf", array_bytes(scene.environment.cdf), true},
     };
     e.film_readback_bytes = film;
     return e;
@@ -86,6 +92,8 @@ namespace {
 std::string remedy(const std::string& buffer) {
     std::string what = "a smaller scene";
     if (buffer == "film") what = "a smaller --width/--height";
+    if (buffer == "texels") what = "smaller textures";
+    if (buffer == "env_radiance" || buffer == "env_cdf") what = "a smaller environment map";
     if (buffer == "paths" || buffer == "rays" || buffer == "hits" || buffer == "shadow_rays") what = "a smaller --wave-paths";
     return "; Fredholm does not split buffers yet: use " + what;
 }

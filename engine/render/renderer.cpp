@@ -53,6 +53,10 @@ gpu::FrameParams make_frame(const PackedScene& scene, const SceneCamera& camera,
     uint64_t pixels = uint64_t(s.width) * s.height;
     f.wave_capacity = uint32_t(std::min<uint64_t>(s.wave_paths, pixels * s.spp));
     f.triangle_count = uint32_t(scene.positions.size());
+    f.env_width = scene.environment.width;
+    f.env_height = scene.environment.height;
+    f.env_rotation = scene.environment.rotation;
+    f.env_pick_pdf = scene.environment_pick_pdf;
     return f;
 }
 
@@ -81,6 +85,7 @@ StageOptions make_stage_options(const vk::Context& context, const PackedScene& s
     o.scene_in_uniform_buffers = fits_uniform_buffers(scene, context.properties().limits.maxUniformBufferRange);
     o.punctual_lights = !scene.punctual_lights.empty();
     o.disabled_techniques = s.disabled_techniques;
+    o.effects = scene.effects.bits;
     return o;
 }
 

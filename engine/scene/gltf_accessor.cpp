@@ -1,6 +1,7 @@
 // Typed, range-checked reads of glTF accessors (glTF 2.0 spec section 3.6: buffers, views, accessors, sparse).
 #include "scene/gltf_accessor.h"
 
+#include <algorithm>
 #include <cstring>
 #include <string>
 
@@ -140,6 +141,71 @@ std::vector<glm::vec3> read_float3(const tinygltf::Model& model, int index, cons
     std::vector<glm::vec3> out(accessor.count, glm::vec3(0.0f));
     visit_elements(model, index, role, 12, [&](size_t i, const unsigned char* p) {
         std::memcpy(&out[i], p, 12);
+    });
+    return out;
+}
+
+namespace {
+
+int component_count(int type) {
+    switch (type) {
+        case TINYGLTF_TYPE_SCALAR: return 1;
+        case TINYGLTF_TYPE_VEC2: return 2;
+        case TINYGLTF_TYPE_VEC3: return 3;
+        case TINYGLTF_TYPE_VEC4: return 4;
+        default: return 0;
+    }
+}
+
+// One component as float: float as stored; integers normalized as spec 3.11 ("Animations", the
+// normalization table) says when `normalized`, else converted as they are (KHR_mesh_quantization).
+float load_component(const unsigned char* p, int component_type, bool normalized) {
+    switch (component_type) {
+        case TINYGLTF_COMPONENT_TYPE_FLOAT: {
+            float v;
+            std::memcpy(&v, p, 4);
+            return v;
+        }
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return normalized ? float(*p) / 255.0f : float(*p);
+        case TINYGLTF_COMPONENT_TYPE_BYTE: {
+            const float v = float(int8_t(*p));
+            return normalized ? std::max(v / 127.0f, -1.0f) : v;
+        }
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+            uint16_t v;
+            std::memcpy(&v, p, 2);
+            return normalized ? float(v) / 65535.0f : float(v);
+        }
+        case TINYGLTF_COMPONENT_TYPE_SHORT: {
+            int16_t v;
+            std::memcpy(&v, p, 2);
+            return normalized ? std::max(float(v) / 32767.0f, -1.0f) : float(v);
+        }
+        default: return 0.0f;
+    }
+}
+
+}  // namespace
+
+std::vector<glm::vec4> read_vectors(const tinygltf::Model& model, int index, const std::string& role,
+                                    int min_components, int max_components, bool integers_allowed) {
+    const tinygltf::Accessor& accessor = find_accessor(model, index, role);
+    const int n = component_count(accessor.type);
+    const int type = accessor.componentType;
+    const bool is_float = type == TINYGLTF_COMPONENT_TYPE_FLOAT;
+    const bool is_small_int = type == TINYGLTF_COMPONENT_TYPE_BYTE || type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+                              type == TINYGLTF_COMPONENT_TYPE_SHORT || type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+    if (n < min_components || n > max_components)
+        fail(index, role, "expected a VEC" + std::to_string(min_components) +
+                              (max_components > min_components ? " to VEC" + std::to_string(max_components) : "") +
+                              " accessor");
+    if (!is_float && !(integers_allowed && is_small_int))
+        fail(index, role, integers_allowed ? "expected float or (normalized) byte/short components"
+                                           : "expected float components");
+    const size_t size = component_size(type);
+    std::vector<glm::vec4> out(accessor.count, glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
+    visit_elements(model, index, role, size * size_t(n), [&](size_t i, const unsigned char* p) {
+        for (int c = 0; c < n; ++c) out[i][c] = load_component(p + size_t(c) * size, type, accessor.normalized);
     });
     return out;
 }

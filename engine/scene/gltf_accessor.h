@@ -21,6 +21,12 @@ constexpr size_t MAX_ACCESSOR_COUNT = size_t(1) << 27;
 // or reaches outside its buffer view or buffer, or has more than MAX_ACCESSOR_COUNT elements.
 std::vector<glm::vec3> read_float3(const tinygltf::Model& model, int index, const std::string& role);
 
+// Reads accessor `index` as float vectors of min_components to max_components components (VEC2..VEC4; missing
+// components read (0, 0, 0, 1)). Float components always; with `integers_allowed` also byte and short
+// components, normalized where the accessor says so (KHR_mesh_quantization: texture coordinates, colours).
+std::vector<glm::vec4> read_vectors(const tinygltf::Model& model, int index, const std::string& role,
+                                    int min_components, int max_components, bool integers_allowed);
+
 // Reads accessor `index` as unsigned SCALAR indices (UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT).
 std::vector<uint32_t> read_indices(const tinygltf::Model& model, int index, const std::string& role);
 

@@ -23,6 +23,7 @@
 
 #include "scene/gltf_accessor.h"
 #include "scene/gltf_material.h"
+#include "scene/gltf_texture.h"
 #include "scene/scene.h"
 
 namespace fh {
@@ -42,12 +43,6 @@ constexpr size_t MAX_SCENE_TRIANGLES = size_t(1) << 26;
 constexpr size_t MAX_NODE_INSTANCES = size_t(1) << 16;
 constexpr size_t MAX_SCENE_TRIANGLES = size_t(1) << 20;
 #endif
-
-// Textures are not read yet: skip decoding images (tinygltf would otherwise decode every one).
-bool skip_image(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int,
-                void*) {
-    return true;
-}
 
 // tinygltf messages span several lines; errors must fit on one.
 std::string join_lines(const std::string& text, const char* separator) {
@@ -135,7 +130,7 @@ tinygltf::Model read_model(const std::filesystem::path& file, std::vector<std::s
     std::error_code ec;
     if (!std::filesystem::is_regular_file(file, ec)) throw SceneError("file not found");
     tinygltf::TinyGLTF parser;
-    parser.SetImageLoader(&skip_image, nullptr);
+    parser.SetImageLoader(&gltf::load_image_data, nullptr);
     parser.SetFsCallbacks(
         {&file_exists, &tinygltf::ExpandFilePath, &read_regular_file, &tinygltf::WriteWholeFile, nullptr});
     tinygltf::Model model;
@@ -161,7 +156,6 @@ void check_extensions(const tinygltf::Model& model, std::vector<std::string>& wa
     for (const std::string& name : model.extensionsUsed)
         if (!gltf::is_supported_extension(name))
             warnings.push_back("extension " + name + " is not supported and is ignored");
-    if (!model.textures.empty()) warnings.push_back("textures are not supported yet: material factors only");
 }
 
 // The node's local transform: its matrix, or T * R * S (spec 3.5.2), in double precision.
@@ -230,7 +224,12 @@ bool is_finite(const glm::dmat4& m) {
 class Flattener {
 public:
     Flattener(const tinygltf::Model& model, Scene& scene)
-        : model_(model), scene_(scene), on_path_(model.nodes.size(), 0) {}
+        : model_(model), scene_(scene), on_path_(model.nodes.size(), 0) {
+        keep_attributes_ = !model.textures.empty();
+        for (const tinygltf::Mesh& mesh : model.meshes)
+            for (const tinygltf::Primitive& prim : mesh.primitives)
+                keep_attributes_ = keep_attributes_ || prim.attributes.count("COLOR_0") != 0;
+    }
 
     void visit_node(int index, const glm::dmat4& parent_world, int depth) {
         if (index < 0 || size_t(index) >= model_.nodes.size())
@@ -307,8 +306,15 @@ private:
                 continue;
             }
             for (int k = 0; k < 3; ++k) {
+                const size_t v = 3 * t + size_t(k);
                 scene_.positions.push_back(p[size_t(k)]);
-                scene_.normals.push_back(normals_[3 * t + size_t(k)]);
+                scene_.normals.push_back(normals_[v]);
+                if (keep_attributes_) {
+                    scene_.texcoords0.push_back(texcoords0_[v]);
+                    scene_.texcoords1.push_back(texcoords1_[v]);
+                    scene_.colors.push_back(colors_[v]);
+                    scene_.tangents.push_back(tangents_[v]);
+                }
             }
             scene_.triangle_material.push_back(triangle_material_[t]);
             scene_.triangle_has_normals.push_back(triangle_has_normals_[t]);
@@ -362,6 +368,8 @@ private:
                                  std::to_string(positions.size()) + " (accessor " + std::to_string(it->second) +
                                  ", " + where + ")");
         }
+        VertexAttributes attributes;
+        if (keep_attributes_) attributes = read_attributes(prim, positions.size(), where);
         std::vector<uint32_t> indices;
         if (prim.indices >= 0) {
             indices = gltf::read_indices(model_, prim.indices, "indices of " + where);
@@ -376,6 +384,11 @@ private:
         }
         if (mode == TINYGLTF_MODE_TRIANGLES) leftover_indices_ += indices.size() % 3;
         const uint32_t material = material_index(prim.material, where);
+        const uint32_t sets = gltf::texcoord_sets_read(scene_.materials[material], scene_.texture_slots);
+        for (uint32_t set = 0; set < 2; ++set)
+            if ((sets & (1u << set)) && (set == 0 ? attributes.texcoords0 : attributes.texcoords1).empty())
+                throw SceneError("material " + std::to_string(material) + " reads TEXCOORD_" + std::to_string(set) +
+                                 ", which " + where + " does not have");
         const size_t new_triangles = mode == TINYGLTF_MODE_TRIANGLES ? indices.size() / 3 : indices.size();
         if (triangle_material_.size() + new_triangles > MAX_SCENE_TRIANGLES)
             throw SceneError("the flattened scene exceeds " + std::to_string(MAX_SCENE_TRIANGLES) +
@@ -411,8 +424,60 @@ private:
             if (!has_normals) n = {glm::vec3(0.0f), glm::vec3(0.0f), glm::vec3(0.0f)};
             world_positions_.insert(world_positions_.end(), p.begin(), p.end());
             normals_.insert(normals_.end(), n.begin(), n.end());
+            if (keep_attributes_) add_triangle_attributes(attributes, tri, linear, mirrored);
             triangle_material_.push_back(material);
             triangle_has_normals_.push_back(has_normals ? 1 : 0);
+        }
+    }
+
+    // The attributes of one primitive's vertices that textures and vertex colours read (empty if absent).
+    struct VertexAttributes {
+        std::vector<glm::vec4> texcoords0, texcoords1, colors, tangents;
+    };
+
+    VertexAttributes read_attributes(const tinygltf::Primitive& prim, size_t vertex_count, const std::string& where) {
+        VertexAttributes a;
+        auto read = [&](const char* name, int min_components, int max_components, std::vector<glm::vec4>& out) {
+            const auto it = prim.attributes.find(name);
+            if (it == prim.attributes.end()) return;
+            const std::string role = std::string(name) + " of " + where;
+            out = gltf::read_vectors(model_, it->second, role, min_components, max_components, true);
+            if (out.size() != vertex_count)
+                throw SceneError(std::string(name) + " has " + std::to_string(out.size()) + " elements but POSITION has " +
+                                 std::to_string(vertex_count) + " (accessor " + std::to_string(it->second) + ", " +
+                                 where + ")");
+            for (const glm::vec4& v : out)
+                if (!std::isfinite(v.x + v.y + v.z + v.w))
+                    throw SceneError(std::string(name) + " holds a NaN or infinite value (accessor " +
+                                     std::to_string(it->second) + ", " + where + ")");
+        };
+        read("TEXCOORD_0", 2, 2, a.texcoords0);
+        read("TEXCOORD_1", 2, 2, a.texcoords1);
+        read("COLOR_0", 3, 4, a.colors);
+        read("TANGENT", 4, 4, a.tangents);
+        for (const glm::vec4& t : a.tangents)
+            if (t.w != 1.0f && t.w != -1.0f)
+                throw SceneError("TANGENT w must be 1 or -1 (the bitangent's sign), found " + std::to_string(t.w) +
+                                 " (" + where + ")");
+        return a;
+    }
+
+    void add_triangle_attributes(const VertexAttributes& a, const std::array<uint32_t, 3>& tri, const glm::dmat3& linear,
+                                 bool mirrored) {
+        for (uint32_t v : tri) {
+            texcoords0_.push_back(a.texcoords0.empty() ? glm::vec2(0.0f) : glm::vec2(a.texcoords0[v]));
+            texcoords1_.push_back(a.texcoords1.empty() ? glm::vec2(0.0f) : glm::vec2(a.texcoords1[v]));
+            colors_.push_back(a.colors.empty() ? glm::vec4(1.0f) : glm::clamp(a.colors[v], 0.0f, 1.0f));
+            glm::vec4 tangent(0.0f);
+            if (!a.tangents.empty()) {
+                // Tangents follow the surface (the linear part, not its inverse transpose); a mirroring transform
+                // flips the handedness of the frame, so the bitangent sign flips with it.
+                const glm::dvec3 t = linear * glm::dvec3(a.tangents[v]);
+                const double length = glm::length(t);
+                if (length > 0.0 && std::isfinite(length))
+                    tangent = glm::vec4(glm::vec3(t / length), mirrored ? -a.tangents[v].w : a.tangents[v].w);
+            }
+            tangents_.push_back(tangent);
         }
     }
 
@@ -479,6 +544,9 @@ private:
     Scene& scene_;
     std::vector<glm::dvec3> world_positions_;  // 3 per triangle, until finish() places them in render space
     std::vector<glm::vec3> normals_;
+    bool keep_attributes_ = false;  // the file has textures or vertex colours
+    std::vector<glm::vec2> texcoords0_, texcoords1_;  // 3 per triangle, like normals_
+    std::vector<glm::vec4> colors_, tangents_;
     std::vector<uint32_t> triangle_material_;
     std::vector<uint8_t> triangle_has_normals_;
     size_t dropped_degenerate_ = 0;
@@ -565,10 +633,11 @@ void check_node_instances(const tinygltf::Model& model, const std::vector<int>& 
 Scene load_unprefixed(const std::filesystem::path& file, const LoadOptions& options) {
     Scene scene;
     scene.source = file;
-    const tinygltf::Model model = read_model(file, scene.warnings);
+    tinygltf::Model model = read_model(file, scene.warnings);
     check_extensions(model, scene.warnings);
-    for (const tinygltf::Material& material : model.materials)
-        scene.materials.push_back(gltf::convert_material(material));
+    scene.images = gltf::take_images(model);
+    for (size_t m = 0; m < model.materials.size(); ++m)
+        scene.materials.push_back(gltf::convert_material(model, int(m), scene));
 
     warn_about_shared_nodes(model, scene.warnings);
     Flattener flattener(model, scene);

@@ -1,7 +1,11 @@
 // Converts glTF materials (spec 3.9) and the KHR extensions emissive_strength, specular and ior.
 #include "scene/gltf_material.h"
 
+#include <cmath>
+
 #include <tiny_gltf.h>
+
+#include "scene/gltf_texture.h"
 
 namespace fh::gltf {
 namespace {
@@ -11,6 +15,9 @@ constexpr const char* SUPPORTED_EXTENSIONS[] = {
     "KHR_materials_specular",
     "KHR_materials_ior",
     "KHR_lights_punctual",  // read by gltf_loader.cpp
+    "KHR_texture_transform",  // gltf_texture.cpp
+    "EXT_texture_webp",
+    "KHR_texture_basisu",     // its fallback source is used; without one the texture is left out (warned)
 };
 
 // The object of extension `name` on `material`, or nullptr.
@@ -60,11 +67,15 @@ gpu::Material make_default_material() {
     m.roughness = 1.0f;
     m.ior = 1.5f;
     m.flags = 0u;
+    m.alpha_mode = gpu::ALPHA_OPAQUE;
+    m.alpha_cutoff = 0.5f;
     clear_textures(m);
     return m;
 }
 
-gpu::Material convert_material(const tinygltf::Material& material) {
+gpu::Material convert_material(const tinygltf::Model& model, int index, Scene& scene) {
+    const tinygltf::Material& material = model.materials[size_t(index)];
+    const std::string where = "material " + std::to_string(index);
     gpu::Material m = make_default_material();
     const auto& pbr = material.pbrMetallicRoughness;
     if (pbr.baseColorFactor.size() == 4)
@@ -86,6 +97,29 @@ gpu::Material convert_material(const tinygltf::Material& material) {
 
     m.ior = float(read_number(find_extension(material, "KHR_materials_ior"), "ior", 1.5));
     m.flags = material.doubleSided ? gpu::MATERIAL_DOUBLE_SIDED : 0u;
+
+    if (material.alphaMode == "MASK") m.alpha_mode = gpu::ALPHA_MASK;
+    else if (material.alphaMode == "BLEND") m.alpha_mode = gpu::ALPHA_BLEND;
+    else if (material.alphaMode == "OPAQUE" || material.alphaMode.empty()) m.alpha_mode = gpu::ALPHA_OPAQUE;
+    else throw SceneError(where + " has unknown alphaMode '" + material.alphaMode + "'");
+    m.alpha_cutoff = float(material.alphaCutoff);
+    if (!(material.alphaCutoff >= 0.0) || !std::isfinite(material.alphaCutoff))
+        throw SceneError(where + " has alphaCutoff " + std::to_string(material.alphaCutoff) + " (must be >= 0)");
+
+    // occlusionTexture is a rasteriser's stand-in for the light a path tracer computes: not read.
+    auto slot = [&](int texture, int tex_coord, double scale, const tinygltf::ExtensionMap& extensions, bool srgb,
+                    const char* name) {
+        return gltf::add_texture_slot(model, {texture, tex_coord, scale, &extensions}, srgb,
+                                      where + " " + name, scene);
+    };
+    m.base_color_texture = slot(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, 1.0,
+                                pbr.baseColorTexture.extensions, true, "baseColorTexture");
+    m.metallic_roughness_texture = slot(pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord, 1.0,
+                                        pbr.metallicRoughnessTexture.extensions, false, "metallicRoughnessTexture");
+    m.normal_texture = slot(material.normalTexture.index, material.normalTexture.texCoord, material.normalTexture.scale,
+                            material.normalTexture.extensions, false, "normalTexture");
+    m.emissive_texture = slot(material.emissiveTexture.index, material.emissiveTexture.texCoord, 1.0,
+                              material.emissiveTexture.extensions, true, "emissiveTexture");
     return m;
 }
 

@@ -4,8 +4,10 @@
 
 #include "shared/layout.h"
 
+#include "scene/scene.h"
+
 namespace tinygltf {
-struct Material;
+class Model;
 }
 
 namespace fh::gltf {
@@ -13,9 +15,10 @@ namespace fh::gltf {
 // True for the extensions this loader implements (they may appear in extensionsRequired).
 bool is_supported_extension(const std::string& name);
 
-// Factors of a glTF material, with KHR_materials_emissive_strength, KHR_materials_specular and
-// KHR_materials_ior applied; texture slots are INVALID_INDEX (textures are not read yet).
-gpu::Material convert_material(const tinygltf::Material& material);
+// Material `index` of `model`, with KHR_materials_emissive_strength, KHR_materials_specular and
+// KHR_materials_ior applied, alphaMode and its texture slots (added to scene.texture_slots; scene.images must
+// be filled already). Throws SceneError for an unknown alphaMode or a broken texture reference.
+gpu::Material convert_material(const tinygltf::Model& model, int index, Scene& scene);
 
 // The material of primitives that name none: every property at its glTF default (spec 3.9.6).
 gpu::Material make_default_material();

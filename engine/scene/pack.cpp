@@ -7,10 +7,15 @@
 #include <string>
 
 #include <glm/gtc/constants.hpp>
+#include <glm/gtc/packing.hpp>
 
+#include "lib/cpp_compat.h"
 #include "scene/alias_table.h"
 
 namespace fh {
+namespace glsl {
+#include "lib/texture_address.glsl"
+}  // namespace glsl
 namespace {
 
 // Relative luminance of linear Rec. 709 RGB (ITU-R BT.709 primaries).
@@ -41,6 +46,42 @@ gpu::PunctualLight pack_punctual_light(const SceneLight& light) {
     p.cos_inner = float(std::cos(double(light.inner_cone)));
     p.cos_outer = float(std::cos(double(light.outer_cone)));
     return p;
+}
+
+uint32_t pack_half2(float a, float b) { return glm::packHalf2x16(glm::vec2(a, b)); }  // GLSL packHalf2x16
+
+gpu::TriangleAttributes pack_attributes(const Scene& scene, size_t t) {
+    gpu::TriangleAttributes a{};
+    const glm::vec2* uv0 = &scene.texcoords0[3 * t];
+    const glm::vec2* uv1 = &scene.texcoords1[3 * t];
+    const glm::vec4* c = &scene.colors[3 * t];
+    const glm::vec4* tg = &scene.tangents[3 * t];
+    a.uv0_c01 = gpu::vec4(uv0[0], uv0[1]);
+    a.uv0_c2_uv1_c0 = gpu::vec4(uv0[2], uv1[0]);
+    a.uv1_c12 = gpu::vec4(uv1[1], uv1[2]);
+    uint32_t* colors[3][2] = {{&a.color0_rg, &a.color0_ba}, {&a.color1_rg, &a.color1_ba}, {&a.color2_rg, &a.color2_ba}};
+    uint32_t* tangents[3][2] = {{&a.tangent0_xy, &a.tangent0_zw}, {&a.tangent1_xy, &a.tangent1_zw},
+                                {&a.tangent2_xy, &a.tangent2_zw}};
+    for (int k = 0; k < 3; ++k) {
+        *colors[k][0] = pack_half2(c[k].r, c[k].g);
+        *colors[k][1] = pack_half2(c[k].b, c[k].a);
+        *tangents[k][0] = pack_half2(tg[k].x, tg[k].y);
+        *tangents[k][1] = pack_half2(tg[k].z, tg[k].w);
+    }
+    return a;
+}
+
+// Textures as the GPU reads them: every decoded image's texels back to back.
+void pack_textures(const Scene& scene, PackedScene& packed) {
+    packed.texture_slots = scene.texture_slots;
+    size_t offset = 0;
+    for (const SceneImage& image : scene.images) {
+        packed.texture_images.push_back({uint32_t(offset), image.width, image.height, 0u});
+        offset += image.texels.size();
+        if (offset > 0xffffffffu) throw std::length_error("pack.cpp: more than 2^32 texels");
+    }
+    packed.texels.reserve(offset);
+    for (const SceneImage& image : scene.images) packed.texels.insert(packed.texels.end(), image.texels.begin(), image.texels.end());
 }
 
 uint32_t leaf_count(const gpu::BvhNode& node) {
@@ -90,7 +131,60 @@ bool fits_uniform_buffers(const PackedScene& scene, uint64_t max_uniform_buffer_
            scene.emitters.size() <= gpu::UNIFORM_EMITTER_CAPACITY;
 }
 
-PackedScene pack_scene(const Scene& scene, const Bvh& bvh) {
+double mean_emitted_luminance(const Scene& scene, size_t t, const gpu::Material& m) {
+    const double factor = luminance(m.emission);
+    if (m.emissive_texture == gpu::INVALID_INDEX || m.emissive_texture >= scene.texture_slots.size() ||
+        scene.texcoords0.size() < 3 * (t + 1))
+        return factor;
+    const gpu::TextureSlot& slot = scene.texture_slots[m.emissive_texture];
+    const SceneImage& image = scene.images[slot.image];
+    const bool set1 = (slot.addressing & gpu::SAMPLER_TEXCOORD_1) != 0;
+    const glm::vec2* uv = set1 ? &scene.texcoords1[3 * t] : &scene.texcoords0[3 * t];
+    const glm::vec2 t0 = glsl::transform_texcoord(slot, uv[0]), t1 = glsl::transform_texcoord(slot, uv[1]),
+                    t2 = glsl::transform_texcoord(slot, uv[2]);
+    const uint32_t wrap_s = slot.addressing & 3u, wrap_t = (slot.addressing >> 2) & 3u;
+    auto texel_at = [&](int x, int y) {
+        x = glsl::wrap_texel(x, int(image.width), wrap_s);
+        y = glsl::wrap_texel(y, int(image.height), wrap_t);
+        return luminance(m.emission * glm::vec4(glm::vec3(glsl::decode_texel(image.texels[size_t(y) * image.width + size_t(x)], true)), 0.0f));
+    };
+    // The brightest texel under the triangle's texture-space bounding box (up to 2^20 texels; beyond, the box
+    // counts as lit): black there means black everywhere, so the triangle is no light.
+    const glm::vec2 lo = glm::min(t0, glm::min(t1, t2)) * glm::vec2(image.width, image.height);
+    const glm::vec2 hi = glm::max(t0, glm::max(t1, t2)) * glm::vec2(image.width, image.height);
+    double brightest = 0.0, box_texels = 0.0;
+    if (std::isfinite(lo.x + lo.y + hi.x + hi.y) && std::max(glm::abs(lo).x, glm::abs(lo).y) < 1e8f &&
+        std::max(glm::abs(hi).x, glm::abs(hi).y) < 1e8f && double(hi.x - lo.x + 1) * double(hi.y - lo.y + 1) <= double(1 << 20)) {
+        for (int y = int(std::floor(lo.y)); y <= int(std::floor(hi.y)); ++y)
+            for (int x = int(std::floor(lo.x)); x <= int(std::floor(hi.x)); ++x) {
+                brightest = std::max(brightest, texel_at(x, y));
+                box_texels += 1.0;
+            }
+        if (brightest == 0.0) return 0.0;
+    } else {
+        brightest = factor;
+        box_texels = 1.0;
+    }
+    // The mean over the triangle: k x k strata with about 4 per texel covered, k in [4, 64], nearest texels.
+    const glm::vec2 e1 = t1 - t0, e2 = t2 - t0;
+    const double texels = 0.5 * std::abs(double(e1.x) * e2.y - double(e1.y) * e2.x) * image.width * image.height;
+    const int k = int(std::clamp(std::ceil(2.0 * std::sqrt(std::isfinite(texels) ? texels : 1024.0)), 4.0, 64.0));
+    double sum = 0.0;
+    for (int i = 0; i < k; ++i)
+        for (int j = 0; j < k; ++j) {
+            // Uniform on the triangle (pbrt-v4 SampleUniformTriangle's square-root warp) at stratum centres.
+            const double su = std::sqrt((i + 0.5) / k), v = (j + 0.5) / k;
+            const float b1 = float(su * (1.0 - v)), b2 = float(su * v), b0 = 1.0f - b1 - b2;
+            const glm::vec2 p = b0 * t0 + b1 * t1 + b2 * t2;
+            sum += texel_at(int(std::floor(glsl::reduce_texcoord(p.x, wrap_s) * image.width)),
+                            int(std::floor(glsl::reduce_texcoord(p.y, wrap_t) * image.height)));
+        }
+    // A bright spot between the strata still makes the triangle a light, picked in proportion to that spot
+    // alone: the pick probability only shapes the noise, the estimate stays unbiased.
+    return sum > 0.0 ? sum / (double(k) * k) : brightest / std::max(box_texels, 1.0);
+}
+
+PackedScene pack_scene(const Scene& scene, const Bvh& bvh, EnvironmentMap environment) {
     const size_t n = scene.triangle_count();
     if (bvh.triangle_order.size() != n || scene.normals.size() != scene.positions.size() ||
         scene.triangle_material.size() != n || scene.triangle_has_normals.size() != n)
@@ -98,11 +192,20 @@ PackedScene pack_scene(const Scene& scene, const Bvh& bvh) {
 
     PackedScene packed;
     packed.origin = scene.origin;
+    packed.effects = analyse_effects(scene, !environment.empty());
     packed.nodes = bvh.nodes;
     packed.pair_nodes = make_pair_nodes(bvh.nodes);
     packed.materials = scene.materials;
     packed.positions.resize(n);
     packed.shading.resize(n);
+    const bool attributes = !scene.texcoords0.empty();
+    if (attributes) {
+        if (scene.texcoords0.size() != scene.positions.size() || scene.texcoords1.size() != scene.positions.size() ||
+            scene.colors.size() != scene.positions.size() || scene.tangents.size() != scene.positions.size())
+            throw std::invalid_argument("pack.cpp: the vertex attribute arrays disagree with the positions");
+        packed.attributes.resize(n);
+    }
+    pack_textures(scene, packed);
 
     std::vector<uint32_t> emissive;  // leaf-order indices of emitting triangles
     std::vector<double> power, area;
@@ -111,6 +214,7 @@ PackedScene pack_scene(const Scene& scene, const Bvh& bvh) {
         const glm::vec3* p = &scene.positions[3 * t];
         const glm::vec3* nrm = &scene.normals[3 * t];
         packed.positions[i] = {p[0].x, p[0].y, p[0].z, p[1].x, p[1].y, p[1].z, p[2].x, p[2].y, p[2].z, uint32_t(t), 0.0f, 0.0f};
+        if (attributes) packed.attributes[i] = pack_attributes(scene, t);
         gpu::TriangleShading& s = packed.shading[i];
         s = {nrm[0].x, nrm[0].y, nrm[0].z, nrm[1].x, nrm[1].y, nrm[1].z, nrm[2].x, nrm[2].y, nrm[2].z,
              scene.triangle_material[t], scene.triangle_has_normals[t] ? gpu::TRIANGLE_HAS_NORMALS : 0u, 0.0f};
@@ -122,7 +226,7 @@ PackedScene pack_scene(const Scene& scene, const Bvh& bvh) {
         const gpu::Material& m = scene.materials[s.material];
         const double a = triangle_area(p[0], p[1], p[2]);
         const double sides = (m.flags & gpu::MATERIAL_DOUBLE_SIDED) ? 2.0 : 1.0;
-        const double w = luminance(m.emission) * a * glm::pi<double>() * sides;
+        const double w = mean_emitted_luminance(scene, t, m) * a * glm::pi<double>() * sides;
         if (a > 0.0 && w > 0.0 && (m.emission.r > 0.0f || m.emission.g > 0.0f || m.emission.b > 0.0f)) {
             emissive.push_back(uint32_t(i));
             power.push_back(w);
@@ -138,6 +242,14 @@ PackedScene pack_scene(const Scene& scene, const Bvh& bvh) {
         packed.punctual_lights.push_back(pack_punctual_light(scene.lights[l]));
         power.push_back(w);
     }
+    // The environment as a light over the scene's bounding disc: pi r^2 times the integral of its radiance
+    // (a directional light's pi r^2 E, summed over directions; pbrt-v4 ImageInfiniteLight::Phi likewise).
+    const bool environment_light = !environment.empty() && environment.luminance_integral > 0.0;
+    if (environment_light) {
+        emissive.push_back(gpu::ENVIRONMENT_LIGHT);
+        power.push_back(glm::pi<double>() * std::max(scene_radius * scene_radius, 1e-30) * environment.luminance_integral);
+    }
+    packed.environment = std::move(environment);
     if (emissive.empty()) return packed;
 
     for (double w : power) packed.total_emitted_power += w;
@@ -147,6 +259,7 @@ PackedScene pack_scene(const Scene& scene, const Bvh& bvh) {
         const double pick_pdf = power[e] / packed.total_emitted_power;
         packed.emitters[e] = {emissive[e], float(table[e].threshold), table[e].alias, float(pick_pdf)};
         if (e < triangle_lights) packed.shading[emissive[e]].light_pdf_area = float(pick_pdf / area[e]);
+        if (emissive[e] == gpu::ENVIRONMENT_LIGHT) packed.environment_pick_pdf = float(pick_pdf);
     }
     return packed;
 }

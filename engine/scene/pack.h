@@ -4,6 +4,8 @@
 #include <vector>
 
 #include "scene/bvh.h"
+#include "scene/effects.h"
+#include "scene/environment.h"
 #include "scene/scene.h"
 #include "shared/layout.h"
 
@@ -17,6 +19,13 @@ struct PackedScene {
     std::vector<gpu::Material> materials;
     std::vector<gpu::Emitter> emitters;             // alias table over every light (may be empty)
     std::vector<gpu::PunctualLight> punctual_lights;  // render space
+    std::vector<gpu::TriangleAttributes> attributes;  // BVH leaf order; empty without textures and COLOR_0
+    std::vector<gpu::TextureSlot> texture_slots;
+    std::vector<gpu::TextureImage> texture_images;  // one per glTF image (width 0: not decoded, never read)
+    std::vector<uint32_t> texels;                   // RGBA8 of every image, back to back
+    EnvironmentMap environment;                     // empty: none
+    float environment_pick_pdf = 0.0f;              // probability that NEE picks the environment
+    SceneEffects effects;                           // what the stages are compiled for (scene/effects.h)
     double total_emitted_power = 0.0;               // watts if emission is in W / (m^2 sr)
     glm::dvec3 origin{0.0};                         // world position of the render-space origin (Scene::origin)
 };
@@ -28,8 +37,13 @@ std::vector<gpu::BvhPairNode> make_pair_nodes(const std::vector<gpu::BvhNode>& n
 // Whether every scene array (nodes, triangles, materials, emitters) fits its uniform-buffer binding (layout.h).
 bool fits_uniform_buffers(const PackedScene& scene, uint64_t max_uniform_buffer_range);
 
-// Throws std::invalid_argument when `bvh` was not built over `scene`'s triangles.
-PackedScene pack_scene(const Scene& scene, const Bvh& bvh);
+// Throws std::invalid_argument when `bvh` was not built over `scene`'s triangles. `environment` (may be empty)
+// joins the lights NEE picks from, in proportion to its power over the scene's bounding disc.
+PackedScene pack_scene(const Scene& scene, const Bvh& bvh, EnvironmentMap environment = {});
+
+// Mean luminance of a triangle's emissive texture times its emission factor (stratified over the triangle,
+// nearest texels): the power NEE picks textured emitters by. 0: black everywhere the samples looked.
+double mean_emitted_luminance(const Scene& scene, size_t triangle, const gpu::Material& material);
 
 // Picks an entry of the emitter alias table for u in [0, 1), exactly as the GPU does: i = min(floor(u n),
 // n - 1), u' = u n - i, keep i if u' < alias_threshold, else alias. Returns the entry index (its

@@ -38,6 +38,13 @@ struct SceneLight {
     float outer_cone = 0.7853982f;
 };
 
+// A decoded texture image (scene/image_decode.h); the GPU reads its texels as they are.
+struct SceneImage {
+    std::string name;     // "image N 'name'" for messages
+    uint32_t width = 0, height = 0;
+    std::vector<uint32_t> texels;  // RGBA8, r in the low byte; empty: could not be decoded (KTX2), never read
+};
+
 struct LoadOptions {
     // Render-space origin at the centre of the scene bounds: world positions are composed in double and the
     // origin subtracted before rounding to float, so a scene far from the world origin keeps the precision
@@ -53,6 +60,12 @@ struct Scene {
     std::vector<uint32_t> triangle_material;   // index into materials
     std::vector<uint8_t> triangle_has_normals; // 1: normals hold unit vertex normals; 0: flat shading
     std::vector<gpu::Material> materials;      // a default material appended if any primitive has none
+    std::vector<gpu::TextureSlot> texture_slots;  // what Material.*_texture index
+    std::vector<SceneImage> images;            // glTF images in file order
+    // Vertex attributes, 3 per triangle like positions; empty unless the file has textures or COLOR_0.
+    std::vector<glm::vec2> texcoords0, texcoords1;  // (0, 0) where the primitive has none
+    std::vector<glm::vec4> colors;             // COLOR_0 (1, 1, 1, 1 where absent)
+    std::vector<glm::vec4> tangents;           // world xyz, w = bitangent sign; (0, 0, 0, 0) where absent
     std::vector<SceneCamera> cameras;          // in scene-traversal order, world space
     std::vector<SceneLight> lights;            // punctual lights, world space
     glm::dvec3 bounds_min{0.0}, bounds_max{0.0};  // world space, of the triangles

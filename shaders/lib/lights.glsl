@@ -6,6 +6,8 @@
 #define FH_LIGHTS_GLSL
 #include "sampling.glsl"
 #include "ray_offset.glsl"
+#include "material.glsl"
+#include "environment.glsl"
 
 // Scenes without punctual lights compile their code out (the host sets this from the scene).
 layout(constant_id = SPEC_HAS_PUNCTUAL_LIGHTS) const bool has_punctual_lights = false;
@@ -83,6 +85,10 @@ LightConnection connect_triangle_light(uint tri, vec3 p, vec2 u_point) {
     vec2 b = sample_uniform_triangle(u_point);
     float b0 = 1.0f - b.x - b.y;
     Material m = load_material(ts.material);
+    // Textured emitters: the emission at the sampled point (the triangle was picked by its integrated power,
+    // the point uniformly, so the estimate stays unbiased); cut-out or blended emitters count their coverage.
+    if (effect_on(EFFECT_EMISSIVE_TEXTURE)) m = resolve_material(m, tri, b.x, b.y);
+    if (effect_on(EFFECT_ALPHA)) m.emission.xyz *= eval_coverage(tri, b.x, b.y);
     vec3 q = b0 * p0 + b.x * p1 + b.y * p2;
     vec3 q_error = bound_interpolation_error(p0, p1, p2, b0, b.x, b.y);
     vec3 n = normalize(cross(p1 - p0, p2 - p0));
@@ -101,8 +107,21 @@ LightConnection connect_triangle_light(uint tri, vec3 p, vec2 u_point) {
     return c;
 }
 
+LightConnection connect_environment(float pick_pdf, vec2 u) {
+    LightConnection c = make_invalid_connection();
+    EnvironmentSample s = sample_environment(u);
+    c.wi = s.dir;
+    c.pdf = pick_pdf * s.pdf;
+    c.at_infinity = 1u;
+    if (!(c.pdf > 0.0f)) return c;
+    c.radiance_over_pdf = s.radiance / c.pdf;
+    c.valid = 1u;
+    return c;
+}
+
 LightConnection sample_light_connection(vec3 p, float u_pick, vec2 u_point) {
     Emitter e = pick_emitter(u_pick);
+    if (effect_on(EFFECT_ENVIRONMENT) && e.light == ENVIRONMENT_LIGHT) return connect_environment(e.pick_pdf, u_point);
     if (has_punctual_lights && (e.light & PUNCTUAL_LIGHT_BIT) != 0u)
         return connect_punctual_light(e.light & ~PUNCTUAL_LIGHT_BIT, e.pick_pdf, p);
     return connect_triangle_light(e.light, p, u_point);

@@ -6,6 +6,7 @@
 #define FH_TRAVERSE_GLSL
 #include "intersect.glsl"
 #include "ray_offset.glsl"
+#include "material.glsl"
 
 const uint TRAVERSAL_STACK_SIZE = 64u;
 
@@ -42,7 +43,9 @@ bool is_same_surface(uint tri, TrianglePositions tp, uint origin_triangle) {
     return abs(c) > 0.99999f;  // parallel within ~0.26 degrees
 }
 
-TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin_triangle) {
+// alpha_seed: with EFFECT_ALPHA, the ray's key for stochastic alpha (material.glsl is_surface_present); a
+// candidate hit on a cut-out or not-drawn-this-time point is skipped as if the triangle were not there.
+TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin_triangle, uint alpha_seed) {
     TraceHit best;
     best.t = t_max;
     best.triangle = INVALID_INDEX;
@@ -87,6 +90,7 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin
             if (h.hit == HIT_UNCERTAIN && is_same_surface(tri, tp, origin_triangle)) h.hit = 0u;
             bool take = h.hit != 0u && (!have_hit || h.t < best.t ||
                                         tp.source_index < load_triangle_positions(best.triangle).source_index);
+            if (effect_on(EFFECT_ALPHA) && take) take = is_surface_present(tri, h.b1, h.b2, alpha_seed);
             if (take) {
                 best.t = h.t;
                 best.triangle = tri;

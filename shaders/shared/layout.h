@@ -45,7 +45,13 @@ FH_CONST uint BINDING_MATERIALS_UNIFORM = 15u;
 FH_CONST uint BINDING_EMITTERS_UNIFORM = 16u;
 FH_CONST uint BINDING_GGX_ALBEDO_UNIFORM = 17u;  // the GGX albedo table (shaders/lib/ggx_albedo_table.glsl)
 FH_CONST uint BINDING_PUNCTUAL_LIGHTS = 18u;    // PunctualLight[] (KHR_lights_punctual), read by NEE only
-FH_CONST uint BINDING_COUNT = 19u;
+FH_CONST uint BINDING_TRI_ATTRIBUTES = 19u;     // TriangleAttributes[] (BVH leaf order), when EFFECT_ATTRIBUTES
+FH_CONST uint BINDING_TEXTURE_SLOTS = 20u;      // TextureSlot[]: a material's reference to a texture
+FH_CONST uint BINDING_TEXTURE_IMAGES = 21u;     // TextureImage[]: where each image's texels start
+FH_CONST uint BINDING_TEXELS = 22u;             // uint[]: RGBA8 texels of every image, rows top to bottom
+FH_CONST uint BINDING_ENV_RADIANCE = 23u;       // vec4[]: environment radiance (rgb), equirectangular rows
+FH_CONST uint BINDING_ENV_CDF = 24u;            // float[]: marginal CDF (height + 1), then one CDF per row
+FH_CONST uint BINDING_COUNT = 25u;
 FH_CONST uint UNIFORM_BUFFER_BYTES = 65536u;  // declared size of each; Vulkan guarantees only 16 KiB of
                                               // maxUniformBufferRange, so fits_uniform_buffers (pack.h) checks
 
@@ -53,6 +59,19 @@ FH_CONST uint UNIFORM_BUFFER_BYTES = 65536u;  // declared size of each; Vulkan g
 FH_CONST uint SPEC_SCENE_IN_UNIFORM_BUFFERS = 0u;  // bool: every scene array fits its uniform binding
 FH_CONST uint SPEC_HAS_PUNCTUAL_LIGHTS = 1u;       // bool: the scene has point/spot/directional lights
 FH_CONST uint SPEC_DISABLED_TECHNIQUES = 2u;       // TECHNIQUE_* bits switched off (cost measurements only)
+FH_CONST uint SPEC_EFFECTS = 3u;                   // EFFECT_* bits: what the scene calls for (scene/effects.h)
+
+// ---- Effects (engine/scene/effects.h decides them by value; a stage compiles only the code of those set) ----
+FH_CONST uint EFFECT_BASE_COLOR_TEXTURE = 1u;      // some visible material has a baseColorTexture
+FH_CONST uint EFFECT_METALLIC_ROUGHNESS_TEXTURE = 2u;
+FH_CONST uint EFFECT_NORMAL_TEXTURE = 4u;          // normal mapping
+FH_CONST uint EFFECT_EMISSIVE_TEXTURE = 8u;        // textured emitters
+FH_CONST uint EFFECT_VERTEX_COLORS = 16u;          // COLOR_0 that is not white
+FH_CONST uint EFFECT_ALPHA = 32u;                  // alphaMode MASK or BLEND: tested during traversal
+FH_CONST uint EFFECT_ENVIRONMENT = 64u;            // --env / --background: escaping rays see light
+FH_CONST uint EFFECT_ATTRIBUTES = EFFECT_BASE_COLOR_TEXTURE | EFFECT_METALLIC_ROUGHNESS_TEXTURE |
+                                  EFFECT_NORMAL_TEXTURE | EFFECT_EMISSIVE_TEXTURE | EFFECT_VERTEX_COLORS |
+                                  EFFECT_ALPHA;   // the effects that read TriangleAttributes
 
 // ---- Robustness techniques (all on by default; `--disable-technique` turns one off to measure its cost and
 // to show what goes wrong without it). README "Numerical stability" has the table.
@@ -77,13 +96,23 @@ FH_CONST uint RENDER_MIS = 2u;             // combine NEE and BSDF sampling by M
 FH_CONST uint RENDER_RR = 4u;              // Russian roulette
 FH_CONST uint BVH_LEAF_COUNT_BITS = 16u;   // BvhNode.count_and_axis: low bits count, high bits axis
 FH_CONST uint PUNCTUAL_LIGHT_BIT = 0x80000000u;  // Emitter.light: set = PunctualLight index, clear = triangle
+FH_CONST uint ENVIRONMENT_LIGHT = 0x7fffffffu;  // Emitter.light: the environment (EFFECT_ENVIRONMENT)
+FH_CONST uint ALPHA_OPAQUE = 0u;           // Material.alpha_mode (glTF alphaMode)
+FH_CONST uint ALPHA_MASK = 1u;             // opaque where alpha >= alpha_cutoff, else absent
+FH_CONST uint ALPHA_BLEND = 2u;            // present with probability alpha (stochastic, unbiased)
+FH_CONST uint WRAP_REPEAT = 0u;            // TextureSlot.addressing bits 0-1 (s) and 2-3 (t)
+FH_CONST uint WRAP_CLAMP_TO_EDGE = 1u;
+FH_CONST uint WRAP_MIRRORED_REPEAT = 2u;
+FH_CONST uint SAMPLER_NEAREST = 16u;       // TextureSlot.addressing: nearest texel (else bilinear)
+FH_CONST uint SAMPLER_SRGB = 32u;          // TextureSlot.addressing: texels are sRGB-encoded colour
+FH_CONST uint SAMPLER_TEXCOORD_1 = 64u;    // TextureSlot.addressing: read TEXCOORD_1 (else TEXCOORD_0)
 FH_CONST uint LIGHT_POINT = 0u;            // PunctualLight.type
 FH_CONST uint LIGHT_SPOT = 1u;
 FH_CONST uint LIGHT_DIRECTIONAL = 2u;
 
 FH_CONST uint UNIFORM_NODE_CAPACITY = UNIFORM_BUFFER_BYTES / 64u;      // BvhPairNode
 FH_CONST uint UNIFORM_TRIANGLE_CAPACITY = UNIFORM_BUFFER_BYTES / 48u;  // TrianglePositions, TriangleShading
-FH_CONST uint UNIFORM_MATERIAL_CAPACITY = UNIFORM_BUFFER_BYTES / 80u;  // Material
+FH_CONST uint UNIFORM_MATERIAL_CAPACITY = UNIFORM_BUFFER_BYTES / 96u;  // Material
 FH_CONST uint UNIFORM_EMITTER_CAPACITY = UNIFORM_BUFFER_BYTES / 16u;   // Emitter
 
 // ---- Scene ---------------------------------------------------------------------------------------------
@@ -131,9 +160,10 @@ struct TriangleShading {
     float light_pdf_area;  // probability of picking this triangle as a light / its area (0: not an emitter)
 };
 
-// glTF 2.0 metallic-roughness material, factors only (texture slots reserved: INVALID_INDEX for now).
+// glTF 2.0 metallic-roughness material. Each *_texture is a TextureSlot index (INVALID_INDEX: none) whose
+// texel multiplies the factor, as the glTF spec says.
 struct Material {
-    vec4 base_color;        // rgb linear, a = alpha (unused)
+    vec4 base_color;        // rgb linear, a = alpha
     vec4 emission;          // rgb radiance = emissiveFactor * emissiveStrength, a unused
     vec4 specular_color;    // KHR_materials_specular: rgb = specularColorFactor, a = specularFactor
     float metallic;
@@ -144,6 +174,39 @@ struct Material {
     uint metallic_roughness_texture;
     uint normal_texture;
     uint emissive_texture;
+    uint alpha_mode;        // ALPHA_OPAQUE / ALPHA_MASK / ALPHA_BLEND
+    float alpha_cutoff;     // MASK: present where alpha >= alpha_cutoff
+    float pad0, pad1;
+};
+
+// A material's use of a texture (glTF textureInfo): which image, how it is addressed, and
+// KHR_texture_transform as two rows of a 2x3 matrix: uv' = (dot(transform_u.xyz, (u, v, 1)), dot(transform_v...)).
+struct TextureSlot {
+    vec4 transform_u;
+    vec4 transform_v;
+    uint image;             // TextureImage index
+    uint addressing;        // WRAP_* of s | WRAP_* of t << 2 | SAMPLER_* bits
+    float scale;            // normalTexture.scale (1 for other slots)
+    uint pad;
+};
+
+// One decoded image: width x height RGBA8 texels (one uint each, r in the low byte) from texel_offset on.
+struct TextureImage {
+    uint texel_offset;
+    uint width;
+    uint height;
+    uint pad;
+};
+
+// Per-triangle vertex attributes for textures and vertex colours (BVH leaf order, like TriangleShading).
+// Tangents (TANGENT, world space, w = bitangent sign; w = 0 when the mesh has none) and COLOR_0 are stored as
+// half floats, two per word (packHalf2x16: x in the low half).
+struct TriangleAttributes {
+    vec4 uv0_c01;           // TEXCOORD_0 at corners 0 and 1: (u0, v0, u1, v1)
+    vec4 uv0_c2_uv1_c0;     // TEXCOORD_0 at corner 2, TEXCOORD_1 at corner 0
+    vec4 uv1_c12;           // TEXCOORD_1 at corners 1 and 2
+    uint color0_rg, color0_ba, color1_rg, color1_ba, color2_rg, color2_ba;
+    uint tangent0_xy, tangent0_zw, tangent1_xy, tangent1_zw, tangent2_xy, tangent2_zw;
 };
 
 // One entry of the alias table over every light: emissive triangles and punctual lights (Walker 1977;
@@ -187,6 +250,12 @@ struct FrameParams {
     uint rr_start_depth;    // Russian roulette starts at this segment count
     uint wave_capacity;     // paths per wave = length of PathState, HitItem, ShadowRayItem; half of RayItem
     uint triangle_count;
+    // Environment (EFFECT_ENVIRONMENT): an equirectangular map, +Y up (mapping: shaders/lib/environment.glsl).
+    uint env_width;
+    uint env_height;
+    float env_rotation;     // radians about +Y (--env-rotation)
+    float env_pick_pdf;     // probability that NEE picks the environment
+    uint pad0, pad1, pad2, pad3;
 };
 
 // Push constants: what changes per wave and per depth.

@@ -1,0 +1,107 @@
+// Scene analysis for effects on demand: which EFFECT_* bits the stages must be compiled with.
+#include "scene/effects.h"
+
+#include <set>
+
+namespace fh {
+namespace {
+
+// Whether every texel of `image` has alpha 255.
+bool is_opaque_image(const SceneImage& image) {
+    for (uint32_t t : image.texels)
+        if ((t >> 24) != 255u) return false;
+    return true;
+}
+
+std::string list_materials(const std::set<uint32_t>& materials) {
+    std::string out;
+    size_t shown = 0;
+    for (uint32_t m : materials) {
+        if (shown++ == 6) {
+            out += ", ...";
+            break;
+        }
+        out += (out.empty() ? "material " : ", ") + std::to_string(m);
+    }
+    return out;
+}
+
+}  // namespace
+
+const std::vector<EffectInfo>& list_effects() {
+    static const std::vector<EffectInfo> effects = {
+        {gpu::EFFECT_BASE_COLOR_TEXTURE, "base-color-texture"},
+        {gpu::EFFECT_METALLIC_ROUGHNESS_TEXTURE, "metallic-roughness-texture"},
+        {gpu::EFFECT_NORMAL_TEXTURE, "normal-texture"},
+        {gpu::EFFECT_EMISSIVE_TEXTURE, "emissive-texture"},
+        {gpu::EFFECT_VERTEX_COLORS, "vertex-colors"},
+        {gpu::EFFECT_ALPHA, "alpha"},
+        {gpu::EFFECT_ENVIRONMENT, "environment"},
+    };
+    return effects;
+}
+
+std::string describe_effects(uint32_t bits) {
+    std::string out;
+    for (const EffectInfo& e : list_effects())
+        if (bits & e.bit) out += (out.empty() ? "" : ",") + std::string(e.name);
+    return out.empty() ? "none" : out;
+}
+
+SceneEffects analyse_effects(const Scene& scene, bool environment) {
+    std::set<uint32_t> used;
+    for (uint32_t m : scene.triangle_material) used.insert(m);
+    bool colors_rgb = false, colors_alpha = false;
+    for (const glm::vec4& c : scene.colors) {
+        colors_rgb = colors_rgb || c.r != 1.0f || c.g != 1.0f || c.b != 1.0f;
+        colors_alpha = colors_alpha || c.a != 1.0f;
+    }
+    auto slot_valid = [&](uint32_t slot) { return slot != gpu::INVALID_INDEX && slot < scene.texture_slots.size(); };
+
+    std::set<uint32_t> base, metal_rough, normal, emissive, alpha;
+    for (uint32_t m : used) {
+        const gpu::Material& mat = scene.materials[m];
+        const bool black_emission = mat.emission.r == 0.0f && mat.emission.g == 0.0f && mat.emission.b == 0.0f;
+        if (slot_valid(mat.base_color_texture)) base.insert(m);
+        // Metallic and roughness textures multiply their factors; a factor of 0 keeps the product 0.
+        if (slot_valid(mat.metallic_roughness_texture) && (mat.metallic > 0.0f || mat.roughness > 0.0f))
+            metal_rough.insert(m);
+        if (slot_valid(mat.normal_texture) && mat.normal_texture < scene.texture_slots.size() &&
+            scene.texture_slots[mat.normal_texture].scale != 0.0f)
+            normal.insert(m);
+        if (slot_valid(mat.emissive_texture) && !black_emission) emissive.insert(m);
+        if (mat.alpha_mode != gpu::ALPHA_OPAQUE) {
+            const bool textured_alpha =
+                slot_valid(mat.base_color_texture) &&
+                !is_opaque_image(scene.images[scene.texture_slots[mat.base_color_texture].image]);
+            const bool variable = textured_alpha || colors_alpha;
+            const float a = mat.base_color.a;
+            const bool always_present = mat.alpha_mode == gpu::ALPHA_MASK ? a >= mat.alpha_cutoff && !variable
+                                                                          : a >= 1.0f && !variable;
+            if (!always_present) alpha.insert(m);
+        }
+    }
+
+    SceneEffects effects;
+    auto decide = [&](uint32_t bit, bool on, std::string why) {
+        if (on) effects.bits |= bit;
+        for (const EffectInfo& e : list_effects())
+            if (e.bit == bit) effects.decisions.push_back({bit, e.name, on, std::move(why)});
+    };
+    auto by_materials = [&](uint32_t bit, const std::set<uint32_t>& materials, const char* absent) {
+        decide(bit, !materials.empty(), materials.empty() ? absent : list_materials(materials));
+    };
+    by_materials(gpu::EFFECT_BASE_COLOR_TEXTURE, base, "no visible material has a baseColorTexture");
+    by_materials(gpu::EFFECT_METALLIC_ROUGHNESS_TEXTURE, metal_rough,
+                 "no visible material has a metallicRoughnessTexture with non-zero factors");
+    by_materials(gpu::EFFECT_NORMAL_TEXTURE, normal, "no visible material has a normalTexture of non-zero scale");
+    by_materials(gpu::EFFECT_EMISSIVE_TEXTURE, emissive,
+                 "no visible material has an emissiveTexture with a non-zero emissiveFactor");
+    decide(gpu::EFFECT_VERTEX_COLORS, colors_rgb || colors_alpha,
+           colors_rgb || colors_alpha ? "COLOR_0 is not white everywhere" : "no COLOR_0, or white everywhere");
+    by_materials(gpu::EFFECT_ALPHA, alpha, "every visible material is opaque (OPAQUE, or alpha 1 everywhere)");
+    decide(gpu::EFFECT_ENVIRONMENT, environment, environment ? "--env or --background" : "no --env or --background");
+    return effects;
+}
+
+}  // namespace fh

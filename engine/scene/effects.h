@@ -1,0 +1,37 @@
+// The effects a scene calls for, decided by value (a texture of a material no triangle uses, a BLEND material
+// whose alpha is 1 everywhere, white vertex colours: none of these switch an effect on). The stages are
+// compiled for exactly this set (layout.h EFFECT_*, specialization constant SPEC_EFFECTS).
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "scene/scene.h"
+
+namespace fh {
+
+struct EffectInfo {
+    uint32_t bit;
+    const char* name;  // as --stats and the EXR metadata print it
+};
+const std::vector<EffectInfo>& list_effects();
+
+struct EffectDecision {
+    uint32_t bit;
+    const char* name;
+    bool on;
+    std::string why;  // which materials ask for it, or why it is off
+};
+
+struct SceneEffects {
+    uint32_t bits = 0;
+    std::vector<EffectDecision> decisions;  // one per list_effects() entry
+};
+
+// `environment`: the render has --env or --background.
+SceneEffects analyse_effects(const Scene& scene, bool environment);
+
+// "base-color-texture,alpha,..." (or "none").
+std::string describe_effects(uint32_t bits);
+
+}  // namespace fh

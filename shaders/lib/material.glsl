@@ -1,0 +1,92 @@
+// The material at a surface point: glTF factors times textures and COLOR_0 (spec 3.9.2), alpha (3.9.4) and
+// the normal texture (3.9.3). Each part is compiled only when the scene's effect set asks for it.
+#ifndef FH_MATERIAL_GLSL
+#define FH_MATERIAL_GLSL
+#include "effects.glsl"
+#include "rng.glsl"
+#include "texture.glsl"
+
+// `m` with its factors multiplied by the textures and vertex colour at barycentrics (b1, b2) of `triangle`.
+Material resolve_material(Material m, uint triangle, float b1, float b2) {
+    if (!effect_on(EFFECT_ATTRIBUTES)) return m;
+    Texcoords tc = interpolate_texcoords(triangle, b1, b2);
+    if (effect_on(EFFECT_BASE_COLOR_TEXTURE) && m.base_color_texture != INVALID_INDEX)
+        m.base_color *= sample_texture(m.base_color_texture, tc);
+    if (effect_on(EFFECT_VERTEX_COLORS)) m.base_color *= interpolate_color(triangle, b1, b2);
+    if (effect_on(EFFECT_METALLIC_ROUGHNESS_TEXTURE) && m.metallic_roughness_texture != INVALID_INDEX) {
+        vec4 t = sample_texture(m.metallic_roughness_texture, tc);
+        m.roughness *= t.y;  // G channel
+        m.metallic *= t.z;   // B channel
+    }
+    if (effect_on(EFFECT_EMISSIVE_TEXTURE) && m.emissive_texture != INVALID_INDEX)
+        m.emission.xyz *= sample_texture(m.emissive_texture, tc).xyz;
+    return m;
+}
+
+// Alpha of `m` at the point (factor x base colour texture x COLOR_0).
+float eval_alpha(Material m, uint triangle, float b1, float b2) {
+    float alpha = m.base_color.w;
+    if (effect_on(EFFECT_BASE_COLOR_TEXTURE) && m.base_color_texture != INVALID_INDEX)
+        alpha *= sample_texture(m.base_color_texture, interpolate_texcoords(triangle, b1, b2)).w;
+    if (effect_on(EFFECT_VERTEX_COLORS)) alpha *= interpolate_color(triangle, b1, b2).w;
+    return alpha;
+}
+
+// Probability that a ray meets the surface at the point: 1 (OPAQUE), 0 or 1 (MASK: alpha >= cutoff), alpha
+// (BLEND: stochastic transparency, an unbiased estimate of alpha-weighted blending).
+float eval_coverage(uint triangle, float b1, float b2) {
+    Material m = load_material(load_triangle_shading(triangle).material);
+    if (m.alpha_mode == ALPHA_OPAQUE) return 1.0f;
+    float alpha = eval_alpha(m, triangle, b1, b2);
+    if (m.alpha_mode == ALPHA_MASK) return alpha >= m.alpha_cutoff ? 1.0f : 0.0f;
+    return clamp(alpha, 0.0f, 1.0f);
+}
+
+// Whether the ray with `ray_seed` meets `triangle` at (b1, b2). The decision is a hash of the ray and the
+// triangle, so it is the same however often traversal tests the pair, and independent between rays.
+bool is_surface_present(uint triangle, float b1, float b2, uint ray_seed) {
+    float coverage = eval_coverage(triangle, b1, b2);
+    if (coverage >= 1.0f) return true;
+    if (coverage <= 0.0f) return false;
+    uint h = pcg_hash(ray_seed ^ pcg_hash(load_triangle_positions(triangle).source_index));
+    return float(h >> 8u) * (1.0f / 16777216.0f) < coverage;
+}
+
+// The shading normal with the normal texture applied (spec 3.9.3), on the side of `ns` (the interpolated
+// normal, on the geometric normal's side). Tangents come from TANGENT or, without it, from the triangle's
+// texture-coordinate derivatives (README "Textures": per-triangle, not MikkTSpace's per-vertex average).
+vec3 apply_normal_texture(Material m, uint triangle, float b1, float b2, vec3 ns) {
+    if (!effect_on(EFFECT_NORMAL_TEXTURE) || m.normal_texture == INVALID_INDEX) return ns;
+    TextureSlot slot = texture_slots[m.normal_texture];
+    Texcoords tc = interpolate_texcoords(triangle, b1, b2);
+    vec4 tangent = interpolate_tangent(triangle, b1, b2);
+    vec3 t = tangent.xyz;
+    float sign = tangent.w;
+    if (sign == 0.0f) {
+        TriangleAttributes a = tri_attributes[triangle];
+        bool set1 = (slot.addressing & SAMPLER_TEXCOORD_1) != 0u;
+        vec2 uv0 = set1 ? a.uv0_c2_uv1_c0.zw : a.uv0_c01.xy;
+        vec2 uv1 = set1 ? a.uv1_c12.xy : a.uv0_c01.zw;
+        vec2 uv2 = set1 ? a.uv1_c12.zw : a.uv0_c2_uv1_c0.xy;
+        vec3 dp1 = load_triangle_vertex(triangle, 1u) - load_triangle_vertex(triangle, 0u);
+        vec3 dp2 = load_triangle_vertex(triangle, 2u) - load_triangle_vertex(triangle, 0u);
+        vec2 duv1 = uv1 - uv0;
+        vec2 duv2 = uv2 - uv0;
+        float det = duv1.x * duv2.y - duv1.y * duv2.x;
+        if (!(abs(det) > 1e-20f)) return ns;  // no texture-space frame: leave the normal alone
+        t = (dp1 * duv2.y - dp2 * duv1.y) / det;
+        vec3 b = (dp2 * duv1.x - dp1 * duv2.x) / det;
+        sign = dot(cross(ns, t), b) < 0.0f ? -1.0f : 1.0f;
+    }
+    t -= ns * dot(ns, t);
+    float t_len = length(t);
+    if (!(t_len > 0.0f) || isinf(t_len)) return ns;
+    t /= t_len;
+    vec3 b = cross(ns, t) * sign;
+    vec3 n_ts = sample_texture(m.normal_texture, tc).xyz * 2.0f - 1.0f;
+    n_ts.xy *= slot.scale;
+    vec3 n = t * n_ts.x + b * n_ts.y + ns * n_ts.z;
+    float n_len = length(n);
+    return n_len > 0.0f && !isinf(n_len) ? n / n_len : ns;
+}
+#endif
