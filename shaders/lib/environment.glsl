@@ -6,8 +6,11 @@
 #ifndef FH_ENVIRONMENT_GLSL
 #define FH_ENVIRONMENT_GLSL
 
+// Shared GLSL/C++ subset: the C++ unit test declares `params`, `env_radiance` and `env_cdf` itself.
+#ifndef __cplusplus
 layout(std430, binding = BINDING_ENV_RADIANCE) readonly buffer EnvRadianceBuffer { vec4 env_radiance[]; };
 layout(std430, binding = BINDING_ENV_CDF) readonly buffer EnvCdfBuffer { float env_cdf[]; };
+#endif
 
 const float ENV_PI = 3.14159265358979f;
 
@@ -23,7 +26,8 @@ vec2 env_texcoord(vec3 dir) {
     float phi = atan(-dir.z, -dir.x) - params.env_rotation;
     float u = phi * (0.5f / ENV_PI) + 0.5f;
     u -= floor(u);
-    float v = acos(clamp(dir.y, -1.0f, 1.0f)) * (1.0f / ENV_PI);
+    // atan2 rather than acos: acos loses theta near the poles (cos theta = 1 - theta^2 / 2 in float).
+    float v = atan(sqrt(dir.x * dir.x + dir.z * dir.z), dir.y) * (1.0f / ENV_PI);
     return vec2(u, v);
 }
 
@@ -33,13 +37,13 @@ uint env_texel_index(vec2 uv) {
     return y * params.env_width + x;
 }
 
-vec3 eval_environment(vec3 dir) { return env_radiance[env_texel_index(env_texcoord(dir))].xyz; }
+vec3 eval_environment(vec3 dir) { return vec3(env_radiance[env_texel_index(env_texcoord(dir))]); }
 
 // Solid-angle pdf of sample_environment choosing `dir`. The sampling weight of a texel is stored in its
 // alpha: luminance x sin(theta at the texel's centre), times width x height / total weight.
 float pdf_environment(vec3 dir) {
     vec2 uv = env_texcoord(dir);
-    float sin_theta = sin(ENV_PI * uv.y);
+    float sin_theta = sqrt(dir.x * dir.x + dir.z * dir.z);
     if (!(sin_theta > 0.0f)) return 0.0f;
     float pdf_uv = env_radiance[env_texel_index(uv)].w;
     return pdf_uv / (2.0f * ENV_PI * ENV_PI * sin_theta);
@@ -79,7 +83,7 @@ EnvironmentSample sample_environment(vec2 u) {
     EnvironmentSample s;
     s.dir = env_direction(uv);
     vec4 texel = env_radiance[row * w + column];
-    s.radiance = texel.xyz;
+    s.radiance = vec3(texel);
     float sin_theta = sin(ENV_PI * uv.y);
     s.pdf = sin_theta > 0.0f ? texel.w / (2.0f * ENV_PI * ENV_PI * sin_theta) : 0.0f;
     return s;
