@@ -62,7 +62,10 @@ bool load_image_data(tinygltf::Image* image, int image_index, std::string* error
         *error += "image " + std::to_string(image_index) + " is empty";
         return false;
     }
-    if (detect_image_format(bytes, size_t(size)) == ImageFormat::ktx2) return true;  // left empty: see header
+    if (detect_image_format(bytes, size_t(size)) == ImageFormat::ktx2) {  // left empty: see the header
+        image->width = image->height = image->component = 0;
+        return true;
+    }
     DecodedImage decoded;
     std::string problem;
     if (!decode_image(bytes, size_t(size), decoded, problem)) {
@@ -86,6 +89,11 @@ std::vector<SceneImage> take_images(tinygltf::Model& model) {
         tinygltf::Image& source = model.images[i];
         SceneImage& image = images[i];
         image.name = "image " + std::to_string(i) + (source.name.empty() ? "" : " '" + source.name + "'");
+        // tinygltf only warns when an image file cannot be read, and never calls the decoder: its fields keep
+        // their defaults (-1). A KTX2 image was seen and left empty on purpose (component 0).
+        if (source.component == -1)
+            throw SceneError(image.name + (source.uri.empty() || source.uri.rfind("data:", 0) == 0 ? "" : " ('" + source.uri + "')") +
+                             " could not be read (missing or unreadable file)");
         if (source.image.empty() || source.component != 4 || source.bits != 8) continue;
         image.width = uint32_t(source.width);
         image.height = uint32_t(source.height);

@@ -11,7 +11,9 @@ import json
 import pathlib
 import shutil
 import struct
+import subprocess
 import sys
+import tempfile
 
 SEED_GLOBS = ["scenes/*.gltf", "tests/render/scenes/*.gltf", "tests/robustness/bad/*.gltf",
               "tests/robustness/bad/*.glb", "tests/robustness/thirdparty/**/*.gltf",
@@ -59,11 +61,23 @@ def main():
     source, out = pathlib.Path(sys.argv[1]), pathlib.Path(sys.argv[2])
     out.mkdir(parents=True, exist_ok=True)
     count = 0
-    for pattern in SEED_GLOBS:
-        for path in sorted(source.glob(pattern)):
+    # The textured, alpha and emitter scenes of the render tests (embedded PNGs: seeds for the image decoders).
+    with tempfile.TemporaryDirectory() as generated:
+        subprocess.run([sys.executable, str(source / "tests/render/scenes/make_asset_scenes.py"), generated], check=True)
+        count += add_seeds(source, out, [str(p) for p in sorted(pathlib.Path(generated).glob("*.gltf"))], generated)
+    count += add_seeds(source, out, SEED_GLOBS, None)
+    print(f"{count} seeds in {out}")
+
+
+def add_seeds(source, out, patterns, generated):
+    """Copies each matching scene as a seed, with a minified copy and a .glb made from it."""
+    count = 0
+    for pattern in patterns:
+        paths = [pathlib.Path(pattern)] if generated else sorted(source.glob(pattern))
+        for path in paths:
             if not path.is_file() or path.suffix == ".md" or path.stat().st_size > MAX_SEED_BYTES:
                 continue
-            stem = str(path.relative_to(source)).replace("/", "_")
+            stem = ("generated_" + path.name) if generated else str(path.relative_to(source)).replace("/", "_")
             shutil.copyfile(path, out / stem)
             count += 1
             try:
@@ -81,7 +95,7 @@ def main():
             if glb is not None and len(glb) <= MAX_SEED_BYTES:
                 (out / (stem + ".glb")).write_bytes(glb)
                 count += 1
-    print(f"{count} seeds in {out}")
+    return count
 
 
 if __name__ == "__main__":

@@ -45,6 +45,51 @@ def triangle_scene(points=TRIANGLE, indices=(0, 1, 2), uri=None):
     return doc, data
 
 
+def png_1x1():
+    """A valid 1x1 RGBA PNG."""
+    import zlib
+
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xffffffff)
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", 1, 1, 8, 6, 0, 0, 0)) +
+            chunk(b"IDAT", zlib.compress(b"\x00\xff\x80\x40\xff")) + chunk(b"IEND", b""))
+
+
+def png_black(width, height):
+    """A black opaque RGBA PNG of any size (compresses to almost nothing)."""
+    import zlib
+
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xffffffff)
+    row = b"\x00" + b"\x00\x00\x00\xff" * width
+    raw = zlib.compress(row * height, 9)
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 6, 0, 0, 0)) +
+            chunk(b"IDAT", raw) + chunk(b"IEND", b""))
+
+
+def textured_scene(image_uri, texcoords=True):
+    """The triangle with a baseColorTexture from `image_uri` (and TEXCOORD_0 unless told otherwise)."""
+    doc, data = triangle_scene()
+    doc = copy.deepcopy(doc)
+    doc["materials"] = [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]
+    doc["meshes"][0]["primitives"][0]["material"] = 0
+    doc["textures"] = [{"source": 0}]
+    doc["images"] = [{"uri": image_uri}]
+    if texcoords:
+        uv = struct.pack("<6f", 0, 0, 1, 0, 0, 1)
+        data = data + uv
+        doc["buffers"][0] = {"byteLength": len(data),
+                             "uri": "data:application/octet-stream;base64," + base64.b64encode(data).decode()}
+        doc["bufferViews"].append({"buffer": 0, "byteOffset": len(data) - len(uv), "byteLength": len(uv)})
+        doc["accessors"].append({"bufferView": 2, "componentType": 5126, "count": 3, "type": "VEC2"})
+        doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = 2
+    return doc
+
+
+def data_uri(mime, payload):
+    return "data:" + mime + ";base64," + base64.b64encode(payload).decode()
+
+
 def write(name, doc):
     with open(os.path.join(HERE, name), "w") as f:
         if isinstance(doc, str):
@@ -140,6 +185,29 @@ def main():
     d = copy.deepcopy(doc)
     d["meshes"][0]["primitives"][0]["material"] = 4
     write("material_missing.gltf", d)
+
+    # Textures: missing, corrupt and unsupported images, broken references, attributes that are not there.
+    write("image_missing.gltf", textured_scene("missing_image.png"))
+    write("image_corrupt.gltf", textured_scene(data_uri("image/png", png_1x1()[:40])))
+    write("image_unsupported.gltf", textured_scene(data_uri("image/gif", b"GIF89a\x01\x00\x01\x00\x00\x00\x00;")))
+    d = textured_scene(data_uri("image/png", png_1x1()))
+    d["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["index"] = 5
+    write("texture_missing.gltf", d)
+    d = textured_scene(data_uri("image/png", png_1x1()))
+    d["textures"][0]["source"] = 3
+    write("texture_image_missing.gltf", d)
+    write("texcoord_missing.gltf", textured_scene(data_uri("image/png", png_1x1()), texcoords=False))
+    d = textured_scene(data_uri("image/png", png_1x1()))
+    d["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["texCoord"] = 1
+    write("texcoord1_missing.gltf", d)
+    d = textured_scene(data_uri("image/png", png_1x1()))
+    d["meshes"][0]["primitives"][0]["attributes"]["TANGENT"] = 0  # the VEC3 positions
+    write("tangent_wrong_type.gltf", d)
+
+    # 6144 x 6144 texels: 144 MiB as RGBA8, more than lavapipe's 128 MiB storage buffers.
+    with open(os.path.join(HERE, "texture_too_large.png"), "wb") as f:
+        f.write(png_black(6144, 6144))
+    write("texture_too_large.gltf", textured_scene("texture_too_large.png"))
 
     # GLB: a valid header promising more bytes than the file has.
     json_chunk = json.dumps(triangle_scene(uri="x")[0]).encode()
