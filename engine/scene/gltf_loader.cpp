@@ -226,6 +226,7 @@ public:
     Flattener(const tinygltf::Model& model, Scene& scene)
         : model_(model), scene_(scene), on_path_(model.nodes.size(), 0) {
         keep_attributes_ = !model.textures.empty();
+        for (const std::string& name : model.extensionsUsed) quantized_ = quantized_ || name == "KHR_mesh_quantization";
         for (const tinygltf::Mesh& mesh : model.meshes)
             for (const tinygltf::Primitive& prim : mesh.primitives)
                 keep_attributes_ = keep_attributes_ || prim.attributes.count("COLOR_0") != 0;
@@ -359,10 +360,10 @@ private:
         if (!prim.targets.empty()) warn_once("morph targets are not supported: meshes are drawn unmorphed");
         const auto position_it = prim.attributes.find("POSITION");
         if (position_it == prim.attributes.end()) throw SceneError("primitive has no POSITION (" + where + ")");
-        const std::vector<glm::vec3> positions = gltf::read_float3(model_, position_it->second, "POSITION of " + where);
+        const std::vector<glm::vec3> positions = read_vec3(position_it->second, "POSITION of " + where);
         std::vector<glm::vec3> normals;
         if (const auto it = prim.attributes.find("NORMAL"); it != prim.attributes.end()) {
-            normals = gltf::read_float3(model_, it->second, "NORMAL of " + where);
+            normals = read_vec3(it->second, "NORMAL of " + where);
             if (normals.size() != positions.size())
                 throw SceneError("NORMAL has " + std::to_string(normals.size()) + " elements but POSITION has " +
                                  std::to_string(positions.size()) + " (accessor " + std::to_string(it->second) +
@@ -428,6 +429,15 @@ private:
             triangle_material_.push_back(material);
             triangle_has_normals_.push_back(has_normals ? 1 : 0);
         }
+    }
+
+    // POSITION or NORMAL: float, or with KHR_mesh_quantization (normalized) byte and short components.
+    std::vector<glm::vec3> read_vec3(int accessor, const std::string& role) {
+        if (!quantized_) return gltf::read_float3(model_, accessor, role);
+        const std::vector<glm::vec4> v = gltf::read_vectors(model_, accessor, role, 3, 3, true);
+        std::vector<glm::vec3> out(v.size());
+        for (size_t i = 0; i < v.size(); ++i) out[i] = glm::vec3(v[i]);
+        return out;
     }
 
     // The attributes of one primitive's vertices that textures and vertex colours read (empty if absent).
@@ -545,6 +555,7 @@ private:
     std::vector<glm::dvec3> world_positions_;  // 3 per triangle, until finish() places them in render space
     std::vector<glm::vec3> normals_;
     bool keep_attributes_ = false;  // the file has textures or vertex colours
+    bool quantized_ = false;        // KHR_mesh_quantization is used
     std::vector<glm::vec2> texcoords0_, texcoords1_;  // 3 per triangle, like normals_
     std::vector<glm::vec4> colors_, tangents_;
     std::vector<uint32_t> triangle_material_;

@@ -18,6 +18,7 @@ constexpr const char* SUPPORTED_EXTENSIONS[] = {
     "KHR_texture_transform",  // gltf_texture.cpp
     "EXT_texture_webp",
     "KHR_texture_basisu",     // its fallback source is used; without one the texture is left out (warned)
+    "KHR_mesh_quantization",  // gltf_loader.cpp: byte/short positions, normals, texture coordinates, ...
 };
 
 // The object of extension `name` on `material`, or nullptr.

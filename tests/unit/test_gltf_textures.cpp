@@ -1,0 +1,177 @@
+// load_gltf's material inputs beyond factors: texture slots (samplers, texCoord, KHR_texture_transform),
+// alphaMode, vertex attributes for textures (TEXCOORD_n, COLOR_0, TANGENT with mirroring), KHR_mesh_quantization
+// (a quantized copy loads to exactly the same arrays), the KTX2 fallback, and the scene's effect set by value.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "gltf_builder.h"
+#include "scene/effects.h"
+#include "scene/scene.h"
+
+namespace {
+using fh::Scene;
+using fh::test::GltfBuilder;
+namespace gpu = fh::gpu;
+
+const fh::LoadOptions WORLD_SPACE = [] {
+    fh::LoadOptions o;
+    o.rebase = false;
+    return o;
+}();
+
+// A valid 2x1 RGBA PNG: texel 0 opaque red, texel 1 half-transparent white (from Python's zlib, fixed bytes).
+std::vector<unsigned char> png_2x1() {
+    return {0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a, 0x00, 0x00, 0x00, 0x0d, 0x49, 0x48, 0x44, 0x52, 0x00,
+            0x00, 0x00, 0x02, 0x00, 0x00, 0x00, 0x01, 0x08, 0x06, 0x00, 0x00, 0x00, 0xf4, 0x22, 0x7f, 0x8a, 0x00,
+            0x00, 0x00, 0x0f, 0x49, 0x44, 0x41, 0x54, 0x78, 0x9c, 0x63, 0xf8, 0xcf, 0xc0, 0xf0, 0x1f, 0x08, 0x1a,
+            0x00, 0x16, 0x73, 0x05, 0x7c, 0x26, 0x97, 0x01, 0xd2, 0x00, 0x00, 0x00, 0x00, 0x49, 0x45, 0x4e, 0x44,
+            0xae, 0x42, 0x60, 0x82};
+}
+
+// One triangle with TEXCOORD_0/1, COLOR_0 and TANGENT; material 0 uses `material`.
+GltfBuilder make_textured_triangle(const nlohmann::json& material) {
+    GltfBuilder b;
+    const std::vector<glm::vec3> p = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    const std::vector<float> uv0 = {0.0f, 0.0f, 1.0f, 0.0f, 0.0f, 1.0f}, uv1 = {0.5f, 0.5f, 0.25f, 0.5f, 0.5f, 0.25f};
+    const std::vector<float> colors = {1, 0, 0, 1, 0, 1, 0, 0.5f, 0, 0, 1, 0.25f};
+    const std::vector<float> tangents = {1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1};
+    nlohmann::json attributes = {
+        {"POSITION", b.add_vec3(p)},
+        {"TEXCOORD_0", b.add_accessor(b.add_view(uv0.data(), 24), 5126, 3, "VEC2")},
+        {"TEXCOORD_1", b.add_accessor(b.add_view(uv1.data(), 24), 5126, 3, "VEC2")},
+        {"COLOR_0", b.add_accessor(b.add_view(colors.data(), 48), 5126, 3, "VEC4")},
+        {"TANGENT", b.add_accessor(b.add_view(tangents.data(), 48), 5126, 3, "VEC4")}};
+    b.add_material(material);
+    b.add_mesh({{"attributes", attributes}, {"material", 0}});
+    b.doc["images"] = {{{"uri", "data:image/png;base64," + fh::test::encode_base64(png_2x1())}}};
+    b.doc["samplers"] = {{{"wrapS", 33648}, {"wrapT", 33071}, {"magFilter", 9728}}};
+    b.doc["textures"] = {{{"source", 0}, {"sampler", 0}}};
+    return b;
+}
+
+TEST(GltfTextures, ReadsSlotsSamplersTransformsAndTheImage) {
+    nlohmann::json transform = {{"offset", {0.5, 0.25}}, {"rotation", 0.5}, {"scale", {2, 3}}, {"texCoord", 1}};
+    nlohmann::json material;
+    material["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+    material["pbrMetallicRoughness"]["baseColorTexture"]["extensions"]["KHR_texture_transform"] = transform;
+    material["pbrMetallicRoughness"]["metallicRoughnessTexture"] = {{"index", 0}};
+    material["normalTexture"] = {{"index", 0}, {"scale", 0.5}};
+    material["alphaMode"] = "MASK";
+    material["alphaCutoff"] = 0.3;
+    GltfBuilder b = make_textured_triangle(material);
+    b.set_scene({b.add_node({{"mesh", 0}})});
+    const Scene s = fh::load_gltf(b.write_gltf(), WORLD_SPACE);
+    ASSERT_EQ(s.images.size(), 1u);
+    EXPECT_EQ(s.images[0].width, 2u);
+    ASSERT_EQ(s.images[0].texels.size(), 2u);
+    EXPECT_EQ(s.images[0].texels[0], 0xff0000ffu);  // opaque red, r in the low byte
+    const gpu::Material& m = s.materials[0];
+    EXPECT_EQ(m.alpha_mode, gpu::ALPHA_MASK);
+    EXPECT_FLOAT_EQ(m.alpha_cutoff, 0.3f);
+    ASSERT_LT(m.base_color_texture, s.texture_slots.size());
+    const gpu::TextureSlot& base = s.texture_slots[m.base_color_texture];
+    EXPECT_EQ(base.addressing, gpu::WRAP_MIRRORED_REPEAT | gpu::WRAP_CLAMP_TO_EDGE << 2 | gpu::SAMPLER_NEAREST |
+                                   gpu::SAMPLER_SRGB | gpu::SAMPLER_TEXCOORD_1);
+    // KHR_texture_transform: T(0.5, 0.25) R(0.5) S(2, 3): row u = (cos 2, sin 3, 0.5), row v = (-sin 2, cos 3, 0.25).
+    EXPECT_NEAR(base.transform_u.x, std::cos(0.5) * 2, 1e-6);
+    EXPECT_NEAR(base.transform_u.y, std::sin(0.5) * 3, 1e-6);
+    EXPECT_NEAR(base.transform_u.z, 0.5, 1e-6);
+    EXPECT_NEAR(base.transform_v.x, -std::sin(0.5) * 2, 1e-6);
+    EXPECT_NEAR(base.transform_v.y, std::cos(0.5) * 3, 1e-6);
+    EXPECT_NEAR(base.transform_v.z, 0.25, 1e-6);
+    const gpu::TextureSlot& mr = s.texture_slots[m.metallic_roughness_texture];
+    EXPECT_EQ(mr.addressing & (gpu::SAMPLER_SRGB | gpu::SAMPLER_TEXCOORD_1), 0u);  // linear data, TEXCOORD_0
+    EXPECT_FLOAT_EQ(s.texture_slots[m.normal_texture].scale, 0.5f);
+    EXPECT_EQ(m.emissive_texture, gpu::INVALID_INDEX);
+
+    ASSERT_EQ(s.texcoords1.size(), 3u);
+    EXPECT_EQ(s.texcoords1[1], glm::vec2(0.25f, 0.5f));
+    EXPECT_EQ(s.colors[1], glm::vec4(0, 1, 0, 0.5f));
+    EXPECT_EQ(s.tangents[2], glm::vec4(1, 0, 0, 1));
+
+    const fh::SceneEffects effects = fh::analyse_effects(s, false);
+    EXPECT_EQ(effects.bits, gpu::EFFECT_BASE_COLOR_TEXTURE | gpu::EFFECT_METALLIC_ROUGHNESS_TEXTURE |
+                                gpu::EFFECT_NORMAL_TEXTURE | gpu::EFFECT_VERTEX_COLORS | gpu::EFFECT_ALPHA);
+}
+
+// Effects are decided by value: a normal texture of scale 0, an opaque BLEND, white vertex colours and an
+// emissive texture under a black emissiveFactor switch nothing on.
+TEST(GltfTextures, EffectsAreDecidedByValue) {
+    GltfBuilder b = make_textured_triangle({{"normalTexture", {{"index", 0}, {"scale", 0.0}}},
+                                            {"emissiveTexture", {{"index", 0}}},
+                                            {"alphaMode", "BLEND"}});
+    b.set_scene({b.add_node({{"mesh", 0}})});
+    Scene s = fh::load_gltf(b.write_gltf(), WORLD_SPACE);
+    for (glm::vec4& c : s.colors) c = glm::vec4(1.0f);
+    EXPECT_EQ(fh::analyse_effects(s, false).bits, 0u) << fh::describe_effects(fh::analyse_effects(s, false).bits);
+    s.materials[0].base_color.a = 0.5f;  // now BLEND matters
+    EXPECT_EQ(fh::analyse_effects(s, true).bits, gpu::EFFECT_ALPHA | gpu::EFFECT_ENVIRONMENT);
+}
+
+TEST(GltfTextures, MirroringFlipsTheBitangentSign) {
+    GltfBuilder b = make_textured_triangle({{"normalTexture", {{"index", 0}}}});
+    b.set_scene({b.add_node({{"mesh", 0}, {"scale", {-1, 1, 1}}})});
+    const Scene s = fh::load_gltf(b.write_gltf(), WORLD_SPACE);
+    ASSERT_EQ(s.tangents.size(), 3u);
+    EXPECT_EQ(s.tangents[0], glm::vec4(-1, 0, 0, -1));
+}
+
+TEST(GltfTextures, QuantizedMeshLoadsToTheSameArrays) {
+    // Plain: float positions k / 256 and texture coordinates k / 65535. Quantized: SHORT positions k under a
+    // node scale of 1/256 (exact), normalized UNSIGNED_SHORT texture coordinates, normalized BYTE normals.
+    const std::vector<int16_t> qp = {0, 0, 0, 0, 512, 0, 0, 0, 0, 300, -7, 0};  // 4-byte aligned: stride 8
+    const std::vector<uint16_t> quv = {0, 0, 65535, 1000, 12345, 65535};
+    const std::vector<int8_t> qn = {0, 0, 127, 0, 0, 0, 127, 0, 0, 0, 127, 0};
+    std::vector<glm::vec3> p;
+    for (int i = 0; i < 3; ++i) p.push_back(glm::vec3(qp[4 * i], qp[4 * i + 1], qp[4 * i + 2]) / 256.0f);
+    std::vector<float> uv;
+    for (uint16_t q : quv) uv.push_back(float(q) / 65535.0f);
+    const nlohmann::json material = {{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}};
+
+    GltfBuilder plain = make_textured_triangle(material);
+    plain.doc["meshes"] = nlohmann::json::array();
+    plain.add_mesh({{"attributes", {{"POSITION", plain.add_vec3(p)},
+                                    {"NORMAL", plain.add_vec3({{0, 0, 1}, {0, 0, 1}, {0, 0, 1}})},
+                                    {"TEXCOORD_0", plain.add_accessor(plain.add_view(uv.data(), 24), 5126, 3, "VEC2")}}},
+                    {"material", 0}});
+    plain.set_scene({plain.add_node({{"mesh", 0}})});
+
+    GltfBuilder quantized = make_textured_triangle(material);
+    quantized.doc["meshes"] = nlohmann::json::array();
+    quantized.doc["extensionsUsed"] = {"KHR_mesh_quantization"};
+    quantized.doc["extensionsRequired"] = {"KHR_mesh_quantization"};
+    const int pos = quantized.add_accessor(quantized.add_view(qp.data(), 24, 8), 5122, 3, "VEC3");
+    const int nrm = quantized.add_accessor(quantized.add_view(qn.data(), 12, 4), 5120, 3, "VEC3");
+    const int tex = quantized.add_accessor(quantized.add_view(quv.data(), 12), 5123, 3, "VEC2");
+    quantized.doc["accessors"][size_t(nrm)]["normalized"] = true;
+    quantized.doc["accessors"][size_t(tex)]["normalized"] = true;
+    quantized.add_mesh({{"attributes", {{"POSITION", pos}, {"NORMAL", nrm}, {"TEXCOORD_0", tex}}}, {"material", 0}});
+    quantized.set_scene({quantized.add_node({{"mesh", 0}, {"scale", {1.0 / 256, 1.0 / 256, 1.0 / 256}}})});
+
+    const Scene a = fh::load_gltf(plain.write_gltf(), WORLD_SPACE);
+    const Scene q = fh::load_gltf(quantized.write_glb(), WORLD_SPACE);
+    EXPECT_EQ(a.positions, q.positions);
+    EXPECT_EQ(a.normals, q.normals);
+    EXPECT_EQ(a.texcoords0, q.texcoords0);
+}
+
+TEST(GltfTextures, Ktx2WithoutFallbackIsWarnedAndLeftOut) {
+    GltfBuilder b = make_textured_triangle({{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}});
+    const std::vector<unsigned char> ktx2 = {0xab, 'K', 'T', 'X', ' ', '2', '0', 0xbb, '\r', '\n', 0x1a, '\n', 0, 0, 0, 0};
+    b.doc["images"].push_back({{"bufferView", b.add_view(ktx2.data(), ktx2.size())}, {"mimeType", "image/ktx2"}});
+    b.doc["textures"] = {{{"extensions", {{"KHR_texture_basisu", {{"source", 1}}}}}}};
+    b.doc["extensionsUsed"] = {"KHR_texture_basisu"};
+    b.set_scene({b.add_node({{"mesh", 0}})});
+    const Scene s = fh::load_gltf(b.write_gltf(), WORLD_SPACE);
+    EXPECT_EQ(s.materials[0].base_color_texture, gpu::INVALID_INDEX);
+    bool warned = false;
+    for (const std::string& w : s.warnings) warned = warned || w.find("KHR_texture_basisu") != std::string::npos;
+    EXPECT_TRUE(warned);
+    // With a PNG fallback in `source`, the fallback is used.
+    b.doc["textures"][0]["source"] = 0;
+    const Scene f = fh::load_gltf(b.write_gltf(), WORLD_SPACE);
+    EXPECT_NE(f.materials[0].base_color_texture, gpu::INVALID_INDEX);
+}
+
+}  // namespace
