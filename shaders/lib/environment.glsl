@@ -1,8 +1,9 @@
 // The environment light (EFFECT_ENVIRONMENT): an equirectangular radiance map around the scene, importance
 // sampled in proportion to luminance x sin(theta) (piecewise constant per texel; pbrt-v4's
 // PiecewiseConstant2D), evaluated with the same piecewise-constant radiance so that sampling matches it.
-// Mapping (Blender's, for a glTF scene its importer turns Z-up): theta from +Y, the top row at +Y; the centre
-// column (u = 0.5) is the direction -X and u = 0.75 is -Z. --env-rotation turns the map about +Y.
+// Mapping (Blender's world Environment Texture, for a glTF scene its importer turns Z-up; probed with Cycles):
+// theta from +Y, the top row at +Y; the centre column (u = 0.5) is the direction +X, u = 0.25 is -Z and u = 0.75
+// is +Z. --env-rotation turns the map about +Y.
 #ifndef FH_ENVIRONMENT_GLSL
 #define FH_ENVIRONMENT_GLSL
 
@@ -19,11 +20,11 @@ vec3 env_direction(vec2 uv) {
     float phi = 2.0f * ENV_PI * (uv.x - 0.5f) + params.env_rotation;
     float theta = ENV_PI * uv.y;
     float s = sin(theta);
-    return vec3(-s * cos(phi), cos(theta), -s * sin(phi));
+    return vec3(s * cos(phi), cos(theta), s * sin(phi));
 }
 
 vec2 env_texcoord(vec3 dir) {
-    float phi = atan(-dir.z, -dir.x) - params.env_rotation;
+    float phi = atan(dir.z, dir.x) - params.env_rotation;
     float u = phi * (0.5f / ENV_PI) + 0.5f;
     u -= floor(u);
     // atan2 rather than acos: acos loses theta near the poles (cos theta = 1 - theta^2 / 2 in float).

@@ -56,12 +56,12 @@ TEST(Environment, DirectionsAndTexcoordsInvertEachOther) {
         EXPECT_NEAR(back.x, uv.x, 1e-4f);
         EXPECT_NEAR(back.y, uv.y, 1e-4f);
     }
-    // The documented mapping (Blender's): without rotation the centre column looks down -X, u = 0.75 down -Z,
-    // the top row up +Y.
+    // The documented mapping (Blender's, probed with Cycles): without rotation the centre column looks down +X,
+    // u = 0.25 down -Z, u = 0.75 down +Z, the top row up +Y.
     params.env_rotation = 0.0f;
-    const vec3 centre = env_direction(vec2(0.5f, 0.5f)), quarter = env_direction(vec2(0.75f, 0.5f));
-    EXPECT_NEAR(centre.x, -1.0f, 1e-6f);
-    EXPECT_NEAR(quarter.z, -1.0f, 1e-6f);
+    EXPECT_NEAR(env_direction(vec2(0.5f, 0.5f)).x, 1.0f, 1e-6f);
+    EXPECT_NEAR(env_direction(vec2(0.25f, 0.5f)).z, -1.0f, 1e-6f);
+    EXPECT_NEAR(env_direction(vec2(0.75f, 0.5f)).z, 1.0f, 1e-6f);
     EXPECT_NEAR(env_direction(vec2(0.3f, 0.0f)).y, 1.0f, 1e-6f);
 }
 

@@ -1,0 +1,226 @@
+#!/usr/bin/env python3
+"""Renders real glTF assets with Fredholm and with Blender Cycles in the same scene, and compares them.
+
+Run with the Python of the Cycles environment (tests/bench/README.md, "Setting up"; it also needs PyPI OpenEXR):
+
+  /opt/refbench/cycles-venv/bin/python tests/bench/compare_assets.py --fredholm build/fredholm \\
+      --models DamagedHelmet,VertexColorTest --env scenes/environments/courtyard.exr --out /tmp/assets
+
+The same scene for both renderers:
+- the model as Blender's own glTF importer reads it (io_scene_gltf2, shipped with bpy), and as Fredholm reads it;
+- one camera, computed here from the model's bounds: perspective, 40 degrees vertical field of view, looking down
+  glTF -Z (Blender +Y) at the bounds' centre from far enough to see the bounding sphere; passed to Fredholm as
+  --look-from/--look-at/--yfov, built in Blender from the same numbers (glTF (x, y, z) = Blender (x, -z, y));
+- light only from the environment map, Fredholm --env, Blender's world Environment Texture (equirectangular,
+  strength 1); Fredholm's mapping is Blender's (shaders/lib/environment.glsl), so no rotation is needed;
+- a box pixel filter one pixel wide, no denoising, clamping or adaptive sampling, Standard view transform, 64
+  bounces in Cycles and unlimited depth (Russian roulette) in Fredholm; linear Rec.709 EXR from both.
+
+Prints, per model, the image means (luminance) of both, their relative difference and the 16 x 16 block
+statistics that `fh_compare --reference` reports, and writes a contact sheet (Fredholm | Cycles | difference x4,
+tone-mapped with the sRGB curve) to OUT/contact_sheet.png.
+"""
+import argparse
+import json
+import math
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import OpenEXR
+import bpy
+import numpy as np
+
+MODELS_DIR = Path(__file__).resolve().parents[2].parent / "shared" / "scenes-thirdparty"
+
+
+def find_model(name):
+    manifest = json.loads((MODELS_DIR / "manifest.json").read_text())
+    for m in manifest["models"]:
+        if m["name"] == name:
+            return MODELS_DIR / m["file"]
+    raise SystemExit(f"compare_assets: no model {name} in {MODELS_DIR / 'manifest.json'}")
+
+
+def import_model(path):
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    bpy.ops.import_scene.gltf(filepath=str(path))
+    lo = np.full(3, np.inf)
+    hi = np.full(3, -np.inf)
+    for obj in bpy.context.scene.objects:
+        if obj.type != "MESH":
+            continue
+        world = np.array(obj.matrix_world)
+        for v in obj.data.vertices:
+            p = world @ np.array([*v.co, 1.0])
+            lo = np.minimum(lo, p[:3])
+            hi = np.maximum(hi, p[:3])
+    # Blender (x, y, z) -> glTF (x, z, -y)
+    to_gltf = lambda b: np.array([b[0], b[2], -b[1]])
+    corners = [to_gltf(np.array([x, y, z])) for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])]
+    return np.min(corners, axis=0), np.max(corners, axis=0)
+
+
+def make_camera(lo, hi, yfov_deg):
+    centre = 0.5 * (lo + hi)
+    radius = 0.5 * float(np.linalg.norm(hi - lo))
+    distance = radius / math.sin(math.radians(yfov_deg) / 2.0) * 1.05
+    eye = centre + np.array([0.0, 0.0, distance])
+    return eye, centre
+
+
+def setup_blender(eye, yfov_deg, env, size, spp, seed):
+    scene = bpy.context.scene
+    cam_data = bpy.data.cameras.new("compare")
+    cam_data.sensor_fit = "VERTICAL"
+    cam_data.angle_y = math.radians(yfov_deg)
+    cam_data.clip_start = 1e-3
+    cam_data.clip_end = 1e6
+    cam = bpy.data.objects.new("compare", cam_data)
+    scene.collection.objects.link(cam)
+    cam.location = (eye[0], -eye[2], eye[1])
+    cam.rotation_euler = (math.pi / 2, 0.0, 0.0)  # looks down Blender +Y = glTF -Z, up Blender +Z = glTF +Y
+    scene.camera = cam
+    for obj in list(scene.objects):  # the model's own lights and cameras would differ from Fredholm's scene
+        if obj.type == "LIGHT":
+            bpy.data.objects.remove(obj)
+
+    world = bpy.data.worlds.new("env")
+    scene.world = world
+    world.use_nodes = True
+    nodes = world.node_tree.nodes
+    nodes.clear()
+    tex = nodes.new("ShaderNodeTexEnvironment")
+    tex.image = bpy.data.images.load(str(env))
+    tex.interpolation = "Closest"  # Fredholm's map is piecewise constant per texel
+    background = nodes.new("ShaderNodeBackground")
+    output = nodes.new("ShaderNodeOutputWorld")
+    world.node_tree.links.new(tex.outputs["Color"], background.inputs["Color"])
+    world.node_tree.links.new(background.outputs["Background"], output.inputs["Surface"])
+
+    scene.render.engine = "CYCLES"
+    c = scene.cycles
+    c.device = "CPU"
+    c.samples = spp
+    c.use_adaptive_sampling = False
+    c.use_denoising = False
+    c.seed = seed
+    c.pixel_filter_type = "BOX"
+    c.filter_width = 1.0
+    c.max_bounces = c.diffuse_bounces = c.glossy_bounces = c.transmission_bounces = 64
+    c.transparent_max_bounces = 64
+    c.sample_clamp_direct = c.sample_clamp_indirect = 0.0
+    c.blur_glossy = 0.0
+    c.caustics_reflective = c.caustics_refractive = True
+    scene.render.resolution_x = scene.render.resolution_y = size
+    scene.render.resolution_percentage = 100
+    scene.render.film_transparent = False
+    scene.view_settings.view_transform = "Standard"
+    scene.view_settings.look = "None"
+    scene.view_settings.exposure = 0.0
+    scene.view_settings.gamma = 1.0
+    scene.render.image_settings.file_format = "OPEN_EXR"
+    scene.render.image_settings.color_depth = "32"
+
+
+def read_exr(path):
+    """R, G, B of an EXR as float64 rows top to bottom (PyPI OpenEXR: Blender cannot read Fredholm's extra
+    film channels)."""
+    with OpenEXR.File(str(path)) as f:
+        channels = f.channels()
+        rgb = channels["RGB"].pixels if "RGB" in channels else channels["RGBA"].pixels[..., :3]
+        return np.array(rgb, dtype=np.float64)
+
+
+def srgb(x):
+    x = np.clip(x, 0.0, 1.0)
+    return np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
+
+
+def luminance(img):
+    return 0.2126 * img[..., 0] + 0.7152 * img[..., 1] + 0.0722 * img[..., 2]
+
+
+def save_png(rows, path):
+    """rows: list of lists of HxWx3 linear images; written as one sRGB PNG."""
+    tiles = [np.concatenate(r, axis=1) for r in rows]
+    sheet = np.concatenate(tiles, axis=0)
+    h, w, _ = sheet.shape
+    img = bpy.data.images.new("sheet", w, h, alpha=False)
+    rgba = np.ones((h, w, 4))
+    rgba[..., :3] = srgb(sheet)
+    img.pixels = rgba[::-1].ravel().tolist()
+    img.filepath_raw = str(path)
+    img.file_format = "PNG"
+    img.save()
+
+
+def block_stats(test, ref, block=16):
+    h, w, _ = test.shape
+    rels = []
+    for y in range(0, h, block):
+        for x in range(0, w, block):
+            t = luminance(test[y:y + block, x:x + block]).mean()
+            r = luminance(ref[y:y + block, x:x + block]).mean()
+            rels.append(abs(t - r) / max(r, 1e-2 * luminance(ref).mean()))
+    rels = np.array(rels)
+    return float(np.median(rels)), float(np.percentile(rels, 90)), float(rels.max())
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--fredholm", default="build/fredholm")
+    ap.add_argument("--models", required=True, help="comma-separated names from the manifest")
+    ap.add_argument("--env", default="scenes/environments/courtyard.exr")
+    ap.add_argument("--size", type=int, default=256)
+    ap.add_argument("--spp", type=int, default=256)
+    ap.add_argument("--cycles-spp", type=int, default=0, help="Cycles samples (default: --spp)")
+    ap.add_argument("--yfov", type=float, default=40.0)
+    ap.add_argument("--out", default="/tmp/compare_assets")
+    ap.add_argument("--seed", type=int, default=1)
+    args = ap.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else sys.argv[1:])
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    env = Path(args.env).resolve()
+    rows, results = [], []
+    for name in args.models.split(","):
+        model = find_model(name)
+        lo, hi = import_model(model)
+        eye, target = make_camera(lo, hi, args.yfov)
+        f_exr, c_exr = out / f"{name}_fredholm.exr", out / f"{name}_cycles.exr"
+        cmd = [args.fredholm, "render", str(model), "-o", str(f_exr), "--width", str(args.size), "--height",
+               str(args.size), "--spp", str(args.spp), "--env", str(env), "--seed", str(args.seed),
+               "--look-from", ",".join(f"{v:.9g}" for v in eye), "--look-at", ",".join(f"{v:.9g}" for v in target),
+               "--up", "0,1,0", "--yfov", str(args.yfov), "--stats", str(out / f"{name}_fredholm.json"), "--quiet"]
+        done = subprocess.run(cmd, capture_output=True, text=True)
+        warnings = [l for l in done.stderr.splitlines() if "warning" in l and "negative values" not in l]
+        if done.returncode != 0:
+            print(f"{name}: fredholm failed: {done.stderr.strip()}")
+            continue
+        setup_blender(eye, args.yfov, env, args.size, args.cycles_spp or args.spp, args.seed)
+        bpy.context.scene.render.filepath = str(c_exr)
+        bpy.ops.render.render(write_still=True)
+        f_img, c_img = read_exr(f_exr), read_exr(c_exr)
+        f_mean, c_mean = luminance(f_img).mean(), luminance(c_img).mean()
+        rel = (f_mean - c_mean) / c_mean
+        median, p90, worst = block_stats(f_img, c_img)
+        stats = json.loads((out / f"{name}_fredholm.json").read_text())
+        line = {"model": name, "fredholm_mean": f_mean, "cycles_mean": c_mean, "mean_rel": rel,
+                "block_rel_median": median, "block_rel_p90": p90, "block_rel_max": worst,
+                "effects": stats.get("effects"), "fredholm_seconds": stats.get("render_seconds"),
+                "warnings": warnings}
+        results.append(line)
+        print(f"{name}: luminance mean fredholm {f_mean:.5f} cycles {c_mean:.5f} ({100 * rel:+.2f}%); 16x16 blocks "
+              f"rel median {100 * median:.1f}% p90 {100 * p90:.1f}% max {100 * worst:.1f}%; effects {line['effects']}"
+              + (f"; {len(warnings)} warning(s): " + " | ".join(warnings) if warnings else ""), flush=True)
+        diff = np.abs(f_img - c_img) * 4.0
+        rows.append([f_img, c_img, diff])
+    if rows:
+        save_png(rows, out / "contact_sheet.png")
+        (out / "results.json").write_text(json.dumps(results, indent=1) + "\n")
+        print(f"wrote {out / 'contact_sheet.png'} and {out / 'results.json'}")
+
+
+if __name__ == "__main__":
+    main()
