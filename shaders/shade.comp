@@ -86,6 +86,8 @@ void main() {
             // BSDF would then return black (black facets at silhouettes). Shade such points with the
             // geometric normal (README "Numerical stability", case 8).
             if (dot(ns, wo) <= 0.0f) ns = ng;
+            if (effect_on(EFFECT_NORMAL_TEXTURE) && m.normal_texture != INVALID_INDEX)
+                ns = keep_reflection_above_surface(ns, ng, wo);
             Frame frame = make_frame(ns);
             vec3 wo_local = to_local(frame, wo);
             BsdfParams bsdf = make_bsdf_params(m);

@@ -59,6 +59,7 @@ ImageMetadata make_metadata(const RenderCommand& c, uint32_t spp_done, uint32_t 
             {"fredholm:bvh_leaf_size", std::to_string(s.bvh_max_leaf_size)},
             {"fredholm:effects", describe_effects(effects)},
             {"fredholm:environment", describe_environment(s)},
+            {"fredholm:variant", s.variant.empty() ? "default" : s.variant},
             {"fredholm:colorspace", "scene-linear Rec.709"}};
 }
 
@@ -93,6 +94,8 @@ void write_stats(const std::filesystem::path& file, const RenderCommand& c, cons
     j["punctual_lights"] = prepared.packed.punctual_lights.size();
     j["effects"] = describe_effects(prepared.packed.effects.bits);
     j["environment"] = describe_environment(s);
+    j["variant"] = s.variant.empty() ? "default" : s.variant;
+    j["variants"] = prepared.scene.variants;
     j["textures"] = prepared.packed.texture_images.size();
     j["texels"] = prepared.packed.texels.size();
     j["texture_bytes"] = prepared.packed.texels.size() * 4;

@@ -47,6 +47,7 @@ void add_robustness_options(CLI::App& app, RenderSettings& s) {
 }
 
 void add_environment_options(CLI::App& app, RenderSettings& s) {
+    app.add_option("--variant", s.variant, "KHR_materials_variants: render the materials of this variant");
     auto* env = app.add_option("--env", s.environment_file,
                                "environment light: equirectangular OpenEXR or Radiance .hdr map around the scene")
                     ->check(CLI::ExistingFile);

@@ -15,7 +15,7 @@ void add_sampling_options(CLI::App& app, RenderSettings& settings);
 // --disable-technique NAME[,NAME...] (robustness techniques, to measure their cost) and --bvh-leaf-size.
 void add_robustness_options(CLI::App& app, RenderSettings& settings);
 
-// --env FILE, --env-intensity, --env-rotation, --background R,G,B.
+// --env FILE, --env-intensity, --env-rotation, --background R,G,B; and --variant NAME (what the scene shows).
 void add_environment_options(CLI::App& app, RenderSettings& settings);
 
 }  // namespace fh

@@ -27,6 +27,7 @@ PreparedScene prepare_scene(const std::filesystem::path& file, const RenderSetti
     auto start = std::chrono::steady_clock::now();
     LoadOptions load;
     load.rebase = (settings.disabled_techniques & gpu::TECHNIQUE_REBASE) == 0;
+    load.variant = settings.variant;
     prepared.scene = load_gltf(file, load);
     prepared.load_seconds = seconds_since(start);
     for (const std::string& warning : prepared.scene.warnings)

@@ -223,8 +223,8 @@ bool is_finite(const glm::dmat4& m) {
 // Flattens the nodes of one scene into `scene`.
 class Flattener {
 public:
-    Flattener(const tinygltf::Model& model, Scene& scene)
-        : model_(model), scene_(scene), on_path_(model.nodes.size(), 0) {
+    Flattener(const tinygltf::Model& model, Scene& scene, int variant)
+        : model_(model), scene_(scene), on_path_(model.nodes.size(), 0), variant_(variant) {
         keep_attributes_ = !model.textures.empty();
         for (const std::string& name : model.extensionsUsed) quantized_ = quantized_ || name == "KHR_mesh_quantization";
         for (const tinygltf::Mesh& mesh : model.meshes)
@@ -384,7 +384,7 @@ private:
             for (size_t i = 0; i < indices.size(); ++i) indices[i] = uint32_t(i);
         }
         if (mode == TINYGLTF_MODE_TRIANGLES) leftover_indices_ += indices.size() % 3;
-        const uint32_t material = material_index(prim.material, where);
+        const uint32_t material = material_index(variant_material(prim), where);
         const uint32_t sets = gltf::texcoord_sets_read(scene_.materials[material], scene_.texture_slots);
         for (uint32_t set = 0; set < 2; ++set)
             if ((sets & (1u << set)) && (set == 0 ? attributes.texcoords0 : attributes.texcoords1).empty())
@@ -429,6 +429,23 @@ private:
             triangle_material_.push_back(material);
             triangle_has_normals_.push_back(has_normals ? 1 : 0);
         }
+    }
+
+    // The material of `prim` in the chosen KHR_materials_variants variant: its mapping's, else its own.
+    int variant_material(const tinygltf::Primitive& prim) const {
+        if (variant_ < 0) return prim.material;
+        const auto it = prim.extensions.find("KHR_materials_variants");
+        if (it == prim.extensions.end() || !it->second.IsObject() || !it->second.Has("mappings")) return prim.material;
+        const tinygltf::Value& mappings = it->second.Get("mappings");
+        for (size_t m = 0; mappings.IsArray() && m < mappings.ArrayLen(); ++m) {
+            const tinygltf::Value& mapping = mappings.Get(int(m));
+            const tinygltf::Value& variants = mapping.Get("variants");
+            for (size_t v = 0; variants.IsArray() && v < variants.ArrayLen(); ++v)
+                if (variants.Get(int(v)).IsNumber() && variants.Get(int(v)).GetNumberAsInt() == variant_ &&
+                    mapping.Get("material").IsNumber())
+                    return mapping.Get("material").GetNumberAsInt();
+        }
+        return prim.material;
     }
 
     // POSITION or NORMAL: float, or with KHR_mesh_quantization (normalized) byte and short components.
@@ -556,6 +573,7 @@ private:
     std::vector<glm::vec3> normals_;
     bool keep_attributes_ = false;  // the file has textures or vertex colours
     bool quantized_ = false;        // KHR_mesh_quantization is used
+    int variant_ = -1;              // KHR_materials_variants index chosen (-1: the default materials)
     std::vector<glm::vec2> texcoords0_, texcoords1_;  // 3 per triangle, like normals_
     std::vector<glm::vec4> colors_, tangents_;
     std::vector<uint32_t> triangle_material_;
@@ -641,6 +659,25 @@ void check_node_instances(const tinygltf::Model& model, const std::vector<int>& 
     }
 }
 
+// KHR_materials_variants: the names the file defines, and the index of `wanted` among them (-1 for "").
+int choose_variant(const tinygltf::Model& model, const std::string& wanted, std::vector<std::string>& names) {
+    const auto it = model.extensions.find("KHR_materials_variants");
+    if (it != model.extensions.end() && it->second.IsObject() && it->second.Has("variants")) {
+        const tinygltf::Value& variants = it->second.Get("variants");
+        for (size_t v = 0; variants.IsArray() && v < variants.ArrayLen(); ++v) {
+            const tinygltf::Value& name = variants.Get(int(v)).Get("name");
+            names.push_back(name.IsString() ? name.Get<std::string>() : "variant " + std::to_string(v));
+        }
+    }
+    if (wanted.empty()) return -1;
+    for (size_t v = 0; v < names.size(); ++v)
+        if (names[v] == wanted) return int(v);
+    std::string known;
+    for (const std::string& n : names) known += (known.empty() ? "" : ", ") + ("'" + n + "'");
+    throw SceneError("no material variant '" + wanted + "' (KHR_materials_variants; the file has " +
+                     (known.empty() ? std::string("none") : known) + ")");
+}
+
 Scene load_unprefixed(const std::filesystem::path& file, const LoadOptions& options) {
     Scene scene;
     scene.source = file;
@@ -651,7 +688,7 @@ Scene load_unprefixed(const std::filesystem::path& file, const LoadOptions& opti
         scene.materials.push_back(gltf::convert_material(model, int(m), scene));
 
     warn_about_shared_nodes(model, scene.warnings);
-    Flattener flattener(model, scene);
+    Flattener flattener(model, scene, choose_variant(model, options.variant, scene.variants));
     const std::vector<int> roots = find_root_nodes(model, scene.warnings);
     check_node_instances(model, roots);
     for (int root : roots) flattener.visit_node(root, glm::dmat4(1.0), 0);

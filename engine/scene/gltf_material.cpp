@@ -19,6 +19,7 @@ constexpr const char* SUPPORTED_EXTENSIONS[] = {
     "EXT_texture_webp",
     "KHR_texture_basisu",     // its fallback source is used; without one the texture is left out (warned)
     "KHR_mesh_quantization",  // gltf_loader.cpp: byte/short positions, normals, texture coordinates, ...
+    "KHR_materials_variants", // gltf_loader.cpp: --variant NAME
 };
 
 // The object of extension `name` on `material`, or nullptr.

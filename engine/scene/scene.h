@@ -50,6 +50,8 @@ struct LoadOptions {
     // origin subtracted before rounding to float, so a scene far from the world origin keeps the precision
     // it has near it (off: render space = world space, only to show what that costs).
     bool rebase = true;
+    // KHR_materials_variants: the variant whose materials primitives use (empty: the file's default materials).
+    std::string variant;
 };
 
 struct Scene {
@@ -69,6 +71,7 @@ struct Scene {
     std::vector<SceneCamera> cameras;          // in scene-traversal order, world space
     std::vector<SceneLight> lights;            // punctual lights, world space
     glm::dvec3 bounds_min{0.0}, bounds_max{0.0};  // world space, of the triangles
+    std::vector<std::string> variants;         // KHR_materials_variants names, in file order
     std::vector<std::string> warnings;         // printed by the app
 
     size_t triangle_count() const { return positions.size() / 3; }

@@ -74,9 +74,11 @@ vec3 apply_normal_texture(Material m, uint triangle, float b1, float b2, vec3 ns
         vec2 duv2 = uv2 - uv0;
         float det = duv1.x * duv2.y - duv1.y * duv2.x;
         if (!(abs(det) > 1e-20f)) return ns;  // no texture-space frame: leave the normal alone
+        // dp/du and dp/dv. glTF's v runs down the image while the normal texture's +Y points up it, so the
+        // bitangent is -dp/dv (what MikkTSpace gives for glTF's flipped texture coordinates).
         t = (dp1 * duv2.y - dp2 * duv1.y) / det;
         vec3 b = (dp2 * duv1.x - dp1 * duv2.x) / det;
-        sign = dot(cross(ns, t), b) < 0.0f ? -1.0f : 1.0f;
+        sign = dot(cross(ns, t), b) < 0.0f ? 1.0f : -1.0f;
     }
     t -= ns * dot(ns, t);
     float t_len = length(t);
@@ -88,5 +90,25 @@ vec3 apply_normal_texture(Material m, uint triangle, float b1, float b2, vec3 ns
     vec3 n = t * n_ts.x + b * n_ts.y + ns * n_ts.z;
     float n_len = length(n);
     return n_len > 0.0f && !isinf(n_len) ? n / n_len : ns;
+}
+
+// A normal-mapped normal can tilt so far that the mirror direction of the viewer falls below the geometric
+// surface: a smooth surface then reflects nothing (black patches on smooth, strongly normal-mapped metal). As
+// Cycles does (its ensure_valid_specular_reflection), bend the normal towards the geometric one, just enough that
+// the mirror direction stays above the surface: here by bisection on n' = normalize(mix(n, ng, s)). ng and n on
+// the viewer's side; wo towards the viewer. Not energy conserving in general (README "Textures", normal maps).
+vec3 keep_reflection_above_surface(vec3 n, vec3 ng, vec3 wo) {
+    float ng_wo = dot(ng, wo);
+    float threshold = min(0.9f * ng_wo, 0.01f);
+    if (dot(ng, 2.0f * dot(n, wo) * n - wo) >= threshold) return n;
+    float lo = 0.0f;
+    float hi = 1.0f;
+    for (int i = 0; i < 12; ++i) {
+        float mid = 0.5f * (lo + hi);
+        vec3 m = normalize(mix(n, ng, mid));
+        if (dot(ng, 2.0f * dot(m, wo) * m - wo) >= threshold) hi = mid;
+        else lo = mid;
+    }
+    return normalize(mix(n, ng, hi));
 }
 #endif

@@ -8,8 +8,9 @@ Run with the Python of the Cycles environment (tests/bench/README.md, "Setting u
 
 The same scene for both renderers:
 - the model as Blender's own glTF importer reads it (io_scene_gltf2, shipped with bpy), and as Fredholm reads it;
-- one camera, computed here from the model's bounds: perspective, 40 degrees vertical field of view, looking down
-  glTF -Z (Blender +Y) at the bounds' centre from far enough to see the bounding sphere; passed to Fredholm as
+- one camera, computed here from the model's bounds: perspective, 40 degrees vertical field of view, looking at
+  the bounds' centre from the front, a little above and to the right (VIEW_DIRECTION), from far enough to see the
+  bounding sphere; passed to Fredholm as
   --look-from/--look-at/--yfov, built in Blender from the same numbers (glTF (x, y, z) = Blender (x, -z, y));
 - light only from the environment map, Fredholm --env, Blender's world Environment Texture (equirectangular,
   strength 1); Fredholm's mapping is Blender's (shaders/lib/environment.glsl), so no rotation is needed;
@@ -30,8 +31,12 @@ from pathlib import Path
 
 import OpenEXR
 import bpy
+import mathutils
 import numpy as np
 
+# From the target towards the eye: in front (+Z), a little above and to the right, so that flat models lying in
+# a coordinate plane are still seen.
+VIEW_DIRECTION = np.array([0.2, 0.3, 1.0]) / np.linalg.norm([0.2, 0.3, 1.0])
 MODELS_DIR = Path(__file__).resolve().parents[2].parent / "shared" / "scenes-thirdparty"
 
 
@@ -66,8 +71,19 @@ def make_camera(lo, hi, yfov_deg):
     centre = 0.5 * (lo + hi)
     radius = 0.5 * float(np.linalg.norm(hi - lo))
     distance = radius / math.sin(math.radians(yfov_deg) / 2.0) * 1.05
-    eye = centre + np.array([0.0, 0.0, distance])
+    eye = centre + distance * VIEW_DIRECTION
     return eye, centre
+
+
+def use_single_scattering():
+    """Principled BSDFs with single-scattering GGX (Blender's importer leaves Cycles' default, multiscatter GGX,
+    which adds the energy of the bounces between microfacets; the glTF BRDF is single-scattering)."""
+    for material in bpy.data.materials:
+        if material.node_tree is None:
+            continue
+        for node in material.node_tree.nodes:
+            if node.type == "BSDF_PRINCIPLED":
+                node.distribution = "GGX"
 
 
 def setup_blender(eye, yfov_deg, env, size, spp, seed):
@@ -80,7 +96,10 @@ def setup_blender(eye, yfov_deg, env, size, spp, seed):
     cam = bpy.data.objects.new("compare", cam_data)
     scene.collection.objects.link(cam)
     cam.location = (eye[0], -eye[2], eye[1])
-    cam.rotation_euler = (math.pi / 2, 0.0, 0.0)  # looks down Blender +Y = glTF -Z, up Blender +Z = glTF +Y
+    # Look at the target with glTF +Y (Blender +Z) up, as Fredholm's --look-at/--up do.
+    forward = -VIEW_DIRECTION
+    forward_b = mathutils.Vector((forward[0], -forward[2], forward[1]))
+    cam.rotation_euler = forward_b.to_track_quat("-Z", "Y").to_euler()
     scene.camera = cam
     for obj in list(scene.objects):  # the model's own lights and cameras would differ from Fredholm's scene
         if obj.type == "LIGHT":
@@ -179,6 +198,8 @@ def main():
     ap.add_argument("--yfov", type=float, default=40.0)
     ap.add_argument("--out", default="/tmp/compare_assets")
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--single-scattering", action="store_true",
+                    help="Cycles: single-scattering GGX in every Principled BSDF (as the glTF BRDF)")
     args = ap.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else sys.argv[1:])
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -199,6 +220,8 @@ def main():
             print(f"{name}: fredholm failed: {done.stderr.strip()}")
             continue
         setup_blender(eye, args.yfov, env, args.size, args.cycles_spp or args.spp, args.seed)
+        if args.single_scattering:
+            use_single_scattering()
         bpy.context.scene.render.filepath = str(c_exr)
         bpy.ops.render.render(write_still=True)
         f_img, c_img = read_exr(f_exr), read_exr(c_exr)

@@ -175,3 +175,38 @@ TEST(GltfTextures, Ktx2WithoutFallbackIsWarnedAndLeftOut) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(GltfTextures, MaterialVariantsChooseThePrimitiveMaterial) {
+    GltfBuilder b;
+    b.add_material({{"pbrMetallicRoughness", {{"baseColorFactor", {1, 0, 0, 1}}}}});
+    b.add_material({{"pbrMetallicRoughness", {{"baseColorFactor", {0, 1, 0, 1}}}}});
+    b.add_material({{"pbrMetallicRoughness", {{"baseColorFactor", {0, 0, 1, 1}}}}});
+    nlohmann::json prim = {{"attributes", {{"POSITION", b.add_vec3({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}})}}}, {"material", 0}};
+    prim["extensions"]["KHR_materials_variants"]["mappings"] = {{{"material", 1}, {"variants", {0}}},
+                                                                {{"material", 2}, {"variants", {1, 2}}}};
+    b.add_mesh(prim);
+    b.doc["extensions"]["KHR_materials_variants"]["variants"] = {{{"name", "green"}}, {{"name", "blue"}}, {{"name", "navy"}}};
+    b.doc["extensionsUsed"] = {"KHR_materials_variants"};
+    b.set_scene({b.add_node({{"mesh", 0}})});
+    const auto path = b.write_gltf();
+    auto load = [&](const std::string& variant) {
+        fh::LoadOptions o = WORLD_SPACE;
+        o.variant = variant;
+        return fh::load_gltf(path, o);
+    };
+    EXPECT_EQ(load("").triangle_material[0], 0u);
+    EXPECT_EQ(load("green").triangle_material[0], 1u);
+    EXPECT_EQ(load("navy").triangle_material[0], 2u);
+    EXPECT_EQ(load("").variants, (std::vector<std::string>{"green", "blue", "navy"}));
+    try {
+        load("red");
+        ADD_FAILURE() << "an unknown variant loaded";
+    } catch (const fh::SceneError& e) {
+        EXPECT_NE(std::string(e.what()).find("no material variant 'red' (KHR_materials_variants; the file has 'green', 'blue', 'navy')"),
+                  std::string::npos) << e.what();
+    }
+}
+
+}  // namespace
