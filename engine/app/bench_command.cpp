@@ -13,6 +13,7 @@
 #include "render/camera_setup.h"
 #include "render/renderer.h"
 #include "render/techniques.h"
+#include "scene/effects.h"
 #include "shared/layout.h"
 
 namespace fh {
@@ -32,6 +33,17 @@ void add_bench_options(CLI::App& app, BenchCommand& c) {
     app.add_option("--repeats", c.repeats, "renders per size; the median is reported")->check(CLI::Range(1u, 100u));
     app.add_flag("--techniques", c.techniques,
                  "also time each robustness technique switched off (the cost of each; rebase: load time)");
+    app.add_flag("--textures", c.textures,
+                 "also time the scene with its material effects compiled out (factors only), and report texture memory");
+    app.add_option("--env", c.environment_file, "environment light (OpenEXR or .hdr), for scenes without lights")
+        ->check(CLI::ExistingFile);
+    app.add_option_function<std::vector<float>>(
+           "--background", [&c](const std::vector<float>& rgb) {
+               c.has_background = true;
+               for (int i = 0; i < 3; ++i) c.background[i] = rgb[size_t(i)];
+           }, "constant environment radiance R,G,B")
+        ->delimiter(',')
+        ->expected(3);
     app.add_option("--json", c.json, "also write the figures as JSON");
     app.add_option("--device", c.device, "use the first Vulkan device whose name contains this");
 }
@@ -80,6 +92,9 @@ int run_bench(const BenchCommand& c) {
     RenderSettings base;
     base.spp = c.spp;
     base.max_depth = c.max_depth;
+    base.environment_file = c.environment_file;
+    base.has_background = c.has_background;
+    for (int i = 0; i < 3; ++i) base.background[i] = c.background[i];
     PreparedScene prepared = prepare_scene(scene_file, base);
     auto context = make_compute_context(false, c.device);
     SceneCamera camera = choose_camera(prepared.scene, -1);
@@ -122,6 +137,31 @@ int run_bench(const BenchCommand& c) {
             std::printf("%-28s with it %.3f s, without %.3f s: it costs %+.1f%% of the render time\n", "",
                         with.render_seconds, without.render_seconds,
                         100.0 * (with.render_seconds - without.render_seconds) / without.render_seconds);
+        }
+    }
+    if (c.textures) {
+        const PackedScene& p = prepared.packed;
+        const uint32_t material_effects = p.effects.bits & gpu::EFFECT_ATTRIBUTES;
+        std::printf("\ntextures: %zu images, %zu texels, %.1f MiB (RGBA8: 4 bytes per texel, stored once); vertex "
+                    "attributes %.1f MiB (%zu bytes per triangle); effects %s\n",
+                    p.texture_images.size(), p.texels.size(), double(p.texels.size()) * 4.0 / double(1 << 20),
+                    double(p.attributes.size() * sizeof(gpu::TriangleAttributes)) / double(1 << 20),
+                    p.attributes.empty() ? size_t(0) : sizeof(gpu::TriangleAttributes),
+                    describe_effects(p.effects.bits).c_str());
+        for (uint32_t size : c.sizes) {
+            RenderSettings settings = base;
+            settings.width = settings.height = size;
+            // Factors only, timed right after its baseline (the machine's speed drifts).
+            const RenderStats with = time_render(*context, prepared, camera, settings, c.repeats);
+            settings.disabled_effects = material_effects;
+            const RenderStats without = time_render(*context, prepared, camera, settings, c.repeats);
+            std::printf("%4ux%-4u with textures %.3f s, factors only %.3f s: textures cost %+.1f%% of the render time\n",
+                        size, size, with.render_seconds, without.render_seconds,
+                        100.0 * (with.render_seconds - without.render_seconds) / without.render_seconds);
+            nlohmann::json run = describe_run(size, without, "none");
+            run["disabled_effects"] = describe_effects(material_effects);
+            run["with_textures_seconds"] = with.render_seconds;
+            results.push_back(run);
         }
     }
     if (c.techniques) {

@@ -1,5 +1,6 @@
 // `fredholm bench`: renders a scene at several resolutions and prints samples/s, rays/s and stage times;
-// with --techniques, also the render time with each robustness technique switched off.
+// with --techniques, also the render time with each robustness technique switched off; with --textures, the
+// render time with the scene's textures (and other material effects) against factors only, and texture memory.
 #pragma once
 #include <filesystem>
 #include <string>
@@ -20,6 +21,10 @@ struct BenchCommand {
     std::filesystem::path json;
     std::string device;
     bool techniques = false;  // also time each robustness technique switched off (README cost table)
+    bool textures = false;    // also time the scene with its material effects compiled out (factors only)
+    std::string environment_file;  // --env, --background: light for scenes without their own
+    bool has_background = false;
+    float background[3] = {1.0f, 1.0f, 1.0f};
 };
 
 void add_bench_options(CLI::App& app, BenchCommand& command);

@@ -8,6 +8,8 @@
 #include <vector>
 
 #include "render/techniques.h"
+#include "scene/effects.h"
+#include "shared/layout.h"
 
 namespace fh {
 
@@ -44,6 +46,27 @@ void add_robustness_options(CLI::App& app, RenderSettings& s) {
         });
     app.add_option("--bvh-leaf-size", s.bvh_max_leaf_size, "most triangles per BVH leaf")
         ->check(CLI::Range(1u, 64u));
+    add_effect_options(app, s);
+}
+
+void add_effect_options(CLI::App& app, RenderSettings& s) {
+    std::string words;
+    for (const EffectInfo& e : list_effects())
+        if (e.bit & gpu::EFFECT_ATTRIBUTES) words += (words.empty() ? "" : ", ") + std::string(e.name);
+    app.add_option_function<std::vector<std::string>>(
+           "--disable-effect",
+           [&s](const std::vector<std::string>& names) {
+               for (const std::string& name : names)
+                   for (const EffectInfo& e : list_effects())
+                       if (name == e.name) s.disabled_effects |= e.bit;
+           },
+           "compile a material effect out although the scene uses it, to measure what it costs (" + words + ")")
+        ->delimiter(',')
+        ->check([](const std::string& name) {
+            for (const EffectInfo& e : list_effects())
+                if (name == e.name && (e.bit & gpu::EFFECT_ATTRIBUTES)) return std::string();
+            return "unknown or not switchable effect '" + name + "'";
+        });
 }
 
 void add_environment_options(CLI::App& app, RenderSettings& s) {

@@ -12,8 +12,12 @@ namespace fh {
 // --filter, --filter-radius, --nee, --mis, --rr, --wave-paths.
 void add_sampling_options(CLI::App& app, RenderSettings& settings);
 
-// --disable-technique NAME[,NAME...] (robustness techniques, to measure their cost) and --bvh-leaf-size.
+// --disable-technique NAME[,NAME...] (robustness techniques, to measure their cost), --bvh-leaf-size and
+// --disable-effect.
 void add_robustness_options(CLI::App& app, RenderSettings& settings);
+
+// --disable-effect NAME[,NAME...]: material effects (textures, vertex colours, alpha, normal maps) compiled out.
+void add_effect_options(CLI::App& app, RenderSettings& settings);
 
 // --env FILE, --env-intensity, --env-rotation, --background R,G,B; and --variant NAME (what the scene shows).
 void add_environment_options(CLI::App& app, RenderSettings& settings);

@@ -15,7 +15,7 @@ const char* const COMP_NAMES[3] = {"fredholm.comp.R", "fredholm.comp.G", "fredho
 const char* const RESUME_KEYS[] = {"fredholm:renderer", "fredholm:scene", "fredholm:seed", "fredholm:max_depth",
                                    "fredholm:camera",   "fredholm:filter", "fredholm:filter_radius",
                                    "fredholm:nee",      "fredholm:mis",    "fredholm:rr",
-                                   "fredholm:environment", "fredholm:variant"};
+                                   "fredholm:environment", "fredholm:variant", "fredholm:disabled_effects"};
 
 std::string setting_name(const std::string& key) {
     const std::string prefix = "fredholm:";

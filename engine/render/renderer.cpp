@@ -85,7 +85,8 @@ StageOptions make_stage_options(const vk::Context& context, const PackedScene& s
     o.scene_in_uniform_buffers = fits_uniform_buffers(scene, context.properties().limits.maxUniformBufferRange);
     o.punctual_lights = !scene.punctual_lights.empty();
     o.disabled_techniques = s.disabled_techniques;
-    o.effects = scene.effects.bits;
+    // Only material effects can be switched off: the environment is also an entry of the light table.
+    o.effects = scene.effects.bits & ~(s.disabled_effects & gpu::EFFECT_ATTRIBUTES);
     return o;
 }
 

@@ -23,6 +23,7 @@ struct RenderSettings {
     uint32_t wave_paths = 1u << 18;  // paths in flight per wave (memory ~ 160 bytes each)
     uint32_t disabled_techniques = 0;  // layout.h TECHNIQUE_* bits switched off (cost measurements only)
     uint32_t bvh_max_leaf_size = 4;    // triangles per BVH leaf at most
+    uint32_t disabled_effects = 0;     // --disable-effect: layout.h EFFECT_* bits compiled out (measurement only)
     std::string variant;               // --variant: KHR_materials_variants name (empty: the file's default)
     // Light from outside the scene (README "Environment light"): an equirectangular map, or a constant.
     std::string environment_file;      // --env (OpenEXR or Radiance .hdr); empty: none

@@ -17,8 +17,9 @@ The same scene for both renderers:
 - a box pixel filter one pixel wide, no denoising, clamping or adaptive sampling, Standard view transform, 64
   bounces in Cycles and unlimited depth (Russian roulette) in Fredholm; linear Rec.709 EXR from both.
 
-Prints, per model, the image means (luminance) of both, their relative difference and the 16 x 16 block
-statistics that `fh_compare --reference` reports, and writes a contact sheet (Fredholm | Cycles | difference x4,
+Prints, per model, the luminance means of both over the whole image and over the model's pixels alone (Cycles'
+alpha with a transparent film), their relative differences, and 16 x 16 block relative differences (median, 90th
+percentile, worst), and writes a contact sheet (Fredholm | Cycles | difference x4,
 tone-mapped with the sRGB curve) to OUT/contact_sheet.png.
 """
 import argparse
@@ -222,19 +223,35 @@ def main():
         setup_blender(eye, args.yfov, env, args.size, args.cycles_spp or args.spp, args.seed)
         if args.single_scattering:
             use_single_scattering()
-        bpy.context.scene.render.filepath = str(c_exr)
+        # The model's pixels: Cycles' alpha with a transparent film (4 samples), then the real render.
+        scene = bpy.context.scene
+        scene.render.film_transparent = True
+        scene.cycles.samples = 4
+        scene.render.filepath = str(out / f"{name}_mask.exr")
+        bpy.ops.render.render(write_still=True)
+        with OpenEXR.File(str(out / f"{name}_mask.exr")) as f:
+            mask = np.array(f.channels()["RGBA"].pixels)[..., 3] > 0.5
+        scene.render.film_transparent = False
+        scene.cycles.samples = args.cycles_spp or args.spp
+        scene.render.filepath = str(c_exr)
         bpy.ops.render.render(write_still=True)
         f_img, c_img = read_exr(f_exr), read_exr(c_exr)
         f_mean, c_mean = luminance(f_img).mean(), luminance(c_img).mean()
         rel = (f_mean - c_mean) / c_mean
+        f_model = luminance(f_img)[mask].mean() if mask.any() else float("nan")
+        c_model = luminance(c_img)[mask].mean() if mask.any() else float("nan")
+        model_rel = (f_model - c_model) / c_model
         median, p90, worst = block_stats(f_img, c_img)
         stats = json.loads((out / f"{name}_fredholm.json").read_text())
         line = {"model": name, "fredholm_mean": f_mean, "cycles_mean": c_mean, "mean_rel": rel,
+                "model_pixels": int(mask.sum()), "fredholm_model_mean": f_model, "cycles_model_mean": c_model,
+                "model_mean_rel": model_rel,
                 "block_rel_median": median, "block_rel_p90": p90, "block_rel_max": worst,
                 "effects": stats.get("effects"), "fredholm_seconds": stats.get("render_seconds"),
                 "warnings": warnings}
         results.append(line)
-        print(f"{name}: luminance mean fredholm {f_mean:.5f} cycles {c_mean:.5f} ({100 * rel:+.2f}%); 16x16 blocks "
+        print(f"{name}: luminance mean fredholm {f_mean:.5f} cycles {c_mean:.5f} ({100 * rel:+.2f}%); model pixels "
+              f"({int(mask.sum())}) fredholm {f_model:.5f} cycles {c_model:.5f} ({100 * model_rel:+.2f}%); 16x16 blocks "
               f"rel median {100 * median:.1f}% p90 {100 * p90:.1f}% max {100 * worst:.1f}%; effects {line['effects']}"
               + (f"; {len(warnings)} warning(s): " + " | ".join(warnings) if warnings else ""), flush=True)
         diff = np.abs(f_img - c_img) * 4.0
