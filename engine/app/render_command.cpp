@@ -90,7 +90,8 @@ void write_stats(const std::filesystem::path& file, const RenderCommand& c, cons
     j["bvh_nodes"] = prepared.bvh_nodes;
     j["bvh_depth"] = prepared.bvh_depth;
     j["bvh_sah_cost"] = prepared.sah_cost;
-    j["triangles"] = prepared.scene.triangle_count();
+    j["triangles"] = prepared.scene.triangle_count();  // rendered (every instance)
+    j["triangles_unique"] = prepared.scene.unique_triangle_count;
     j["emitters"] = prepared.packed.emitters.size();
     j["punctual_lights"] = prepared.packed.punctual_lights.size();
     j["effects"] = describe_effects(prepared.packed.effects.bits & ~(s.disabled_effects & gpu::EFFECT_ATTRIBUTES));

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <set>
 #include <new>
 #include <sstream>
 #include <stdexcept>
@@ -333,7 +334,16 @@ private:
         if (size_t(mesh_index) >= model_.meshes.size())
             throw SceneError("mesh " + std::to_string(mesh_index) + " does not exist");
         const tinygltf::Mesh& mesh = model_.meshes[size_t(mesh_index)];
-        for (size_t p = 0; p < mesh.primitives.size(); ++p) add_primitive(mesh.primitives[p], mesh_index, int(p), world);
+        for (size_t p = 0; p < mesh.primitives.size(); ++p) {
+            const tinygltf::Primitive& prim = mesh.primitives[p];
+            const size_t before = triangle_material_.size();
+            add_primitive(prim, mesh_index, int(p), world);
+            // Unique triangles: a primitive's geometry (its POSITION and index accessors and mode) counted at its
+            // first use, however many nodes or meshes draw it (before degenerate ones are dropped).
+            const auto position = prim.attributes.find("POSITION");
+            const std::array<int, 3> key{position == prim.attributes.end() ? -1 : position->second, prim.indices, prim.mode};
+            if (geometry_seen_.insert(key).second) scene_.unique_triangle_count += triangle_material_.size() - before;
+        }
     }
 
     uint32_t material_index(int material, const std::string& where) {
@@ -573,6 +583,7 @@ private:
     std::vector<glm::vec3> normals_;
     bool keep_attributes_ = false;  // the file has textures or vertex colours
     bool quantized_ = false;        // KHR_mesh_quantization is used
+    std::set<std::array<int, 3>> geometry_seen_;  // primitives' geometry counted in Scene::unique_triangle_count
     int variant_ = -1;              // KHR_materials_variants index chosen (-1: the default materials)
     std::vector<glm::vec2> texcoords0_, texcoords1_;  // 3 per triangle, like normals_
     std::vector<glm::vec4> colors_, tangents_;

@@ -96,6 +96,12 @@ gpu::Material convert_material(const tinygltf::Model& model, int index, Scene& s
     const tinygltf::Value* specular = find_extension(material, "KHR_materials_specular");
     const glm::dvec3 specular_color = read_color3(specular, "specularColorFactor", glm::dvec3(1.0));
     m.specular_color = gpu::vec4(glm::vec3(specular_color), float(read_number(specular, "specularFactor", 1.0)));
+    if (specular != nullptr && (specular->Has("specularTexture") || specular->Has("specularColorTexture"))) {
+        const std::string message = "KHR_materials_specular textures are not read yet: their factors are used";
+        bool seen = false;
+        for (const std::string& w : scene.warnings) seen = seen || w == message;
+        if (!seen) scene.warnings.push_back(message);
+    }
 
     m.ior = float(read_number(find_extension(material, "KHR_materials_ior"), "ior", 1.5));
     m.flags = material.doubleSided ? gpu::MATERIAL_DOUBLE_SIDED : 0u;

@@ -71,17 +71,24 @@ gpu::TriangleAttributes pack_attributes(const Scene& scene, size_t t) {
     return a;
 }
 
-// Textures as the GPU reads them: every decoded image's texels back to back.
+// Textures as the GPU reads them: the texels of every image a material slot uses, back to back (an image no
+// slot reads, such as an occlusion map, is not uploaded: its entry has width 0).
 void pack_textures(const Scene& scene, PackedScene& packed) {
     packed.texture_slots = scene.texture_slots;
+    std::vector<uint8_t> used(scene.images.size(), 0);
+    for (const gpu::TextureSlot& slot : scene.texture_slots)
+        if (slot.image < used.size()) used[slot.image] = 1;
     size_t offset = 0;
-    for (const SceneImage& image : scene.images) {
-        packed.texture_images.push_back({uint32_t(offset), image.width, image.height, 0u});
-        offset += image.texels.size();
+    for (size_t i = 0; i < scene.images.size(); ++i) {
+        const SceneImage& image = scene.images[i];
+        packed.texture_images.push_back(used[i] ? gpu::TextureImage{uint32_t(offset), image.width, image.height, 0u}
+                                                : gpu::TextureImage{0u, 0u, 0u, 0u});
+        if (used[i]) offset += image.texels.size();
         if (offset > 0xffffffffu) throw std::length_error("pack.cpp: more than 2^32 texels");
     }
     packed.texels.reserve(offset);
-    for (const SceneImage& image : scene.images) packed.texels.insert(packed.texels.end(), image.texels.begin(), image.texels.end());
+    for (size_t i = 0; i < scene.images.size(); ++i)
+        if (used[i]) packed.texels.insert(packed.texels.end(), scene.images[i].texels.begin(), scene.images[i].texels.end());
 }
 
 uint32_t leaf_count(const gpu::BvhNode& node) {

@@ -72,6 +72,9 @@ struct Scene {
     std::vector<SceneLight> lights;            // punctual lights, world space
     glm::dvec3 bounds_min{0.0}, bounds_max{0.0};  // world space, of the triangles
     std::vector<std::string> variants;         // KHR_materials_variants names, in file order
+    // Triangles of each primitive's geometry (POSITION and index accessors) counted once however many nodes or
+    // meshes draw it; the flattened arrays hold every copy.
+    size_t unique_triangle_count = 0;
     std::vector<std::string> warnings;         // printed by the app
 
     size_t triangle_count() const { return positions.size() / 3; }

@@ -42,6 +42,8 @@ MODELS_DIR = Path(__file__).resolve().parents[2].parent / "shared" / "scenes-thi
 
 
 def find_model(name):
+    if name.endswith((".gltf", ".glb")) and Path(name).is_file():  # a file of one's own
+        return Path(name).resolve()
     manifest = json.loads((MODELS_DIR / "manifest.json").read_text())
     for m in manifest["models"]:
         if m["name"] == name:
@@ -191,7 +193,7 @@ def block_stats(test, ref, block=16):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--fredholm", default="build/fredholm")
-    ap.add_argument("--models", required=True, help="comma-separated names from the manifest")
+    ap.add_argument("--models", required=True, help="comma-separated names from the manifest, or .gltf/.glb paths")
     ap.add_argument("--env", default="scenes/environments/courtyard.exr")
     ap.add_argument("--size", type=int, default=256)
     ap.add_argument("--spp", type=int, default=256)
@@ -206,8 +208,9 @@ def main():
     out.mkdir(parents=True, exist_ok=True)
     env = Path(args.env).resolve()
     rows, results = [], []
-    for name in args.models.split(","):
-        model = find_model(name)
+    for entry in args.models.split(","):
+        model = find_model(entry)
+        name = Path(entry).stem if entry.endswith((".gltf", ".glb")) else entry
         lo, hi = import_model(model)
         eye, target = make_camera(lo, hi, args.yfov)
         f_exr, c_exr = out / f"{name}_fredholm.exr", out / f"{name}_cycles.exr"
@@ -248,6 +251,7 @@ def main():
                 "model_mean_rel": model_rel,
                 "block_rel_median": median, "block_rel_p90": p90, "block_rel_max": worst,
                 "effects": stats.get("effects"), "fredholm_seconds": stats.get("render_seconds"),
+                "fredholm_command": " ".join(cmd),
                 "warnings": warnings}
         results.append(line)
         print(f"{name}: luminance mean fredholm {f_mean:.5f} cycles {c_mean:.5f} ({100 * rel:+.2f}%); model pixels "

@@ -13,6 +13,8 @@ Each scene has an analytic or comparative criterion, stated beside its test in t
                            direct light (--max-depth 2) must match it.
   blend_shadow.gltf        the same quad as BLEND with alpha BLEND_ALPHA: the floor in its shadow receives
                            (1 - BLEND_ALPHA) of the light of the unshadowed floor_lit.gltf.
+  minified_checker.gltf    an emissive checker texture of 512 x 512 one-texel cells (sRGB 255 and 0, nearest) seen
+                           16 texels to a pixel: each pixel converges to the cells' mean 0.5 (no mip-map, no bias).
   textured_emitter.gltf    a ceiling quad whose emissive texture is black but for one texel of 8x8, over a floor:
                            light sampling (picks by textured power) must agree with BSDF sampling alone.
 """
@@ -133,6 +135,17 @@ def shadow_scene(kind):
     return g
 
 
+def minified_checker():
+    g = AssetGltf()
+    texels = [(255, 255, 255, 255) if (x + y) % 2 == 0 else (0, 0, 0, 255) for y in range(512) for x in range(512)]
+    texture = g.add_texture(512, 512, texels)
+    emitter = g.add_raw_material({"pbrMetallicRoughness": {"baseColorFactor": [0, 0, 0, 1], "metallicFactor": 0.0},
+                                  "emissiveFactor": [1.0, 1.0, 1.0], "emissiveTexture": {"index": texture}})
+    g.add_node({"mesh": g.add_uv_mesh(quad(-1, -1, 1, 1, 0.0), quad_uv(), emitter)})
+    g.add_orthographic_camera({"translation": [0.0, 0.0, 1.0]}, 1.0)
+    return g
+
+
 def textured_emitter():
     g = AssetGltf()
     texels = [(0, 0, 0, 255)] * 64
@@ -157,6 +170,7 @@ def main():
     for kind in ("mask", "mask_geometry", "blend", "lit"):
         shadow_scene(kind).write(out / ("floor_lit.gltf" if kind == "lit" else kind + "_shadow.gltf"))
     textured_emitter().write(out / "textured_emitter.gltf")
+    minified_checker().write(out / "minified_checker.gltf")
 
 
 if __name__ == "__main__":
