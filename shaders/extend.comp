@@ -24,6 +24,7 @@ void main() {
     item.triangle = hit.triangle;
     item.b1 = hit.b1;
     item.b2 = hit.b2;
+    item.instance = hit.instance;
     hits[i] = item;
     COUNT_IN_SUBGROUP(counters.escaped_rays, hit.triangle == INVALID_INDEX ? 1u : 0u);
     COUNT_IN_SUBGROUP(counters.traced_rays, 1u);

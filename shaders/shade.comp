@@ -54,8 +54,11 @@ void main() {
         vec3 dir = vec3(ray.dir_x, ray.dir_y, ray.dir_z);
         vec3 wo = -dir;
         SurfaceHit s = load_surface(hit.triangle, hit.b1, hit.b2);
+        if (scene_has_instances && hit.instance != INVALID_INDEX && instances[hit.instance].material != INVALID_INDEX)
+            s.material = instances[hit.instance].material;
         Material m = resolve_material(load_material(s.material), hit.triangle, hit.b1, hit.b2);
         s.ns = apply_normal_texture(m, hit.triangle, hit.b1, hit.b2, s.ns);
+        if (scene_has_instances && hit.instance != INVALID_INDEX) s = place_surface(s, instances[hit.instance]);
         bool front = dot(s.ng, wo) > 0.0f;
         bool double_sided = (m.flags & MATERIAL_DOUBLE_SIDED) != 0u;
 

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/session.h"
+#include "scene/instancing.h"
 #include "io/atomic_write.h"
 #include "io/image.h"
 #include "render/camera_setup.h"
@@ -35,6 +36,9 @@ void add_bench_options(CLI::App& app, BenchCommand& c) {
                  "also time each robustness technique switched off (the cost of each; rebase: load time)");
     app.add_flag("--textures", c.textures,
                  "also time the scene with its material effects compiled out (factors only), and report texture memory");
+    app.add_flag("--instancing", c.instancing,
+                 "also load the scene with every instance copied into world space: stored triangles, scene memory, "
+                 "load + BVH time and render time of both");
     app.add_option("--env", c.environment_file, "environment light (OpenEXR or .hdr), for scenes without lights")
         ->check(CLI::ExistingFile);
     app.add_option_function<std::vector<float>>(
@@ -98,8 +102,10 @@ int run_bench(const BenchCommand& c) {
     PreparedScene prepared = prepare_scene(scene_file, base);
     auto context = make_compute_context(false, c.device);
     SceneCamera camera = choose_camera(prepared.scene, -1);
-    std::printf("scene %s: %zu triangles, loaded in %.3f s, BVH %zu nodes built in %.3f s (SAH cost %.2f)\n",
-                scene_file.string().c_str(), prepared.scene.triangle_count(), prepared.load_seconds,
+    std::printf("scene %s: %zu triangles (%zu stored, %zu instances), loaded in %.3f s, BVH %zu nodes built in %.3f s "
+                "(SAH cost %.2f)\n",
+                scene_file.string().c_str(), prepared.scene.rendered_triangle_count(), prepared.scene.triangle_count(),
+                prepared.scene.instances.size(), prepared.load_seconds,
                 prepared.bvh_nodes, prepared.bvh_build_seconds, prepared.sah_cost);
     std::printf("device %s; %u spp, max depth %u, median of %u\n\n", context->device_name().c_str(), c.spp,
                 c.max_depth, c.repeats);
@@ -161,6 +167,35 @@ int run_bench(const BenchCommand& c) {
             nlohmann::json run = describe_run(size, without, "none");
             run["disabled_effects"] = describe_effects(material_effects);
             run["with_textures_seconds"] = with.render_seconds;
+            results.push_back(run);
+        }
+    }
+    if (c.instancing) {
+        RenderSettings copied_settings = base;
+        copied_settings.instancing = Instancing::never;
+        const PreparedScene copied = prepare_scene(scene_file, copied_settings);
+        auto scene_bytes = [](const PackedScene& p) {
+            return double(p.positions.size() * sizeof(gpu::TrianglePositions) + p.shading.size() * sizeof(gpu::TriangleShading) +
+                          p.attributes.size() * sizeof(gpu::TriangleAttributes) +
+                          p.pair_nodes.size() * sizeof(gpu::BvhPairNode) + p.instances.size() * sizeof(gpu::Instance));
+        };
+        std::printf("\ninstancing: %zu instances; stored triangles %zu vs %zu copied; triangles, attributes, BVH and "
+                    "instances %.2f MiB vs %.2f MiB (%.4f); load + BVH %.3f s vs %.3f s\n",
+                    prepared.scene.instances.size(), prepared.scene.triangle_count(), copied.scene.triangle_count(),
+                    scene_bytes(prepared.packed) / double(1 << 20), scene_bytes(copied.packed) / double(1 << 20),
+                    scene_bytes(prepared.packed) / scene_bytes(copied.packed),
+                    prepared.load_seconds + prepared.bvh_build_seconds, copied.load_seconds + copied.bvh_build_seconds);
+        for (uint32_t size : c.sizes) {
+            RenderSettings settings = base;
+            settings.width = settings.height = size;
+            const RenderStats instanced = time_render(*context, prepared, camera, settings, c.repeats);
+            const RenderStats flat = time_render(*context, copied, camera, settings, c.repeats);
+            std::printf("%4ux%-4u two-level %.3f s, copied %.3f s: instancing costs %+.1f%% of the render time\n", size,
+                        size, instanced.render_seconds, flat.render_seconds,
+                        100.0 * (instanced.render_seconds - flat.render_seconds) / flat.render_seconds);
+            nlohmann::json run = describe_run(size, flat, "none");
+            run["instancing"] = "off";
+            run["instanced_seconds"] = instanced.render_seconds;
             results.push_back(run);
         }
     }

@@ -22,6 +22,7 @@ struct BenchCommand {
     std::string device;
     bool techniques = false;  // also time each robustness technique switched off (README cost table)
     bool textures = false;    // also time the scene with its material effects compiled out (factors only)
+    bool instancing = false;  // --instancing: two-level BVH vs every instance copied (memory, build, render)
     std::string environment_file;  // --env, --background: light for scenes without their own
     bool has_background = false;
     float background[3] = {1.0f, 1.0f, 1.0f};

@@ -71,6 +71,13 @@ void add_effect_options(CLI::App& app, RenderSettings& s) {
 
 void add_environment_options(CLI::App& app, RenderSettings& s) {
     app.add_option("--variant", s.variant, "KHR_materials_variants: render the materials of this variant");
+    const std::map<std::string, Instancing> instancing{{"auto", Instancing::automatic},
+                                                                    {"on", Instancing::always},
+                                                                    {"off", Instancing::never}};
+    app.add_option("--instancing", s.instancing,
+                   "meshes drawn by several nodes: auto (stored once when that saves >= 16384 triangles), on (always), "
+                   "off (copied into world space)")
+        ->transform(CLI::CheckedTransformer(instancing, CLI::ignore_case));
     auto* env = app.add_option("--env", s.environment_file,
                                "environment light: equirectangular OpenEXR or Radiance .hdr map around the scene")
                     ->check(CLI::ExistingFile);

@@ -28,6 +28,7 @@ PreparedScene prepare_scene(const std::filesystem::path& file, const RenderSetti
     LoadOptions load;
     load.rebase = (settings.disabled_techniques & gpu::TECHNIQUE_REBASE) == 0;
     load.variant = settings.variant;
+    load.instancing = settings.instancing;
     prepared.scene = load_gltf(file, load);
     prepared.load_seconds = seconds_since(start);
     for (const std::string& warning : prepared.scene.warnings)
@@ -35,13 +36,13 @@ PreparedScene prepare_scene(const std::filesystem::path& file, const RenderSetti
 
     BvhOptions bvh_options;
     bvh_options.max_leaf_size = settings.bvh_max_leaf_size;
-    Bvh bvh = build_bvh(prepared.scene.positions, bvh_options);
+    SceneBvh bvh = build_scene_bvh(prepared.scene, bvh_options);
     if (bvh.max_depth >= MAX_TRAVERSAL_DEPTH)
         throw SceneError(file.string() + ": BVH depth " + std::to_string(bvh.max_depth) +
                          " exceeds the traversal stack (" + std::to_string(MAX_TRAVERSAL_DEPTH) + ")");
     prepared.bvh_build_seconds = bvh.build_seconds;
     prepared.sah_cost = bvh.sah_cost;
-    prepared.bvh_nodes = bvh.nodes.size();
+    prepared.bvh_nodes = bvh.node_count;
     prepared.bvh_depth = bvh.max_depth;
     prepared.packed = pack_scene(prepared.scene, bvh, load_environment(settings));
     return prepared;

@@ -1,6 +1,8 @@
 // The viewer's frame loop: input -> (restart or rebuild) -> a bounded slice of samples -> present -> title.
 #include "app/viewer_command.h"
 
+#include "app/render_options.h"
+
 #include <CLI/CLI.hpp>
 #include <GLFW/glfw3.h>
 #include <algorithm>
@@ -128,6 +130,7 @@ void add_view_options(CLI::App& app, ViewCommand& c) {
     app.add_option("--max-depth", s.max_depth, "longest path in segments after the camera (0 = unlimited)")
         ->check(CLI::Range(0u, 100000u));
     app.add_option("--seed", s.seed, "random seed");
+    add_environment_options(app, s);  // --env, --background, --variant, --instancing: as render
     app.add_option("--spp-per-frame", c.spp_per_frame,
                    "whole samples per pixel added each frame (default: a slice of a pass sized to --frame-ms)")
         ->check(CLI::Range(1u, 1024u));

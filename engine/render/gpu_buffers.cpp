@@ -66,12 +66,13 @@ GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& sce
     b.texels = make_filled_buffer(context, scene.texels);
     b.env_radiance = make_filled_buffer(context, scene.environment.texels);
     b.env_cdf = make_filled_buffer(context, scene.environment.cdf);
+    b.instances = make_filled_buffer(context, scene.instances);
     // The limits check before rendering relies on the estimate: keep it exact.
     uint64_t allocated = 0;
     for (const vk::Buffer* buffer : {&b.params, &b.nodes, &b.tri_positions, &b.tri_shading, &b.materials, &b.emitters,
                                      &b.punctual_lights, &b.ggx_albedo, &b.counters, &b.counters_readback, &b.paths, &b.rays, &b.hits,
                                      &b.shadow_rays, &b.film, &b.tri_attributes, &b.texture_slots, &b.texture_images,
-                                     &b.texels, &b.env_radiance, &b.env_cdf})
+                                     &b.texels, &b.env_radiance, &b.env_cdf, &b.instances})
         allocated += buffer->size();
     if (allocated != estimate_render_memory(scene, frame.width, frame.height, frame.wave_capacity).device_bytes())
         throw std::logic_error("create_gpu_buffers: allocated sizes differ from estimate_render_memory");
@@ -104,6 +105,7 @@ void bind_gpu_buffers(vk::BindingTable& table, const GpuBuffers& b) {
     table.bind_buffer(gpu::BINDING_TEXELS, b.texels);
     table.bind_buffer(gpu::BINDING_ENV_RADIANCE, b.env_radiance);
     table.bind_buffer(gpu::BINDING_ENV_CDF, b.env_cdf);
+    table.bind_buffer(gpu::BINDING_INSTANCES, b.instances);
 }
 
 }  // namespace fh

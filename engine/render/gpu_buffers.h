@@ -35,6 +35,7 @@ struct GpuBuffers {
     vk::Buffer texels;
     vk::Buffer env_radiance;       // environment light (EFFECT_ENVIRONMENT)
     vk::Buffer env_cdf;
+    vk::Buffer instances;          // two-level BVH (one dummy element when the scene has none)
 };
 
 GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& scene, const gpu::FrameParams& frame);

@@ -53,6 +53,7 @@ MemoryEstimate estimate_render_memory(const PackedScene& scene, uint32_t width, 
         {"texels", array_bytes(scene.texels), true},
         {"env_radiance", array_bytes(scene.environment.texels), true},
         {"env_cdf", array_bytes(scene.environment.cdf), true},
+        {"instances", array_bytes(scene.instances), true},
     };
     e.film_readback_bytes = film;
     return e;

@@ -35,10 +35,13 @@ gpu::StagePush make_push(uint32_t depth, const Wave& wave) {
 gpu::FrameParams make_frame(const PackedScene& scene, const SceneCamera& camera, const RenderSettings& s) {
     gpu::FrameParams f{};
     set_frame_camera(f, camera, s.width, s.height, scene.origin);
-    if (!scene.nodes.empty()) {  // the BVH root bounds the scene (render space)
-        const gpu::BvhNode& root = scene.nodes[0];
-        f.scene_min = glm::vec4(root.min_x, root.min_y, root.min_z, 0.0f);
-        f.scene_max = glm::vec4(root.max_x, root.max_y, root.max_z, 0.0f);
+    if (!scene.pair_nodes.empty()) {  // the root pair's two boxes bound the scene (render space)
+        const gpu::BvhPairNode& r = scene.pair_nodes[0];
+        const bool b = r.b_index != gpu::INVALID_INDEX;
+        f.scene_min = glm::vec4(b ? std::min(r.a_min_x, r.b_min_x) : r.a_min_x, b ? std::min(r.a_min_y, r.b_min_y) : r.a_min_y,
+                                b ? std::min(r.a_min_z, r.b_min_z) : r.a_min_z, 0.0f);
+        f.scene_max = glm::vec4(b ? std::max(r.a_max_x, r.b_max_x) : r.a_max_x, b ? std::max(r.a_max_y, r.b_max_y) : r.a_max_y,
+                                b ? std::max(r.a_max_z, r.b_max_z) : r.a_max_z, 0.0f);
     }
     f.width = s.width;
     f.height = s.height;
@@ -87,6 +90,7 @@ StageOptions make_stage_options(const vk::Context& context, const PackedScene& s
     o.disabled_techniques = s.disabled_techniques;
     // Only material effects can be switched off: the environment is also an entry of the light table.
     o.effects = scene.effects.bits & ~(s.disabled_effects & gpu::EFFECT_ATTRIBUTES);
+    o.instances = !scene.instances.empty();
     return o;
 }
 

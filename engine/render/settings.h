@@ -3,6 +3,8 @@
 #include <cstdint>
 #include <string>
 
+#include "scene/instancing.h"
+
 namespace fh {
 
 enum class PixelFilter { box, gaussian };
@@ -25,6 +27,7 @@ struct RenderSettings {
     uint32_t bvh_max_leaf_size = 4;    // triangles per BVH leaf at most
     uint32_t disabled_effects = 0;     // --disable-effect: layout.h EFFECT_* bits compiled out (measurement only)
     std::string variant;               // --variant: KHR_materials_variants name (empty: the file's default)
+    Instancing instancing = Instancing::automatic;  // --instancing auto|on|off
     // Light from outside the scene (README "Environment light"): an equirectangular map, or a constant.
     std::string environment_file;      // --env (OpenEXR or Radiance .hdr); empty: none
     float environment_intensity = 1.0f;   // --env-intensity: radiance scale

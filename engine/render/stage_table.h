@@ -17,6 +17,7 @@ struct StageOptions {
     bool punctual_lights = false;           // the scene has KHR_lights_punctual lights
     uint32_t disabled_techniques = 0;       // layout.h TECHNIQUE_* bits switched off
     uint32_t effects = 0;                   // layout.h EFFECT_* bits (scene/effects.h)
+    bool instances = false;                 // two-level BVH (pack.h PackedScene::instances)
 };
 
 class StageTable {

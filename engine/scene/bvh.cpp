@@ -148,19 +148,9 @@ void write_bounds(gpu::BvhNode& node, const Box& b) {
     node.max_z = b.hi.z;
 }
 
-}  // namespace
-
-Bvh build_bvh(std::span<const glm::vec3> positions, const BvhOptions& options) {
-    const auto start = std::chrono::steady_clock::now();
-    check_input(positions, options);
-    const uint32_t triangle_count = uint32_t(positions.size() / 3);
-
-    std::vector<PrimRef> refs(triangle_count);
-    for (uint32_t t = 0; t < triangle_count; ++t) {
-        refs[t].triangle = t;
-        for (int k = 0; k < 3; ++k) refs[t].bounds.grow(positions[3 * size_t(t) + k]);
-    }
-
+Bvh build_from_refs(std::vector<PrimRef> refs, const BvhOptions& options,
+                    std::chrono::steady_clock::time_point start) {
+    const uint32_t triangle_count = uint32_t(refs.size());
     Bvh bvh;
     bvh.nodes.reserve(2 * size_t(triangle_count));
     double root_area = 0.0;
@@ -247,6 +237,35 @@ Bvh build_bvh(std::span<const glm::vec3> positions, const BvhOptions& options) {
     bvh.sah_cost = root_area > 0.0 ? weighted_cost / root_area : weighted_cost;
     bvh.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return bvh;
+}
+
+}  // namespace
+
+Bvh build_bvh(std::span<const glm::vec3> positions, const BvhOptions& options) {
+    const auto start = std::chrono::steady_clock::now();
+    check_input(positions, options);
+    std::vector<PrimRef> refs(positions.size() / 3);
+    for (uint32_t t = 0; t < refs.size(); ++t) {
+        refs[t].triangle = t;
+        for (int k = 0; k < 3; ++k) refs[t].bounds.grow(positions[3 * size_t(t) + k]);
+    }
+    return build_from_refs(std::move(refs), options, start);
+}
+
+Bvh build_bvh_over_boxes(std::span<const glm::vec3> corners, const BvhOptions& options) {
+    const auto start = std::chrono::steady_clock::now();
+    if (corners.empty() || corners.size() % 2 != 0)
+        throw std::invalid_argument("bvh.cpp: need a positive multiple of 2 box corners, got " + std::to_string(corners.size()));
+    std::vector<glm::vec3> as_points(corners.begin(), corners.end());
+    as_points.resize(corners.size() / 2 * 3, corners[0]);
+    check_input(as_points, options);  // the limits on count and depth, and finiteness
+    std::vector<PrimRef> refs(corners.size() / 2);
+    for (uint32_t i = 0; i < refs.size(); ++i) {
+        refs[i].triangle = i;
+        refs[i].bounds.grow(corners[2 * size_t(i)]);
+        refs[i].bounds.grow(corners[2 * size_t(i) + 1]);
+    }
+    return build_from_refs(std::move(refs), options, start);
 }
 
 }  // namespace fh

@@ -33,4 +33,8 @@ struct Bvh {
 // more than max_leaf_size * 2^max_depth triangles).
 Bvh build_bvh(std::span<const glm::vec3> positions, const BvhOptions& options = {});
 
+// The same over boxes (corners[2 i] = min, corners[2 i + 1] = max of box i): the top level of a two-level
+// BVH, whose "triangles" are instances.
+Bvh build_bvh_over_boxes(std::span<const glm::vec3> corners, const BvhOptions& options = {});
+
 }  // namespace fh

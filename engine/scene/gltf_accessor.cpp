@@ -145,8 +145,6 @@ std::vector<glm::vec3> read_float3(const tinygltf::Model& model, int index, cons
     return out;
 }
 
-namespace {
-
 int component_count(int type) {
     switch (type) {
         case TINYGLTF_TYPE_SCALAR: return 1;
@@ -156,6 +154,8 @@ int component_count(int type) {
         default: return 0;
     }
 }
+
+namespace {
 
 // One component as float: float as stored; integers normalized as spec 3.11 ("Animations", the
 // normalization table) says when `normalized`, else converted as they are (KHR_mesh_quantization).

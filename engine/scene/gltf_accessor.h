@@ -27,6 +27,9 @@ std::vector<glm::vec3> read_float3(const tinygltf::Model& model, int index, cons
 std::vector<glm::vec4> read_vectors(const tinygltf::Model& model, int index, const std::string& role,
                                     int min_components, int max_components, bool integers_allowed);
 
+// Components of a tinygltf accessor type (SCALAR 1 .. VEC4 4; 0 for matrices and unknown types).
+int component_count(int type);
+
 // Reads accessor `index` as unsigned SCALAR indices (UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT).
 std::vector<uint32_t> read_indices(const tinygltf::Model& model, int index, const std::string& role);
 

@@ -20,10 +20,13 @@
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/constants.hpp>
 #include <glm/gtc/type_ptr.hpp>
+#include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
 
 #include "scene/gltf_accessor.h"
 #include "scene/gltf_material.h"
+#include "scene/gltf_draco.h"
+#include "scene/gltf_meshopt.h"
 #include "scene/gltf_texture.h"
 #include "scene/scene.h"
 
@@ -127,6 +130,62 @@ void check_glb_bin_chunk(const std::filesystem::path& file) {
                          "-byte file");
 }
 
+// `json` patched where tinygltf would refuse what a compression extension allows (gltf_meshopt.h,
+// gltf_draco.h); false when nothing needed it.
+bool patch_for_decoders(std::string& json, std::vector<gltf::FallbackBuffer>& fallbacks) {
+    if (json.find("EXT_meshopt_compression") == std::string::npos &&
+        json.find("KHR_draco_mesh_compression") == std::string::npos)
+        return false;
+    nlohmann::json doc = nlohmann::json::parse(json, nullptr, false);
+    if (doc.is_discarded()) return false;  // tinygltf reports bad JSON
+    const bool meshopt = gltf::patch_meshopt_fallbacks(doc, fallbacks, MAX_FILE_BYTES);
+    const bool draco = gltf::patch_draco_indices(doc);
+    if (!meshopt && !draco) return false;
+    json = doc.dump();
+    return true;
+}
+
+// The file's JSON patched for the compression extensions (patch_for_decoders), as a .gltf text or a rebuilt
+// .glb; empty when the file does not need it (tinygltf then reads the file itself).
+std::vector<unsigned char> patch_file_for_decoders(const std::filesystem::path& file, bool is_glb,
+                                             std::vector<gltf::FallbackBuffer>& fallbacks) {
+    std::ifstream in(file, std::ios::binary);
+    std::string json;
+    uint64_t json_end = 0;
+    if (is_glb) {  // only the header and the JSON chunk, unless the file needs the patch
+        unsigned char header[20] = {};
+        if (!in.read(reinterpret_cast<char*>(header), sizeof header)) return {};
+        const uint64_t json_length = load_le32(header + 12);
+        std::error_code ec;
+        if (20 + json_length > std::filesystem::file_size(file, ec) || ec || json_length > MAX_FILE_BYTES) return {};
+        json.resize(size_t(json_length));
+        if (!in.read(json.data(), std::streamsize(json_length))) return {};
+        json_end = 20 + json_length;
+    } else {
+        std::vector<unsigned char> bytes;
+        std::string problem;
+        if (!read_regular_file(&bytes, &problem, file.string(), nullptr)) return {};  // tinygltf reports it
+        json.assign(bytes.begin(), bytes.end());
+    }
+    if (!patch_for_decoders(json, fallbacks)) return {};
+    if (!is_glb) return std::vector<unsigned char>(json.begin(), json.end());
+    std::vector<unsigned char> bytes;
+    std::string problem;
+    if (!read_regular_file(&bytes, &problem, file.string(), nullptr) || bytes.size() < json_end) return {};
+    while (json.size() % 4 != 0) json += ' ';
+    std::vector<unsigned char> glb(bytes.begin(), bytes.begin() + 12);
+    auto put32 = [&](uint64_t v) {
+        for (int i = 0; i < 4; ++i) glb.push_back(static_cast<unsigned char>(v >> (8 * i)));
+    };
+    put32(json.size());
+    put32(0x4E4F534Au);  // "JSON"
+    glb.insert(glb.end(), json.begin(), json.end());
+    glb.insert(glb.end(), bytes.begin() + ptrdiff_t(json_end), bytes.end());
+    const uint64_t total = glb.size();
+    for (int i = 0; i < 4; ++i) glb[size_t(8 + i)] = static_cast<unsigned char>(total >> (8 * i));
+    return glb;
+}
+
 tinygltf::Model read_model(const std::filesystem::path& file, std::vector<std::string>& warnings) {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(file, ec)) throw SceneError("file not found");
@@ -138,14 +197,27 @@ tinygltf::Model read_model(const std::filesystem::path& file, std::vector<std::s
     std::string err, warn;
     const bool is_glb = has_glb_magic(file);
     if (is_glb) check_glb_bin_chunk(file);
-    const bool ok = is_glb ? parser.LoadBinaryFromFile(&model, &err, &warn, file.string())
-                           : parser.LoadASCIIFromFile(&model, &err, &warn, file.string());
+    std::vector<gltf::FallbackBuffer> fallbacks;
+    const std::vector<unsigned char> patched = patch_file_for_decoders(file, is_glb, fallbacks);
+    const std::string base_dir = file.parent_path().string();
+    bool ok;
+    if (patched.empty())
+        ok = is_glb ? parser.LoadBinaryFromFile(&model, &err, &warn, file.string())
+                    : parser.LoadASCIIFromFile(&model, &err, &warn, file.string());
+    else
+        ok = is_glb ? parser.LoadBinaryFromMemory(&model, &err, &warn, patched.data(), unsigned(patched.size()), base_dir)
+                    : parser.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(patched.data()),
+                                                 unsigned(patched.size()), base_dir);
     std::istringstream lines(warn);
     for (std::string line; std::getline(lines, line);)
         if (!line.empty()) warnings.push_back("tinygltf: " + line);
     if (!ok || !err.empty()) {
         const std::string message = join_lines(err, "; ");
         throw SceneError("tinygltf: " + (message.empty() ? std::string("could not parse the file") : message));
+    }
+    for (const std::string& name : model.extensionsUsed) {
+        if (name == "EXT_meshopt_compression") gltf::decode_meshopt_views(model, fallbacks);
+        if (name == "KHR_draco_mesh_compression") gltf::decode_draco_primitives(model);
     }
     return model;
 }
@@ -225,7 +297,7 @@ bool is_finite(const glm::dmat4& m) {
 class Flattener {
 public:
     Flattener(const tinygltf::Model& model, Scene& scene, int variant)
-        : model_(model), scene_(scene), on_path_(model.nodes.size(), 0), variant_(variant) {
+        : model_(model), scene_(scene), variant_(variant), on_path_(model.nodes.size(), 0) {
         keep_attributes_ = !model.textures.empty();
         for (const std::string& name : model.extensionsUsed) quantized_ = quantized_ || name == "KHR_mesh_quantization";
         for (const tinygltf::Mesh& mesh : model.meshes)
@@ -253,7 +325,7 @@ public:
             throw SceneError("the world transform of " + describe_node(model_, index) +
                              " is not finite (its transform or an ancestor's overflows)");
         if (node.skin >= 0) warn_once("skins are not supported: skinned meshes are drawn in their bind pose");
-        if (node.mesh >= 0) add_mesh(node.mesh, world);
+        if (node.mesh >= 0) record_mesh_uses(node, index, world);
         if (node.camera >= 0) add_camera(node.camera, index, world);
         if (const auto it = node.extensions.find("KHR_lights_punctual"); it != node.extensions.end())
             add_light(it->second, index, world);
@@ -267,13 +339,32 @@ public:
     }
 
     // Places the triangles in render space (LoadOptions::rebase) and drops those without area there.
-    void finish(bool rebase) {
+    void finish(bool rebase, Instancing instancing) {
+        add_recorded_meshes(instancing);
         glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
-        for (const glm::dvec3& p : world_positions_) {
-            lo = glm::min(lo, p);
-            hi = glm::max(hi, p);
+        for (size_t i = 0; i < 3 * world_triangle_end_; ++i) {
+            lo = glm::min(lo, world_positions_[i]);
+            hi = glm::max(hi, world_positions_[i]);
         }
-        if (!world_positions_.empty()) {
+        std::vector<std::pair<glm::dvec3, glm::dvec3>> mesh_boxes;  // object space
+        for (const auto& [first, end] : pending_meshes_) {
+            glm::dvec3 a(std::numeric_limits<double>::infinity()), b(-std::numeric_limits<double>::infinity());
+            for (size_t i = 3 * first; i < 3 * end; ++i) {
+                a = glm::min(a, world_positions_[i]);
+                b = glm::max(b, world_positions_[i]);
+            }
+            mesh_boxes.push_back({a, b});
+        }
+        for (const PendingInstance& i : pending_instances_) {  // the mesh's object box, mapped
+            const auto& [a, b] = mesh_boxes[i.mesh];
+            const glm::dmat4& world = i.world;
+            for (int c = 0; c < 8 && a.x <= b.x; ++c) {
+                const glm::dvec3 q(world * glm::dvec4((c & 1) ? b.x : a.x, (c & 2) ? b.y : a.y, (c & 4) ? b.z : a.z, 1.0));
+                lo = glm::min(lo, q);
+                hi = glm::max(hi, q);
+            }
+        }
+        if (lo.x <= hi.x) {
             scene_.bounds_min = lo;
             scene_.bounds_max = hi;
             if (rebase) scene_.origin = 0.5 * (lo + hi);
@@ -298,15 +389,26 @@ public:
 private:
     // Rounds world positions (double) minus `origin` to float, keeping the triangles whose float cross
     // product is not zero: the GPU could neither hit them (zero determinant) nor give them a normal.
+    // Instanced meshes stay in object space; their instances get the origin instead.
     void place_triangles(const glm::dvec3& origin) {
+        size_t mesh = 0;  // the pending mesh the next object-space triangle belongs to
         for (size_t t = 0; t < triangle_material_.size(); ++t) {
+            const bool object_space = t >= world_triangle_end_;
+            if (t == world_triangle_end_) scene_.world_triangle_count = scene_.triangle_count();
+            while (object_space && mesh < pending_meshes_.size() && t >= pending_meshes_[mesh].second) ++mesh;
+            if (object_space && (scene_.meshes.size() <= mesh || t == pending_meshes_[mesh].first)) {
+                scene_.meshes.resize(mesh + 1);
+                scene_.meshes[mesh].first_triangle = scene_.triangle_count();
+            }
+            const glm::dvec3 shift = object_space ? glm::dvec3(0.0) : origin;
             std::array<glm::vec3, 3> p;
-            for (int k = 0; k < 3; ++k) p[size_t(k)] = glm::vec3(world_positions_[3 * t + size_t(k)] - origin);
+            for (int k = 0; k < 3; ++k) p[size_t(k)] = glm::vec3(world_positions_[3 * t + size_t(k)] - shift);
             const glm::vec3 c = glm::cross(p[1] - p[0], p[2] - p[0]);
             if (!(glm::dot(c, c) > 0.0f) || !is_finite(c)) {
                 ++dropped_degenerate_;
                 continue;
             }
+            if (object_space) ++scene_.meshes[mesh].triangle_count;
             for (int k = 0; k < 3; ++k) {
                 const size_t v = 3 * t + size_t(k);
                 scene_.positions.push_back(p[size_t(k)]);
@@ -321,6 +423,12 @@ private:
             scene_.triangle_material.push_back(triangle_material_[t]);
             scene_.triangle_has_normals.push_back(triangle_has_normals_[t]);
         }
+        if (world_triangle_end_ >= triangle_material_.size()) scene_.world_triangle_count = scene_.triangle_count();
+        scene_.meshes.resize(pending_meshes_.size());  // a mesh whose triangles all dropped keeps 0 of them
+        for (const PendingInstance& i : pending_instances_)
+            if (scene_.meshes[i.mesh].triangle_count > 0)
+                scene_.instances.push_back({i.mesh, glm::translate(glm::dmat4(1.0), -origin) * i.world, i.material});
+        if (scene_.instances.empty()) scene_.meshes.clear();
         world_positions_.clear();
         world_positions_.shrink_to_fit();
         for (SceneLight& light : scene_.lights) light.position -= origin;
@@ -328,6 +436,151 @@ private:
 
     void warn_once(const std::string& message) {
         if (warned_.emplace(message, 1).second) scene_.warnings.push_back(message);
+    }
+
+    // A node's mesh, once per EXT_mesh_gpu_instancing element if it has them (each placed node world x
+    // translation x rotation x scale), drawn after the walk (add_recorded_meshes).
+    void record_mesh_uses(const tinygltf::Node& node, int index, const glm::dmat4& world) {
+        const auto it = node.extensions.find("EXT_mesh_gpu_instancing");
+        if (it == node.extensions.end() || !it->second.IsObject()) {
+            uses_.push_back({node.mesh, world});
+            return;
+        }
+        const std::string where = "EXT_mesh_gpu_instancing of " + describe_node(model_, index);
+        const tinygltf::Value& attributes = it->second.Get("attributes");
+        if (!attributes.IsObject()) throw SceneError(where + " has no attributes");
+        std::vector<glm::vec4> columns[3];
+        const char* names[3] = {"TRANSLATION", "ROTATION", "SCALE"};
+        size_t count = 0;
+        bool any = false;
+        for (int a = 0; a < 3; ++a) {
+            if (!attributes.Has(names[a])) continue;
+            const tinygltf::Value& accessor = attributes.Get(names[a]);
+            if (!accessor.IsInt() && !accessor.IsNumber()) throw SceneError(where + ": " + names[a] + " is not an accessor index");
+            const int components = a == 1 ? 4 : 3;
+            const int id = accessor.GetNumberAsInt();
+            if (id >= 0 && size_t(id) < model_.accessors.size() && model_.accessors[size_t(id)].count > MAX_NODE_INSTANCES)
+                throw SceneError(where + ": " + std::to_string(model_.accessors[size_t(id)].count) +
+                                 " instances take the scene past " + std::to_string(MAX_NODE_INSTANCES) + " node instances");
+            columns[a] = gltf::read_vectors(model_, accessor.GetNumberAsInt(), std::string(names[a]) + " of " + where,
+                                            components, components, true);
+            if (any && columns[a].size() != count)
+                throw SceneError(where + ": " + names[a] + " has " + std::to_string(columns[a].size()) +
+                                 " elements, the other attributes " + std::to_string(count));
+            count = columns[a].size();
+            any = true;
+        }
+        if (!any) throw SceneError(where + " has none of TRANSLATION, ROTATION, SCALE");
+        if (count > MAX_NODE_INSTANCES || instances_ + count > MAX_NODE_INSTANCES)
+            throw SceneError(where + ": " + std::to_string(count) + " instances take the scene past " +
+                             std::to_string(MAX_NODE_INSTANCES) + " node instances");
+        instances_ += count;
+        for (size_t i = 0; i < count; ++i) {
+            glm::dmat4 local(1.0);
+            if (!columns[0].empty()) local = glm::translate(local, glm::dvec3(glm::vec3(columns[0][i])));
+            if (!columns[1].empty()) {
+                const glm::dvec4 q(columns[1][i]);
+                const double length = glm::length(q);
+                if (!(length > 0.0) || !std::isfinite(length))
+                    throw SceneError(where + ": ROTATION " + std::to_string(i) + " is not a rotation (length 0 or not finite)");
+                local = local * glm::mat4_cast(glm::dquat(q.w, q.x, q.y, q.z));  // as node rotations: unit by the spec
+            }
+            if (!columns[2].empty()) local = glm::scale(local, glm::dvec3(glm::vec3(columns[2][i])));
+            const glm::dmat4 placed = world * local;
+            if (!is_finite(placed)) throw SceneError(where + ": instance " + std::to_string(i) + " has a transform that is not finite");
+            uses_.push_back({node.mesh, placed});
+        }
+    }
+
+    // Triangles of a mesh from its accessors' counts (before anything is read or dropped).
+    size_t estimate_triangles(int mesh_index) const {
+        if (mesh_index < 0 || size_t(mesh_index) >= model_.meshes.size()) return 0;
+        size_t n = 0;
+        for (const tinygltf::Primitive& prim : model_.meshes[size_t(mesh_index)].primitives) {
+            const auto position = prim.attributes.find("POSITION");
+            const int accessor = prim.indices >= 0 ? prim.indices : position == prim.attributes.end() ? -1 : position->second;
+            if (accessor >= 0 && size_t(accessor) < model_.accessors.size()) n += model_.accessors[size_t(accessor)].count / 3;
+        }
+        return n;
+    }
+
+    bool mesh_emits(int mesh_index) {
+        if (mesh_index < 0 || size_t(mesh_index) >= model_.meshes.size()) return false;  // add_mesh reports it
+        for (const tinygltf::Primitive& prim : model_.meshes[size_t(mesh_index)].primitives) {
+            const int material = variant_material(prim);
+            if (material < 0 || size_t(material) >= scene_.materials.size()) continue;
+            const gpu::vec4& e = scene_.materials[size_t(material)].emission;
+            if (e.r > 0.0f || e.g > 0.0f || e.b > 0.0f) return true;
+        }
+        return false;
+    }
+
+    // Every recorded mesh use: copied into world space, or (instancing, a mesh placed more than once that
+    // emits no light: lights are picked per world-space triangle) stored once after the world triangles, in
+    // object space, with one instance per use.
+    //
+    // glTF meshes that list the same accessors share their geometry (MetalRoughSpheresNoTextures: 98 meshes, one
+    // sphere, 98 materials): they are one stored mesh, and an instance of a one-primitive mesh carries its own
+    // material (opaque ones only: alpha is tested during traversal with the triangle's material).
+    void add_recorded_meshes(Instancing instancing) {
+        std::map<std::string, int> first_with_geometry;
+        std::map<int, int> stored_as;  // glTF mesh -> the glTF mesh whose geometry is stored for it
+        for (const MeshUse& use : uses_)
+            if (!stored_as.count(use.mesh))
+                stored_as[use.mesh] = first_with_geometry.emplace(geometry_key(use.mesh), use.mesh).first->second;
+        std::map<int, size_t> uses_of;
+        for (const MeshUse& use : uses_) ++uses_of[stored_as[use.mesh]];
+        std::map<int, uint32_t> instanced;  // stored glTF mesh -> pending mesh index
+        for (const auto& [mesh, count] : uses_of) {
+            if (count < 2 || instancing == Instancing::never || mesh_emits(mesh)) continue;
+            if (instancing == Instancing::always ||
+                double(count - 1) * double(estimate_triangles(mesh)) >= double(MIN_TRIANGLES_SAVED_BY_INSTANCING))
+                instanced.emplace(mesh, 0u);
+        }
+        for (const MeshUse& use : uses_)
+            if (!instanced.count(stored_as[use.mesh])) add_mesh(use.mesh, use.world);
+        world_triangle_end_ = triangle_material_.size();
+        for (auto& [mesh, pending] : instanced) {
+            pending = uint32_t(pending_meshes_.size());
+            const size_t begin = triangle_material_.size();
+            add_mesh(mesh, glm::dmat4(1.0));
+            pending_meshes_.push_back({begin, triangle_material_.size()});
+        }
+        for (const MeshUse& use : uses_) {
+            const int stored = stored_as[use.mesh];
+            const auto it = instanced.find(stored);
+            if (it == instanced.end()) continue;
+            uint32_t material = gpu::INVALID_INDEX;
+            if (use.mesh != stored) {
+                const std::string where = "mesh " + std::to_string(use.mesh) + " primitive 0";
+                material = material_index(variant_material(model_.meshes[size_t(use.mesh)].primitives[0]), where);
+                if (material == material_index(variant_material(model_.meshes[size_t(stored)].primitives[0]), where))
+                    material = gpu::INVALID_INDEX;
+            }
+            pending_instances_.push_back({it->second, use.world, material});
+        }
+        uses_.clear();
+    }
+
+    // What makes two glTF meshes the same stored geometry: every primitive's mode, indices and attribute
+    // accessors, and its material unless the mesh is one primitive with an opaque, non-emitting material (an
+    // instance can then carry the material). Emitting meshes are never shared (mesh_emits).
+    std::string geometry_key(int mesh_index) {
+        if (mesh_index < 0 || size_t(mesh_index) >= model_.meshes.size() || mesh_emits(mesh_index))
+            return "mesh " + std::to_string(mesh_index);  // add_mesh reports a missing mesh
+        const tinygltf::Mesh& mesh = model_.meshes[size_t(mesh_index)];
+        std::string key;
+        for (const tinygltf::Primitive& prim : mesh.primitives) {
+            key += "p" + std::to_string(prim.mode) + "," + std::to_string(prim.indices);
+            for (const auto& [name, accessor] : prim.attributes) key += "," + name + "=" + std::to_string(accessor);
+            if (!prim.targets.empty()) return "mesh " + std::to_string(mesh_index);
+            const int material = variant_material(prim);
+            const bool opaque = material < 0 || (size_t(material) < scene_.materials.size() &&
+                                                 scene_.materials[size_t(material)].alpha_mode == gpu::ALPHA_OPAQUE);
+            if (mesh.primitives.size() != 1 || !opaque) key += ",m" + std::to_string(material);
+            key += ";";
+        }
+        return key;
     }
 
     void add_mesh(int mesh_index, const glm::dmat4& world) {
@@ -411,6 +664,7 @@ private:
         const bool mirrored = glm::determinant(linear) < 0.0;
         for (std::array<uint32_t, 3> tri : make_triangles(mode, indices)) {
             if (mirrored) std::swap(tri[1], tri[2]);
+            rotate_to_lowest_vertex(tri, positions);
             std::array<glm::dvec3, 3> p;
             for (int k = 0; k < 3; ++k) p[k] = glm::dvec3(world * glm::dvec4(glm::dvec3(positions[tri[k]]), 1.0));
             if (!is_finite(p[0]) || !is_finite(p[1]) || !is_finite(p[2])) {
@@ -439,6 +693,19 @@ private:
             triangle_material_.push_back(material);
             triangle_has_normals_.push_back(has_normals ? 1 : 0);
         }
+    }
+
+    // Starts the triangle at its lexicographically lowest vertex, keeping the winding: encoders (meshopt's index
+    // codec, Draco) rotate triangles, and the image must not depend on which vertex a file lists first.
+    static void rotate_to_lowest_vertex(std::array<uint32_t, 3>& tri, const std::vector<glm::vec3>& positions) {
+        auto lower = [&](uint32_t a, uint32_t b) {
+            const glm::vec3 &p = positions[a], &q = positions[b];
+            return p.x != q.x ? p.x < q.x : p.y != q.y ? p.y < q.y : p.z < q.z;
+        };
+        size_t first = 0;
+        for (size_t k = 1; k < 3; ++k)
+            if (lower(tri[k], tri[first])) first = k;
+        std::rotate(tri.begin(), tri.begin() + ptrdiff_t(first), tri.end());
     }
 
     // The material of `prim` in the chosen KHR_materials_variants variant: its mapping's, else its own.
@@ -598,6 +865,19 @@ private:
     size_t flat_nonfinite_normals_ = 0;
     size_t instances_ = 0;
     size_t leftover_indices_ = 0;
+    struct MeshUse {
+        int mesh;
+        glm::dmat4 world;
+    };
+    std::vector<MeshUse> uses_;  // in walk order
+    size_t world_triangle_end_ = std::numeric_limits<size_t>::max();  // before dropping: object space from here
+    std::vector<std::pair<size_t, size_t>> pending_meshes_;         // before dropping: [first, end) triangles
+    struct PendingInstance {
+        uint32_t mesh;      // pending mesh
+        glm::dmat4 world;
+        uint32_t material;  // SceneInstance::material
+    };
+    std::vector<PendingInstance> pending_instances_;
 };
 
 // The root nodes to draw: the default scene, else the first; without scenes, every node no one parents.
@@ -703,7 +983,7 @@ Scene load_unprefixed(const std::filesystem::path& file, const LoadOptions& opti
     const std::vector<int> roots = find_root_nodes(model, scene.warnings);
     check_node_instances(model, roots);
     for (int root : roots) flattener.visit_node(root, glm::dmat4(1.0), 0);
-    flattener.finish(options.rebase);
+    flattener.finish(options.rebase, options.instancing);
     if (scene.triangle_count() == 0) throw SceneError("no triangles in the scene");
     return scene;
 }

@@ -20,6 +20,9 @@ constexpr const char* SUPPORTED_EXTENSIONS[] = {
     "KHR_texture_basisu",     // its fallback source is used; without one the texture is left out (warned)
     "KHR_mesh_quantization",  // gltf_loader.cpp: byte/short positions, normals, texture coordinates, ...
     "KHR_materials_variants", // gltf_loader.cpp: --variant NAME
+    "EXT_meshopt_compression",  // gltf_meshopt.cpp
+    "KHR_draco_mesh_compression",  // gltf_draco.cpp
+    "EXT_mesh_gpu_instancing",     // gltf_loader.cpp: one instance per TRANSLATION/ROTATION/SCALE element
 };
 
 // The object of extension `name` on `material`, or nullptr.

@@ -192,6 +192,11 @@ double mean_emitted_luminance(const Scene& scene, size_t t, const gpu::Material&
 }
 
 PackedScene pack_scene(const Scene& scene, const Bvh& bvh, EnvironmentMap environment) {
+    if (!scene.instances.empty()) throw std::invalid_argument("pack.cpp: a scene with instances needs build_scene_bvh");
+    return pack_scene(scene, make_single_level(bvh), std::move(environment));
+}
+
+PackedScene pack_scene(const Scene& scene, const SceneBvh& bvh, EnvironmentMap environment) {
     const size_t n = scene.triangle_count();
     if (bvh.triangle_order.size() != n || scene.normals.size() != scene.positions.size() ||
         scene.triangle_material.size() != n || scene.triangle_has_normals.size() != n)
@@ -200,8 +205,8 @@ PackedScene pack_scene(const Scene& scene, const Bvh& bvh, EnvironmentMap enviro
     PackedScene packed;
     packed.origin = scene.origin;
     packed.effects = analyse_effects(scene, !environment.empty());
-    packed.nodes = bvh.nodes;
-    packed.pair_nodes = make_pair_nodes(bvh.nodes);
+    packed.pair_nodes = bvh.pair_nodes;
+    packed.instances = bvh.instances;
     packed.materials = scene.materials;
     packed.positions.resize(n);
     packed.shading.resize(n);
@@ -234,7 +239,10 @@ PackedScene pack_scene(const Scene& scene, const Bvh& bvh, EnvironmentMap enviro
         const double a = triangle_area(p[0], p[1], p[2]);
         const double sides = (m.flags & gpu::MATERIAL_DOUBLE_SIDED) ? 2.0 : 1.0;
         const double w = mean_emitted_luminance(scene, t, m) * a * glm::pi<double>() * sides;
-        if (a > 0.0 && w > 0.0 && (m.emission.r > 0.0f || m.emission.g > 0.0f || m.emission.b > 0.0f)) {
+        const bool lit = a > 0.0 && w > 0.0 && (m.emission.r > 0.0f || m.emission.g > 0.0f || m.emission.b > 0.0f);
+        if (lit && !scene.instances.empty() && t >= scene.world_triangle_count)
+            throw std::invalid_argument("pack.cpp: an instanced mesh emits light (the loader flattens those)");
+        if (lit) {
             emissive.push_back(uint32_t(i));
             power.push_back(w);
             area.push_back(a);

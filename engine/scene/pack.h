@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "scene/bvh.h"
+#include "scene/scene_bvh.h"
 #include "scene/effects.h"
 #include "scene/environment.h"
 #include "scene/scene.h"
@@ -12,8 +13,8 @@
 namespace fh {
 
 struct PackedScene {
-    std::vector<gpu::BvhNode> nodes;                // the BVH as built (depth-first linear layout)
-    std::vector<gpu::BvhPairNode> pair_nodes;       // the same BVH as the GPU traverses it, root pair at 0
+    std::vector<gpu::BvhPairNode> pair_nodes;       // the BVH as the GPU traverses it, root pair at 0 (scene_bvh.h)
+    std::vector<gpu::Instance> instances;           // two-level BVH; empty: one level
     std::vector<gpu::TrianglePositions> positions;  // BVH leaf order
     std::vector<gpu::TriangleShading> shading;      // same order
     std::vector<gpu::Material> materials;
@@ -39,7 +40,8 @@ bool fits_uniform_buffers(const PackedScene& scene, uint64_t max_uniform_buffer_
 
 // Throws std::invalid_argument when `bvh` was not built over `scene`'s triangles. `environment` (may be empty)
 // joins the lights NEE picks from, in proportion to its power over the scene's bounding disc.
-PackedScene pack_scene(const Scene& scene, const Bvh& bvh, EnvironmentMap environment = {});
+PackedScene pack_scene(const Scene& scene, const SceneBvh& bvh, EnvironmentMap environment = {});
+PackedScene pack_scene(const Scene& scene, const Bvh& bvh, EnvironmentMap environment = {});  // one level
 
 // Mean luminance of a triangle's emissive texture times its emission factor (stratified over the triangle,
 // nearest texels): the power NEE picks textured emitters by. 0: black everywhere the samples looked.

@@ -9,6 +9,7 @@
 
 #include <glm/glm.hpp>
 
+#include "scene/instancing.h"
 #include "shared/layout.h"
 
 namespace fh {
@@ -45,6 +46,20 @@ struct SceneImage {
     std::vector<uint32_t> texels;  // RGBA8, r in the low byte; empty: could not be decoded (KTX2), never read
 };
 
+// A mesh stored once, in its object space, for a two-level BVH: triangles [first_triangle, + triangle_count)
+// of the Scene arrays.
+struct SceneMesh {
+    size_t first_triangle = 0;
+    size_t triangle_count = 0;
+};
+
+// One placement of a SceneMesh (a node that draws it, or one EXT_mesh_gpu_instancing element).
+struct SceneInstance {
+    uint32_t mesh = 0;
+    glm::dmat4 render_from_object{1.0};  // world transform with the render-space origin subtracted
+    uint32_t material = gpu::INVALID_INDEX;  // replaces the mesh's material (glTF meshes that share geometry)
+};
+
 struct LoadOptions {
     // Render-space origin at the centre of the scene bounds: world positions are composed in double and the
     // origin subtracted before rounding to float, so a scene far from the world origin keeps the precision
@@ -52,6 +67,7 @@ struct LoadOptions {
     bool rebase = true;
     // KHR_materials_variants: the variant whose materials primitives use (empty: the file's default materials).
     std::string variant;
+    Instancing instancing = Instancing::automatic;  // scene/instancing.h
 };
 
 struct Scene {
@@ -75,9 +91,19 @@ struct Scene {
     // Triangles of each primitive's geometry (POSITION and index accessors) counted once however many nodes or
     // meshes draw it; the flattened arrays hold every copy.
     size_t unique_triangle_count = 0;
+    // Two-level scenes: triangles [0, world_triangle_count) are in render space, the rest belong to `meshes`
+    // (object space) and are drawn once per instance. Without instances every triangle is in render space.
+    size_t world_triangle_count = 0;
+    std::vector<SceneMesh> meshes;
+    std::vector<SceneInstance> instances;
     std::vector<std::string> warnings;         // printed by the app
 
-    size_t triangle_count() const { return positions.size() / 3; }
+    size_t triangle_count() const { return positions.size() / 3; }  // stored (each instanced mesh once)
+    size_t rendered_triangle_count() const {                         // every instance's triangles
+        size_t n = instances.empty() ? triangle_count() : world_triangle_count;
+        for (const SceneInstance& i : instances) n += meshes[i.mesh].triangle_count;
+        return n;
+    }
 };
 
 // Loads the default scene (or the first) of a .gltf (external or embedded buffers) or .glb file.

@@ -16,6 +16,7 @@ layout(std430, binding = BINDING_HITS) buffer HitBuffer { HitItem hits[]; };
 layout(std430, binding = BINDING_SHADOW_RAYS) buffer ShadowBuffer { ShadowRayItem shadow_rays[]; };
 layout(std430, binding = BINDING_FILM) buffer FilmBuffer { FilmPixel film[]; };
 layout(std430, binding = BINDING_PUNCTUAL_LIGHTS) readonly buffer PunctualLightBuffer { PunctualLight punctual_lights[]; };
+layout(std430, binding = BINDING_INSTANCES) readonly buffer InstanceBuffer { Instance instances[]; };
 
 layout(std140, binding = BINDING_BVH_NODES_UNIFORM) uniform NodeUniforms {
     BvhPairNode uniform_nodes[UNIFORM_NODE_CAPACITY];
@@ -33,6 +34,9 @@ layout(std140, binding = BINDING_EMITTERS_UNIFORM) uniform EmitterUniforms { Emi
 // Set by the host when every scene array lies whole in its uniform binding; the branches below are then
 // resolved when the pipeline is compiled.
 layout(constant_id = SPEC_SCENE_IN_UNIFORM_BUFFERS) const bool scene_in_uniform_buffers = false;
+// Set by the host for a two-level BVH (meshes drawn by several nodes); without it the instance code is not
+// compiled into traversal or shading.
+layout(constant_id = SPEC_HAS_INSTANCES) const bool scene_has_instances = false;
 
 BvhPairNode load_bvh_node(uint index) {
     if (scene_in_uniform_buffers) return uniform_nodes[index];

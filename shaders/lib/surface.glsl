@@ -48,4 +48,34 @@ SurfaceHit load_surface(uint triangle, float b1, float b2) {
     s.light_pdf_area = ts.light_pdf_area;
     return s;
 }
+
+// A surface loaded in a mesh's object space (load_surface of an instanced triangle) placed by its instance:
+// the point by render_from_object with its error bound grown by the transform's rounding (pbrt-v4 sec. 6.8.5:
+// gamma(3) of |M| |p| plus (1 + gamma(3)) |M| p_error), normals by the inverse transpose (the transpose of
+// object_from_render), which keeps a mirrored instance's front side in front. Area is not transformed:
+// instanced meshes are never lights (the loader flattens emissive meshes).
+SurfaceHit place_surface(SurfaceHit s, Instance inst) {
+    vec4 p = vec4(s.p, 1.0f);
+    vec3 m0 = vec3(inst.render_from_object_0), m1 = vec3(inst.render_from_object_1), m2 = vec3(inst.render_from_object_2);
+    vec3 placed = vec3(dot(inst.render_from_object_0, p), dot(inst.render_from_object_1, p),
+                       dot(inst.render_from_object_2, p));
+    vec3 ap = abs(s.p);
+    vec3 rounding = vec3(dot(abs(m0), ap) + abs(inst.render_from_object_0.w),
+                         dot(abs(m1), ap) + abs(inst.render_from_object_1.w),
+                         dot(abs(m2), ap) + abs(inst.render_from_object_2.w));
+    vec3 carried = vec3(dot(abs(m0), s.p_error), dot(abs(m1), s.p_error), dot(abs(m2), s.p_error));
+    s.p_error = error_gamma(3.0f) * rounding + (1.0f + error_gamma(3.0f)) * carried;
+    s.p = placed;
+    // The transpose of object_from_render's linear part: n_render = sum_k n_object[k] * object_from_render_k
+    // (mat3(a, b, c) takes columns).
+    mat3 normal_from_object = mat3(vec3(inst.object_from_render_0), vec3(inst.object_from_render_1),
+                                   vec3(inst.object_from_render_2));
+    vec3 ng = normal_from_object * s.ng;
+    vec3 ns = normal_from_object * s.ns;
+    float ng_len = length(ng);
+    float ns_len = length(ns);
+    if (ng_len > 0.0f && !isinf(ng_len)) s.ng = ng / ng_len;
+    if (ns_len > 0.0f && !isinf(ns_len)) s.ns = ns / ns_len;
+    return s;
+}
 #endif

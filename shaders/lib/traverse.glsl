@@ -15,6 +15,7 @@ struct TraceHit {
     uint triangle;  // INVALID_INDEX on a miss
     float b1;
     float b2;
+    uint instance;  // the Instance the triangle was hit in (scene_has_instances), else INVALID_INDEX
 };
 
 // any_hit: stop at the first intersection closer than t_max (shadow rays). origin_triangle: the triangle the
@@ -26,6 +27,11 @@ struct TraceHit {
 // a ray through a shared edge) go to the triangle that comes first in the scene (TrianglePositions.
 // source_index), not to the one visited first. Triangles are tested up to the next float above the best t
 // so that ties come back; the index is loaded only for a tie.
+//
+// Two-level BVH (scene_has_instances): a top-level leaf (count INSTANCE_LEAF) names an Instance; the ray is
+// mapped to the mesh's object space (an affine map keeps t: the object-space ray is parametrised like the
+// world one) and traversal goes on at the mesh BVH's root on the same stack. Entries pushed from then on sit at
+// or above `instance_base`; popping one below it returns to the top level with the world-space ray.
 //
 // "While-while" traversal (Aila & Laine 2009): the inner loop descends through pair nodes until this lane
 // holds a leaf, then the lanes test their leaves' triangles together. On lavapipe every branch of an `if`
@@ -51,6 +57,11 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin
     best.triangle = INVALID_INDEX;
     best.b1 = 0.0f;
     best.b2 = 0.0f;
+    best.instance = INVALID_INDEX;
+    vec3 world_origin = origin;
+    vec3 world_dir = dir;
+    uint instance = INVALID_INDEX;  // the instance whose mesh BVH this lane is in
+    uint instance_base = 0u;        // stack size when it was entered
     RayPrecomp pre = make_ray_precomp(origin, dir);
     vec3 inv_dir = make_safe_inverse_dir(dir);
     uint stack_index[TRAVERSAL_STACK_SIZE];
@@ -60,7 +71,22 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin
     uint count = 0u;
     while (true) {
         // Descend until this lane holds a leaf, or finds nothing below (index INVALID_INDEX, count 0).
-        while (count == 0u && index != INVALID_INDEX) {
+        while ((count == 0u || (scene_has_instances && count == INSTANCE_LEAF)) && index != INVALID_INDEX) {
+            if (scene_has_instances && count == INSTANCE_LEAF) {
+                Instance inst = instances[index];
+                instance = index;
+                instance_base = stack_size;
+                origin = vec3(dot(inst.object_from_render_0, vec4(world_origin, 1.0f)),
+                              dot(inst.object_from_render_1, vec4(world_origin, 1.0f)),
+                              dot(inst.object_from_render_2, vec4(world_origin, 1.0f)));
+                dir = vec3(dot(inst.object_from_render_0.xyz, world_dir), dot(inst.object_from_render_1.xyz, world_dir),
+                           dot(inst.object_from_render_2.xyz, world_dir));
+                pre = make_ray_precomp(origin, dir);
+                inv_dir = make_safe_inverse_dir(dir);
+                index = inst.root_node;
+                count = 0u;
+                continue;
+            }
             BvhPairNode n = load_bvh_node(index);
             vec2 a = box_entry_exit(origin, inv_dir, vec3(n.a_min_x, n.a_min_y, n.a_min_z),
                                     vec3(n.a_max_x, n.a_max_y, n.a_max_z), best.t);
@@ -96,6 +122,7 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin
                 best.triangle = tri;
                 best.b1 = h.b1;
                 best.b2 = h.b2;
+                best.instance = instance;
                 if (any_hit) return best;
             }
         }
@@ -104,6 +131,13 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin
         --stack_size;
         index = stack_index[stack_size];
         count = stack_count[stack_size];
+        if (scene_has_instances && instance != INVALID_INDEX && stack_size < instance_base) {
+            instance = INVALID_INDEX;  // the popped entry was pushed at the top level
+            origin = world_origin;
+            dir = world_dir;
+            pre = make_ray_precomp(origin, dir);
+            inv_dir = make_safe_inverse_dir(dir);
+        }
     }
     return best;
 }

@@ -51,7 +51,8 @@ FH_CONST uint BINDING_TEXTURE_IMAGES = 21u;     // TextureImage[]: where each im
 FH_CONST uint BINDING_TEXELS = 22u;             // uint[]: RGBA8 texels of every image, rows top to bottom
 FH_CONST uint BINDING_ENV_RADIANCE = 23u;       // vec4[]: environment radiance (rgb), equirectangular rows
 FH_CONST uint BINDING_ENV_CDF = 24u;            // float[]: marginal CDF (height + 1), then one CDF per row
-FH_CONST uint BINDING_COUNT = 25u;
+FH_CONST uint BINDING_INSTANCES = 25u;       // Instance[] (two-level BVH), when the scene has instances
+FH_CONST uint BINDING_COUNT = 26u;
 FH_CONST uint UNIFORM_BUFFER_BYTES = 65536u;  // declared size of each; Vulkan guarantees only 16 KiB of
                                               // maxUniformBufferRange, so fits_uniform_buffers (pack.h) checks
 
@@ -60,6 +61,7 @@ FH_CONST uint SPEC_SCENE_IN_UNIFORM_BUFFERS = 0u;  // bool: every scene array fi
 FH_CONST uint SPEC_HAS_PUNCTUAL_LIGHTS = 1u;       // bool: the scene has point/spot/directional lights
 FH_CONST uint SPEC_DISABLED_TECHNIQUES = 2u;       // TECHNIQUE_* bits switched off (cost measurements only)
 FH_CONST uint SPEC_EFFECTS = 3u;                   // EFFECT_* bits: what the scene calls for (scene/effects.h)
+FH_CONST uint SPEC_HAS_INSTANCES = 4u;             // bool: two-level BVH (meshes drawn by several nodes)
 
 // ---- Effects (engine/scene/effects.h decides them by value; a stage compiles only the code of those set) ----
 FH_CONST uint EFFECT_BASE_COLOR_TEXTURE = 1u;      // some visible material has a baseColorTexture
@@ -95,6 +97,7 @@ FH_CONST uint RENDER_NEE = 1u;             // FrameParams.flags: next-event esti
 FH_CONST uint RENDER_MIS = 2u;             // combine NEE and BSDF sampling by MIS (else NEE only)
 FH_CONST uint RENDER_RR = 4u;              // Russian roulette
 FH_CONST uint BVH_LEAF_COUNT_BITS = 16u;   // BvhNode.count_and_axis: low bits count, high bits axis
+FH_CONST uint INSTANCE_LEAF = 0x80000000u; // BvhPairNode child count of a top-level leaf: index = Instance
 FH_CONST uint PUNCTUAL_LIGHT_BIT = 0x80000000u;  // Emitter.light: set = PunctualLight index, clear = triangle
 FH_CONST uint ENVIRONMENT_LIGHT = 0x7fffffffu;  // Emitter.light: the environment (EFFECT_ENVIRONMENT)
 FH_CONST uint ALPHA_OPAQUE = 0u;           // Material.alpha_mode (glTF alphaMode)
@@ -140,6 +143,17 @@ struct BvhPairNode {
     uint b_count;
 };
 
+// One placement of a mesh in a two-level BVH (SPEC_HAS_INSTANCES): a top-level leaf (count INSTANCE_LEAF) enters
+// the mesh's own BVH with the ray mapped to object space. Rows of 3x4 affine maps; render space is world space
+// minus Scene::origin. Normals go to render space by the transpose of object_from_render's linear part.
+struct Instance {
+    vec4 object_from_render_0, object_from_render_1, object_from_render_2;
+    vec4 render_from_object_0, render_from_object_1, render_from_object_2;
+    uint root_node;         // the mesh BVH's root pair node
+    uint first_triangle;    // the mesh's triangles (TrianglePositions order) start here
+    uint material;          // replaces the triangles' material (meshes sharing geometry), else INVALID_INDEX
+    uint pad0;
+};
 // World-space vertex positions of one triangle; only these are read during traversal (9 words). Padded to
 // 48 bytes so that std140 (uniform buffers) and std430 give the same array stride.
 struct TrianglePositions {
@@ -308,6 +322,7 @@ struct HitItem {
     float t;
     uint triangle;              // INVALID_INDEX: the ray escaped
     float b1, b2;               // barycentrics of p1 and p2
+    uint instance;              // Instance hit (SPEC_HAS_INSTANCES), else INVALID_INDEX
 };
 
 // A shadow ray and the contribution it carries if unoccluded (next-event estimation).

@@ -17,7 +17,7 @@ import tempfile
 
 SEED_GLOBS = ["scenes/*.gltf", "tests/render/scenes/*.gltf", "tests/robustness/bad/*.gltf",
               "tests/robustness/bad/*.glb", "tests/robustness/thirdparty/**/*.gltf",
-              "tests/robustness/thirdparty/**/*.glb", "tests/fuzz/regressions/*"]
+              "tests/robustness/thirdparty/**/*.glb", "tests/unit/meshes/*.glb", "tests/fuzz/regressions/*"]
 MAX_SEED_BYTES = 64 * 1024  # as -max_len in .ci/fuzz: longer seeds would be cut anyway
 
 

@@ -11,6 +11,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "scene/scene.h"
+
 namespace fh::test {
 
 inline std::string encode_base64(const std::vector<unsigned char>& data) {
@@ -119,5 +121,15 @@ private:
         return int(doc[key].size()) - 1;
     }
 };
+
+// Expects load_gltf to refuse `file` with a message containing `needle`.
+inline void expect_load_refused(const std::filesystem::path& file, const std::string& needle) {
+    try {
+        fh::load_gltf(file);
+        ADD_FAILURE() << "loaded " << file;
+    } catch (const fh::SceneError& e) {
+        EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    }
+}
 
 }  // namespace fh::test

@@ -153,11 +153,17 @@ FH_SIZE(RayItem, 32);
 FH_OFFSET(RayItem, path, 12);
 FH_OFFSET(RayItem, dir_x, 16);
 
-FH_SIZE(HitItem, 16);
+FH_SIZE(HitItem, 20);
 FH_OFFSET(HitItem, t, 0);
 FH_OFFSET(HitItem, triangle, 4);
 FH_OFFSET(HitItem, b1, 8);
 FH_OFFSET(HitItem, b2, 12);
+FH_OFFSET(HitItem, instance, 16);
+FH_SIZE(Instance, 112);
+FH_OFFSET(Instance, render_from_object_0, 48);
+FH_OFFSET(Instance, root_node, 96);
+FH_OFFSET(Instance, first_triangle, 100);
+FH_OFFSET(Instance, material, 104);
 
 FH_SIZE(ShadowRayItem, 48);
 FH_OFFSET(ShadowRayItem, path, 12);
@@ -198,7 +204,8 @@ TEST(Layout, SizesMatchTheGpuStructs) {
     EXPECT_EQ(sizeof(FrameParams), 176u);
     EXPECT_EQ(sizeof(QueueCounters), 56u);
     EXPECT_EQ(sizeof(RayItem), 32u);
-    EXPECT_EQ(sizeof(HitItem), 16u);
+    EXPECT_EQ(sizeof(HitItem), 20u);
+    EXPECT_EQ(sizeof(Instance), 112u);
     EXPECT_EQ(sizeof(ShadowRayItem), 48u);
     EXPECT_EQ(sizeof(PathState), 32u);
     EXPECT_EQ(sizeof(FilmPixel), 32u);

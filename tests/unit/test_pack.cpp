@@ -71,7 +71,7 @@ TEST(Pack, StoresTrianglesInLeafOrder) {
     const fh::PackedScene packed = fh::pack_scene(s, bvh);
     ASSERT_EQ(packed.positions.size(), 500u);
     ASSERT_EQ(packed.shading.size(), 500u);
-    EXPECT_EQ(packed.nodes.size(), bvh.nodes.size());
+    EXPECT_EQ(packed.pair_nodes.size(), fh::make_pair_nodes(bvh.nodes).size());
     EXPECT_EQ(packed.materials.size(), 3u);
     for (size_t i = 0; i < 500; ++i) {
         const uint32_t t = bvh.triangle_order[i];

@@ -169,8 +169,8 @@ def main():
     write("nan_positions_only.gltf", json.dumps(d))
 
     d = copy.deepcopy(doc)
-    d["extensionsUsed"] = ["KHR_draco_mesh_compression"]
-    d["extensionsRequired"] = ["KHR_draco_mesh_compression"]
+    d["extensionsUsed"] = ["EXT_fredholm_never_supported"]
+    d["extensionsRequired"] = ["EXT_fredholm_never_supported"]
     write("required_extension.gltf", d)
     d = copy.deepcopy(doc)
     d["nodes"] = []
@@ -203,6 +203,20 @@ def main():
     d = textured_scene(data_uri("image/png", png_1x1()))
     d["meshes"][0]["primitives"][0]["attributes"]["TANGENT"] = 0  # the VEC3 positions
     write("tangent_wrong_type.gltf", d)
+
+    # EXT_mesh_gpu_instancing: attributes of different lengths; more instances than the scene allows.
+    d, _ = triangle_scene()
+    d["accessors"].append({"bufferView": 0, "componentType": 5126, "count": 2, "type": "VEC3"})
+    d["extensionsUsed"] = ["EXT_mesh_gpu_instancing"]
+    d["nodes"][0]["extensions"] = {"EXT_mesh_gpu_instancing": {"attributes": {"TRANSLATION": 0, "SCALE": 2}}}
+    write("instancing_count_mismatch.gltf", d)
+    d, _ = triangle_scene()
+    d["accessors"].append({"componentType": 5126, "count": 5000000, "type": "VEC3",  # zeros but for element 0
+                           "sparse": {"count": 1, "indices": {"bufferView": 1, "componentType": 5123},
+                                      "values": {"bufferView": 0}}})
+    d["extensionsUsed"] = ["EXT_mesh_gpu_instancing"]
+    d["nodes"][0]["extensions"] = {"EXT_mesh_gpu_instancing": {"attributes": {"TRANSLATION": 2}}}
+    write("instancing_too_many.gltf", d)
 
     # 6144 x 6144 texels: 144 MiB as RGBA8, more than lavapipe's 128 MiB storage buffers.
     with open(os.path.join(HERE, "texture_too_large.png"), "wb") as f:

@@ -24,6 +24,7 @@ namespace fh::glsl {
 using gpu::TRIANGLE_HAS_NORMALS;
 using gpu::TrianglePositions;
 using gpu::TriangleShading;
+using gpu::Instance;
 // The buffer loads of bindings.glsl, from the test's triangles (flat shading: no vertex normals).
 static const std::vector<glm::vec3>* g_triangles = nullptr;
 static TrianglePositions load_triangle_positions(uint triangle) {

@@ -1,0 +1,130 @@
+// Two-level BVH: mesh BVHs built once, instances placed over them (layout.h Instance, traverse.glsl).
+#include "scene/scene_bvh.h"
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <span>
+
+#include "scene/pack.h"
+
+namespace fh {
+namespace {
+
+// Rows of the 3x4 affine part of `m` (column-major glm).
+void write_rows(const glm::dmat4& m, gpu::vec4& r0, gpu::vec4& r1, gpu::vec4& r2) {
+    gpu::vec4* rows[3] = {&r0, &r1, &r2};
+    for (int r = 0; r < 3; ++r) *rows[r] = gpu::vec4(float(m[0][r]), float(m[1][r]), float(m[2][r]), float(m[3][r]));
+}
+
+// The box of `lo`..`hi` mapped by `m`, in double, rounded outwards to float.
+void map_box(const glm::dmat4& m, const gpu::BvhNode& root, glm::vec3& lo, glm::vec3& hi) {
+    glm::dvec3 a(std::numeric_limits<double>::infinity()), b(-std::numeric_limits<double>::infinity());
+    for (int c = 0; c < 8; ++c) {
+        const glm::dvec3 p((c & 1) ? root.max_x : root.min_x, (c & 2) ? root.max_y : root.min_y,
+                           (c & 4) ? root.max_z : root.min_z);
+        const glm::dvec3 q = glm::dvec3(m * glm::dvec4(p, 1.0));
+        a = glm::min(a, q);
+        b = glm::max(b, q);
+    }
+    for (int k = 0; k < 3; ++k) {
+        lo[k] = std::nextafter(float(a[k]), -std::numeric_limits<float>::infinity());
+        hi[k] = std::nextafter(float(b[k]), std::numeric_limits<float>::infinity());
+    }
+}
+
+}  // namespace
+
+SceneBvh make_single_level(const Bvh& bvh) {
+    SceneBvh s;
+    s.pair_nodes = make_pair_nodes(bvh.nodes);
+    s.triangle_order = bvh.triangle_order;
+    s.sah_cost = bvh.sah_cost;
+    s.node_count = bvh.nodes.size();
+    s.max_depth = bvh.max_depth;
+    s.build_seconds = bvh.build_seconds;
+    return s;
+}
+
+SceneBvh build_scene_bvh(const Scene& scene, const BvhOptions& options) {
+    if (scene.instances.empty()) return make_single_level(build_bvh(scene.positions, options));
+    const auto start = std::chrono::steady_clock::now();
+    // Meshes in leaf order: the world triangles first (an identity instance), then the scene's meshes.
+    std::vector<SceneMesh> meshes;
+    if (scene.world_triangle_count > 0) meshes.push_back({0, scene.world_triangle_count});
+    const uint32_t first_scene_mesh = uint32_t(meshes.size());
+    meshes.insert(meshes.end(), scene.meshes.begin(), scene.meshes.end());
+    struct Placement {
+        glm::dmat4 render_from_object;
+        uint32_t mesh, material;
+    };
+    std::vector<Placement> placements;
+    if (scene.world_triangle_count > 0) placements.push_back({glm::dmat4(1.0), 0u, gpu::INVALID_INDEX});
+    for (const SceneInstance& i : scene.instances)
+        placements.push_back({i.render_from_object, first_scene_mesh + i.mesh, i.material});
+
+    SceneBvh s;
+    std::vector<uint32_t> root_of(meshes.size()), leaf_offset(meshes.size());
+    std::vector<gpu::BvhNode> roots(meshes.size());
+    std::vector<gpu::BvhPairNode> mesh_pairs;
+    uint32_t deepest_mesh = 0;
+    for (size_t m = 0; m < meshes.size(); ++m) {
+        const std::span<const glm::vec3> positions(scene.positions.data() + 3 * meshes[m].first_triangle,
+                                                   3 * meshes[m].triangle_count);
+        const Bvh bvh = build_bvh(positions, options);
+        roots[m] = bvh.nodes[0];
+        s.node_count += bvh.nodes.size();
+        deepest_mesh = std::max(deepest_mesh, bvh.max_depth);
+        leaf_offset[m] = uint32_t(s.triangle_order.size());
+        for (uint32_t t : bvh.triangle_order) s.triangle_order.push_back(uint32_t(meshes[m].first_triangle) + t);
+        root_of[m] = uint32_t(mesh_pairs.size());  // relative to the first mesh pair, fixed below
+        for (gpu::BvhPairNode p : make_pair_nodes(bvh.nodes)) {
+            const uint32_t node_base = root_of[m];
+            for (auto [index, count] : {std::pair<uint32_t*, uint32_t*>{&p.a_index, &p.a_count}, {&p.b_index, &p.b_count}}) {
+                if (*index == gpu::INVALID_INDEX) continue;
+                *index += *count == 0 ? node_base : leaf_offset[m];
+            }
+            mesh_pairs.push_back(p);
+        }
+    }
+
+    std::vector<glm::vec3> corners(2 * placements.size());
+    for (size_t i = 0; i < placements.size(); ++i)
+        map_box(placements[i].render_from_object, roots[placements[i].mesh], corners[2 * i], corners[2 * i + 1]);
+    BvhOptions top = options;
+    top.max_leaf_size = 1;
+    const Bvh tlas = build_bvh_over_boxes(corners, top);
+    s.node_count += tlas.nodes.size();
+    s.sah_cost = tlas.sah_cost;
+    s.max_depth = tlas.max_depth + 1 + deepest_mesh;
+    s.pair_nodes = make_pair_nodes(tlas.nodes);
+    const uint32_t mesh_base = uint32_t(s.pair_nodes.size());
+    for (gpu::BvhPairNode& p : s.pair_nodes)
+        for (auto [index, count] : {std::pair<uint32_t*, uint32_t*>{&p.a_index, &p.a_count}, {&p.b_index, &p.b_count}})
+            if (*index != gpu::INVALID_INDEX && *count > 0) {
+                *index = tlas.triangle_order[*index];  // the instance
+                *count = gpu::INSTANCE_LEAF;
+            }
+    for (gpu::BvhPairNode p : mesh_pairs) {
+        for (auto [index, count] : {std::pair<uint32_t*, uint32_t*>{&p.a_index, &p.a_count}, {&p.b_index, &p.b_count}})
+            if (*index != gpu::INVALID_INDEX && *count == 0) *index += mesh_base;
+        s.pair_nodes.push_back(p);
+    }
+
+    s.instances.resize(placements.size());
+    for (size_t i = 0; i < placements.size(); ++i) {
+        gpu::Instance& inst = s.instances[i];
+        inst = {};
+        const Placement& p = placements[i];
+        write_rows(glm::inverse(p.render_from_object), inst.object_from_render_0, inst.object_from_render_1,
+                   inst.object_from_render_2);
+        write_rows(p.render_from_object, inst.render_from_object_0, inst.render_from_object_1, inst.render_from_object_2);
+        inst.root_node = mesh_base + root_of[p.mesh];
+        inst.first_triangle = leaf_offset[p.mesh];
+        inst.material = p.material;
+    }
+    s.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return s;
+}
+
+}  // namespace fh
