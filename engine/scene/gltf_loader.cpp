@@ -172,6 +172,12 @@ std::vector<unsigned char> patch_file_for_decoders(const std::filesystem::path& 
     std::vector<unsigned char> bytes;
     std::string problem;
     if (!read_regular_file(&bytes, &problem, file.string(), nullptr) || bytes.size() < json_end) return {};
+    // Only the bytes the header's length covers, and only when it covers the JSON and no more than the file
+    // (else tinygltf reads the file itself and reports it): check_glb_bin_chunk judged the chunks against
+    // that length, and a rebuilt header must not grant a BIN chunk more than it did (a fuzzer finding,
+    // tests/fuzz/regressions/crash_meshopt_glb_length.glb).
+    const uint64_t length = load_le32(bytes.data() + 8);
+    if (length > bytes.size() || length < json_end) return {};
     while (json.size() % 4 != 0) json += ' ';
     std::vector<unsigned char> glb(bytes.begin(), bytes.begin() + 12);
     auto put32 = [&](uint64_t v) {
@@ -180,7 +186,7 @@ std::vector<unsigned char> patch_file_for_decoders(const std::filesystem::path& 
     put32(json.size());
     put32(0x4E4F534Au);  // "JSON"
     glb.insert(glb.end(), json.begin(), json.end());
-    glb.insert(glb.end(), bytes.begin() + ptrdiff_t(json_end), bytes.end());
+    glb.insert(glb.end(), bytes.begin() + ptrdiff_t(json_end), bytes.begin() + ptrdiff_t(length));
     const uint64_t total = glb.size();
     for (int i = 0; i < 4; ++i) glb[size_t(8 + i)] = static_cast<unsigned char>(total >> (8 * i));
     return glb;
