@@ -19,13 +19,11 @@ void main() {
     uint alpha_seed = effect_on(EFFECT_ALPHA) ? pcg_hash(paths[ray.path].rng ^ 0x0a1fa0e5u) : 0u;
     TraceHit hit = trace_ray(vec3(ray.origin_x, ray.origin_y, ray.origin_z), vec3(ray.dir_x, ray.dir_y, ray.dir_z),
                              uintBitsToFloat(0x7f800000u), false, ray.origin_triangle, alpha_seed);
-    HitItem item;
-    item.t = hit.t;
-    item.triangle = hit.triangle;
-    item.b1 = hit.b1;
-    item.b2 = hit.b2;
-    item.instance = hit.instance;
-    hits[i] = item;
+    hits[i].t = hit.t;
+    hits[i].triangle = hit.triangle;
+    hits[i].b1 = hit.b1;
+    hits[i].b2 = hit.b2;
+    if (scene_has_instances) hits[i].instance = hit.instance;  // read by shade only then: no store otherwise
     COUNT_IN_SUBGROUP(counters.escaped_rays, hit.triangle == INVALID_INDEX ? 1u : 0u);
     COUNT_IN_SUBGROUP(counters.traced_rays, 1u);
 }

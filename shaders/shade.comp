@@ -53,12 +53,16 @@ void main() {
     if (hit.triangle != INVALID_INDEX) {
         vec3 dir = vec3(ray.dir_x, ray.dir_y, ray.dir_z);
         vec3 wo = -dir;
-        SurfaceHit s = load_surface(hit.triangle, hit.b1, hit.b2);
-        if (scene_has_instances && hit.instance != INVALID_INDEX && instances[hit.instance].material != INVALID_INDEX)
-            s.material = instances[hit.instance].material;
+        SurfaceHit s = load_surface(hit.triangle, hit.b1, hit.b2);  // object space for an instance
+        bool instanced = scene_has_instances && hit.instance != INVALID_INDEX;
+        Instance inst;
+        if (instanced) {
+            inst = instances[hit.instance];
+            if (inst.material != INVALID_INDEX) s.material = inst.material;
+        }
         Material m = resolve_material(load_material(s.material), hit.triangle, hit.b1, hit.b2);
         s.ns = apply_normal_texture(m, hit.triangle, hit.b1, hit.b2, s.ns);
-        if (scene_has_instances && hit.instance != INVALID_INDEX) s = place_surface(s, instances[hit.instance]);
+        if (instanced) s = place_surface(s, inst);
         bool front = dot(s.ng, wo) > 0.0f;
         bool double_sided = (m.flags & MATERIAL_DOUBLE_SIDED) != 0u;
 

@@ -89,6 +89,24 @@ nlohmann::json describe_run(uint32_t size, const RenderStats& m, const std::stri
             {"nonfinite_samples", m.nonfinite_samples}};
 }
 
+// What a feature costs at one size: the render with it, then right after it the render without it (the
+// machine's speed drifts), printed as "WITH a s, WITHOUT b s: FEATURE costs +x% of the render time". The
+// variant without it is `without` rendered with `without_disabled_effects` switched off.
+std::pair<RenderStats, RenderStats> time_feature(const vk::Context& context, const SceneCamera& camera,
+                                                 RenderSettings settings, uint32_t size, uint32_t repeats,
+                                                 const PreparedScene& with, const PreparedScene& without,
+                                                 uint32_t without_disabled_effects, const char* with_name,
+                                                 const char* without_name, const char* feature) {
+    settings.width = settings.height = size;
+    const RenderStats a = time_render(context, with, camera, settings, repeats);
+    settings.disabled_effects = without_disabled_effects;
+    const RenderStats b = time_render(context, without, camera, settings, repeats);
+    std::printf("%4ux%-4u %s %.3f s, %s %.3f s: %s cost %+.1f%% of the render time\n", size, size, with_name,
+                a.render_seconds, without_name, b.render_seconds, feature,
+                100.0 * (a.render_seconds - b.render_seconds) / b.render_seconds);
+    return {a, b};
+}
+
 }  // namespace
 
 int run_bench(const BenchCommand& c) {
@@ -155,15 +173,8 @@ int run_bench(const BenchCommand& c) {
                     p.attributes.empty() ? size_t(0) : sizeof(gpu::TriangleAttributes),
                     describe_effects(p.effects.bits).c_str());
         for (uint32_t size : c.sizes) {
-            RenderSettings settings = base;
-            settings.width = settings.height = size;
-            // Factors only, timed right after its baseline (the machine's speed drifts).
-            const RenderStats with = time_render(*context, prepared, camera, settings, c.repeats);
-            settings.disabled_effects = material_effects;
-            const RenderStats without = time_render(*context, prepared, camera, settings, c.repeats);
-            std::printf("%4ux%-4u with textures %.3f s, factors only %.3f s: textures cost %+.1f%% of the render time\n",
-                        size, size, with.render_seconds, without.render_seconds,
-                        100.0 * (with.render_seconds - without.render_seconds) / without.render_seconds);
+            const auto [with, without] = time_feature(*context, camera, base, size, c.repeats, prepared, prepared,
+                                                      material_effects, "with textures", "factors only", "textures");
             nlohmann::json run = describe_run(size, without, "none");
             run["disabled_effects"] = describe_effects(material_effects);
             run["with_textures_seconds"] = with.render_seconds;
@@ -186,13 +197,8 @@ int run_bench(const BenchCommand& c) {
                     scene_bytes(prepared.packed) / scene_bytes(copied.packed),
                     prepared.load_seconds + prepared.bvh_build_seconds, copied.load_seconds + copied.bvh_build_seconds);
         for (uint32_t size : c.sizes) {
-            RenderSettings settings = base;
-            settings.width = settings.height = size;
-            const RenderStats instanced = time_render(*context, prepared, camera, settings, c.repeats);
-            const RenderStats flat = time_render(*context, copied, camera, settings, c.repeats);
-            std::printf("%4ux%-4u two-level %.3f s, copied %.3f s: instancing costs %+.1f%% of the render time\n", size,
-                        size, instanced.render_seconds, flat.render_seconds,
-                        100.0 * (instanced.render_seconds - flat.render_seconds) / flat.render_seconds);
+            const auto [instanced, flat] = time_feature(*context, camera, base, size, c.repeats, prepared, copied, 0u,
+                                                        "two-level", "copied", "instancing");
             nlohmann::json run = describe_run(size, flat, "none");
             run["instancing"] = "off";
             run["instanced_seconds"] = instanced.render_seconds;

@@ -11,6 +11,13 @@
 namespace fh {
 namespace {
 
+// Calls f(index, count) on both child slots of a pair node; f may rewrite them.
+template <typename F>
+void for_each_child(gpu::BvhPairNode& p, F&& f) {
+    f(p.a_index, p.a_count);
+    f(p.b_index, p.b_count);
+}
+
 // Rows of the 3x4 affine part of `m` (column-major glm).
 void write_rows(const glm::dmat4& m, gpu::vec4& r0, gpu::vec4& r1, gpu::vec4& r2) {
     gpu::vec4* rows[3] = {&r0, &r1, &r2};
@@ -79,11 +86,9 @@ SceneBvh build_scene_bvh(const Scene& scene, const BvhOptions& options) {
         for (uint32_t t : bvh.triangle_order) s.triangle_order.push_back(uint32_t(meshes[m].first_triangle) + t);
         root_of[m] = uint32_t(mesh_pairs.size());  // relative to the first mesh pair, fixed below
         for (gpu::BvhPairNode p : make_pair_nodes(bvh.nodes)) {
-            const uint32_t node_base = root_of[m];
-            for (auto [index, count] : {std::pair<uint32_t*, uint32_t*>{&p.a_index, &p.a_count}, {&p.b_index, &p.b_count}}) {
-                if (*index == gpu::INVALID_INDEX) continue;
-                *index += *count == 0 ? node_base : leaf_offset[m];
-            }
+            for_each_child(p, [&](uint32_t& index, uint32_t count) {
+                if (index != gpu::INVALID_INDEX) index += count == 0 ? root_of[m] : leaf_offset[m];
+            });
             mesh_pairs.push_back(p);
         }
     }
@@ -100,14 +105,15 @@ SceneBvh build_scene_bvh(const Scene& scene, const BvhOptions& options) {
     s.pair_nodes = make_pair_nodes(tlas.nodes);
     const uint32_t mesh_base = uint32_t(s.pair_nodes.size());
     for (gpu::BvhPairNode& p : s.pair_nodes)
-        for (auto [index, count] : {std::pair<uint32_t*, uint32_t*>{&p.a_index, &p.a_count}, {&p.b_index, &p.b_count}})
-            if (*index != gpu::INVALID_INDEX && *count > 0) {
-                *index = tlas.triangle_order[*index];  // the instance
-                *count = gpu::INSTANCE_LEAF;
-            }
+        for_each_child(p, [&](uint32_t& index, uint32_t& count) {
+            if (index == gpu::INVALID_INDEX || count == 0) return;
+            index = tlas.triangle_order[index];  // the instance
+            count = gpu::INSTANCE_LEAF;
+        });
     for (gpu::BvhPairNode p : mesh_pairs) {
-        for (auto [index, count] : {std::pair<uint32_t*, uint32_t*>{&p.a_index, &p.a_count}, {&p.b_index, &p.b_count}})
-            if (*index != gpu::INVALID_INDEX && *count == 0) *index += mesh_base;
+        for_each_child(p, [&](uint32_t& index, uint32_t count) {
+            if (index != gpu::INVALID_INDEX && count == 0) index += mesh_base;
+        });
         s.pair_nodes.push_back(p);
     }
 

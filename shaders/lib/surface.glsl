@@ -2,6 +2,7 @@
 #ifndef FH_SURFACE_GLSL
 #define FH_SURFACE_GLSL
 #include "ray_offset.glsl"
+#include "instance.glsl"
 
 struct SurfaceHit {
     vec3 p;          // interpolated from the vertices (more accurate than origin + t dir)
@@ -55,10 +56,8 @@ SurfaceHit load_surface(uint triangle, float b1, float b2) {
 // object_from_render), which keeps a mirrored instance's front side in front. Area is not transformed:
 // instanced meshes are never lights (the loader flattens emissive meshes).
 SurfaceHit place_surface(SurfaceHit s, Instance inst) {
-    vec4 p = vec4(s.p, 1.0f);
     vec3 m0 = vec3(inst.render_from_object_0), m1 = vec3(inst.render_from_object_1), m2 = vec3(inst.render_from_object_2);
-    vec3 placed = vec3(dot(inst.render_from_object_0, p), dot(inst.render_from_object_1, p),
-                       dot(inst.render_from_object_2, p));
+    vec3 placed = map_point(inst.render_from_object_0, inst.render_from_object_1, inst.render_from_object_2, s.p);
     vec3 ap = abs(s.p);
     vec3 rounding = vec3(dot(abs(m0), ap) + abs(inst.render_from_object_0.w),
                          dot(abs(m1), ap) + abs(inst.render_from_object_1.w),

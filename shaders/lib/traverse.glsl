@@ -7,6 +7,7 @@
 #include "intersect.glsl"
 #include "ray_offset.glsl"
 #include "material.glsl"
+#include "instance.glsl"
 
 const uint TRAVERSAL_STACK_SIZE = 64u;
 
@@ -76,11 +77,10 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin
                 Instance inst = instances[index];
                 instance = index;
                 instance_base = stack_size;
-                origin = vec3(dot(inst.object_from_render_0, vec4(world_origin, 1.0f)),
-                              dot(inst.object_from_render_1, vec4(world_origin, 1.0f)),
-                              dot(inst.object_from_render_2, vec4(world_origin, 1.0f)));
-                dir = vec3(dot(inst.object_from_render_0.xyz, world_dir), dot(inst.object_from_render_1.xyz, world_dir),
-                           dot(inst.object_from_render_2.xyz, world_dir));
+                origin = map_point(inst.object_from_render_0, inst.object_from_render_1, inst.object_from_render_2,
+                                   world_origin);
+                dir = map_vector(inst.object_from_render_0, inst.object_from_render_1, inst.object_from_render_2,
+                                 world_dir);
                 pre = make_ray_precomp(origin, dir);
                 inv_dir = make_safe_inverse_dir(dir);
                 index = inst.root_node;

@@ -1,0 +1,16 @@
+// Affine maps of a two-level BVH's instances (layout.h Instance: three rows of a 3x4 matrix), shared by
+// traversal (rays into object space) and shading (surfaces back out). Shared GLSL/C++ subset.
+#ifndef FH_INSTANCE_GLSL
+#define FH_INSTANCE_GLSL
+
+// The point p mapped by the 3x4 matrix with rows r0, r1, r2.
+vec3 map_point(vec4 r0, vec4 r1, vec4 r2, vec3 p) {
+    vec4 h = vec4(p, 1.0f);
+    return vec3(dot(r0, h), dot(r1, h), dot(r2, h));
+}
+
+// The direction v mapped by the linear part of that matrix (no translation).
+vec3 map_vector(vec4 r0, vec4 r1, vec4 r2, vec3 v) {
+    return vec3(dot(vec3(r0), v), dot(vec3(r1), v), dot(vec3(r2), v));
+}
+#endif
