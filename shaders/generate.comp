@@ -1,12 +1,13 @@
 // Stage "generate": starts one path per (pixel, sample) of the wave.
-// Reads: params, push (wave's pixel and sample ranges). Writes: rays[queue 0], paths, counters (queue 0
-// length, indirect size of the first extend/shade).
+// Reads: params, push (wave's pixel and sample ranges). Writes: rays[queue 0], paths, path media (cameras
+// start outside every volume), counters (queue 0 length, indirect size of the first extend/shade).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "lib/bindings.glsl"
 #include "lib/rng.glsl"
 #include "lib/sampling.glsl"
 #include "lib/camera.glsl"
+#include "lib/effects.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE) in;
 
@@ -61,4 +62,5 @@ void main() {
     state.radiance_b = 0.0f;
     state.rng = rng;
     paths[i] = state;
+    if (effect_on(EFFECT_VOLUME) || effect_on(EFFECT_ABSORPTION)) path_media[i] = INVALID_INDEX;
 }

@@ -2,21 +2,31 @@
 // when it escaped (both MIS-weighted against light sampling), resolves the material (textures, vertex colours,
 // normal map: only the effects the scene has are compiled in), samples a light and pushes a shadow ray (next-event estimation), samples the BSDF, applies
 // Russian roulette and pushes the continuation ray.
-// Reads: rays[queue depth & 1], hits, paths, triangles, materials, emitters, textures, environment.
-// Writes: paths, rays[queue (depth + 1) & 1], shadow_rays, counters.ray_count / shadow_count.
+// Reads: rays[queue depth & 1], hits, paths, triangles, materials, emitters, textures, environment, and for
+// glass the material layers and path media. Writes: paths, path media, rays[queue (depth + 1) & 1], shadow_rays, counters.ray_count / shadow_count.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "lib/bindings.glsl"
 #include "lib/queue.glsl"
 #include "lib/rng.glsl"
 #include "lib/sampling.glsl"
+#include "lib/effects.glsl"
+#define BSDF_HAS_TRANSMISSION effect_on(EFFECT_TRANSMISSION)
 #include "lib/bsdf.glsl"
 #include "lib/surface.glsl"
 #include "lib/lights.glsl"
+#include "lib/transmission.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE) in;
 
 float max_component(vec3 v) { return max(v.x, max(v.y, v.z)); }
+
+// Whether direction w (local frame: w_local) leaves on the same side of the geometric normal ng as of the
+// shading normal: a reflection must stay above both, a transmission below both, or light leaks.
+bool is_on_consistent_side(vec3 w, vec3 ng, vec3 w_local) {
+    float g = dot(w, ng);
+    return (g > 0.0f && w_local.z > 0.0f) || (g < 0.0f && w_local.z < 0.0f);
+}
 
 void main() {
     uint i = gl_GlobalInvocationID.x;
@@ -30,6 +40,11 @@ void main() {
     vec3 radiance = vec3(state.radiance_r, state.radiance_g, state.radiance_b);
     uint rng = state.rng;
     uint segments = push.depth + 1u;  // segments of this path including the ray just traced
+    // Beer-Lambert along the segment just traced when the path is inside an absorbing volume.
+    uint medium = tracks_media() ? path_media[path] : INVALID_INDEX;
+    uint medium_before = medium;
+    if (effect_on(EFFECT_ABSORPTION))
+        beta *= eval_medium_transmittance(medium, hit.triangle == INVALID_INDEX ? uintBitsToFloat(0x7f800000u) : hit.t);
 
     bool push_shadow = false;
     bool push_ray = false;
@@ -86,7 +101,7 @@ void main() {
 
         bool may_extend = params.max_depth == 0u || segments < params.max_depth;
         if (may_extend) {
-            // Both normals on the side the ray came from: this BSDF reflects only.
+            // Both normals on the side the ray came from (z of the local frame).
             vec3 ng = front ? s.ng : -s.ng;
             vec3 ns = front ? s.ns : -s.ns;
             // Interpolated normals can face away from a grazing viewer although the surface faces it; the
@@ -98,15 +113,26 @@ void main() {
             Frame frame = make_frame(ns);
             vec3 wo_local = to_local(frame, wo);
             BsdfParams bsdf = make_bsdf_params(m);
+            // Glass (KHR_materials_transmission): thin-walled, or the surface of a volume, entered from the front.
+            bool volume = false;
+            if (effect_on(EFFECT_TRANSMISSION)) {
+                volume = encloses_volume(s.material);
+                float eta = volume && !front ? 1.0f / max(m.ior, 1.0e-4f) : m.ior;
+                bsdf = with_transmission(bsdf, eval_transmission(s.material, hit.triangle, hit.b1, hit.b2), eta,
+                                         volume ? 0u : 1u);
+            }
+            bool transmits = has_glass(bsdf);
+            uint medium_beyond = volume ? (front ? s.material : INVALID_INDEX) : medium;  // across the surface
 
             float u_pick = next_float(rng);
             vec2 u_light = vec2(next_float(rng), next_float(rng));
             if ((params.flags & RENDER_NEE) != 0u && params.emitter_count > 0u) {
                 LightConnection light = sample_light_connection(s.p, u_pick, u_light);
                 vec3 wi = light.wi;
-                if (light.valid != 0u && dot(wi, ng) > 0.0f) {
+                if (light.valid != 0u && (transmits || dot(wi, ng) > 0.0f)) {
                     vec3 wi_local = to_local(frame, wi);
-                    vec3 f = eval_bsdf(bsdf, wo_local, wi_local);
+                    vec3 f = !transmits || is_on_consistent_side(wi, ng, wi_local) ? eval_bsdf(bsdf, wo_local, wi_local)
+                                                                                   : vec3(0.0f);
                     float weight = (params.flags & RENDER_MIS) != 0u && light.delta == 0u
                                        ? power_heuristic(light.pdf, pdf_bsdf(bsdf, wo_local, wi_local))
                                        : 1.0f;
@@ -121,6 +147,9 @@ void main() {
                             d /= len;
                             t_max = len * (1.0f - 1e-4f);  // pbrt's ShadowEpsilon
                         }
+                        if (effect_on(EFFECT_ABSORPTION))
+                            contrib *= eval_medium_transmittance(dot(wi, ng) < 0.0f ? medium_beyond : medium,
+                                                                 light.at_infinity != 0u ? uintBitsToFloat(0x7f800000u) : t_max);
                         shadow.origin_x = origin.x;
                         shadow.origin_y = origin.y;
                         shadow.origin_z = origin.z;
@@ -140,12 +169,13 @@ void main() {
             float u_rr = next_float(rng);
             BsdfSample bs = sample_bsdf(bsdf, wo_local, u_bsdf);
             vec3 wi = to_world(frame, bs.wi);
-            if (bs.valid != 0u && dot(wi, ng) > 0.0f) {
+            if (bs.valid != 0u && (transmits ? is_on_consistent_side(wi, ng, bs.wi) : dot(wi, ng) > 0.0f)) {
                 beta *= bs.weight;
+                if (dot(wi, ng) < 0.0f) medium = medium_beyond;
                 bool survive = true;
                 // Russian roulette (unbiased: survivors are divided by the survival probability).
                 if ((params.flags & RENDER_RR) != 0u && segments >= params.rr_start_depth) {
-                    float q = min(max_component(beta), 0.95f);
+                    float q = min(max_component(beta) * roulette_scale(medium), 0.95f);
                     survive = u_rr < q;
                     beta /= q;
                 }
@@ -172,6 +202,7 @@ void main() {
     state.radiance_b = radiance.z;
     state.rng = rng;
     paths[path] = state;
+    if (tracks_media() && medium != medium_before) path_media[path] = medium;
 
     uint slot;
     PUSH_TO_QUEUE(counters.ray_count[parity ^ 1u], push_ray, slot);

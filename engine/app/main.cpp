@@ -1,4 +1,4 @@
-// The fredholm command line: sub-commands render, view, converge and bench; one clear error line and a
+// The fredholm command line: sub-commands render, view, converge, bench and info; one clear error line and a
 // non-zero exit on any failure (1: the scene, the device or a file; 2: bad usage).
 #include <CLI/CLI.hpp>
 #include <cstdio>
@@ -6,6 +6,7 @@
 
 #include "app/bench_command.h"
 #include "app/converge_command.h"
+#include "app/info_command.h"
 #include "app/render_command.h"
 #include "app/viewer_command.h"
 
@@ -19,6 +20,8 @@ int main(int argc, char** argv) {
     fh::ConvergeCommand converge;
     fh::add_converge_options(*app.add_subcommand("converge", "error against render time at doubling spp, as a report"),
                              converge);
+    fh::InfoCommand info;
+    fh::add_info_options(*app.add_subcommand("info", "scene statistics and the effects it compiles, with why"), info);
     fh::ViewCommand view;
     fh::add_view_options(*app.add_subcommand("view", "interactive viewer: progressive path tracing in a window"), view);
     try {
@@ -33,6 +36,7 @@ int main(int argc, char** argv) {
         if (app.got_subcommand("render")) return fh::run_render(render);
         if (app.got_subcommand("view")) return fh::run_view(view);
         if (app.got_subcommand("converge")) return fh::run_converge(converge);
+        if (app.got_subcommand("info")) return fh::run_info(info);
         return fh::run_bench(bench);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "fredholm: error: %s\n", e.what());

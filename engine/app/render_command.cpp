@@ -57,8 +57,9 @@ ImageMetadata make_metadata(const RenderCommand& c, uint32_t spp_done, uint32_t 
             {"fredholm:rr", s.russian_roulette ? "on" : "off"},
             {"fredholm:disabled_techniques", name_techniques(s.disabled_techniques)},
             {"fredholm:bvh_leaf_size", std::to_string(s.bvh_max_leaf_size)},
-            {"fredholm:effects", describe_effects(effects & ~(s.disabled_effects & gpu::EFFECT_ATTRIBUTES))},
+            {"fredholm:effects", describe_effects(select_effects(effects, s.forced_effects, s.disabled_effects))},
             {"fredholm:disabled_effects", describe_effects(s.disabled_effects)},
+            {"fredholm:forced_effects", describe_effects(s.forced_effects)},
             {"fredholm:environment", describe_environment(s)},
             {"fredholm:variant", s.variant.empty() ? "default" : s.variant},
             {"fredholm:colorspace", "scene-linear Rec.709"}};
@@ -96,8 +97,9 @@ void write_stats(const std::filesystem::path& file, const RenderCommand& c, cons
     j["triangles_unique"] = prepared.scene.unique_triangle_count;
     j["emitters"] = prepared.packed.emitters.size();
     j["punctual_lights"] = prepared.packed.punctual_lights.size();
-    j["effects"] = describe_effects(prepared.packed.effects.bits & ~(s.disabled_effects & gpu::EFFECT_ATTRIBUTES));
+    j["effects"] = describe_effects(select_effects(prepared.packed.effects.bits, s.forced_effects, s.disabled_effects));
     j["disabled_effects"] = describe_effects(s.disabled_effects);
+    j["forced_effects"] = describe_effects(s.forced_effects);
     j["environment"] = describe_environment(s);
     j["variant"] = s.variant.empty() ? "default" : s.variant;
     j["variants"] = prepared.scene.variants;

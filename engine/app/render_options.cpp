@@ -49,24 +49,36 @@ void add_robustness_options(CLI::App& app, RenderSettings& s) {
     add_effect_options(app, s);
 }
 
-void add_effect_options(CLI::App& app, RenderSettings& s) {
+namespace {
+
+// --force-effect / --disable-effect NAME[,NAME...] over the material effects (layout.h EFFECT_MATERIAL).
+void add_effect_list_option(CLI::App& app, const std::string& flag, uint32_t& bits, const std::string& help) {
     std::string words;
     for (const EffectInfo& e : list_effects())
-        if (e.bit & gpu::EFFECT_ATTRIBUTES) words += (words.empty() ? "" : ", ") + std::string(e.name);
+        if (e.bit & gpu::EFFECT_MATERIAL) words += (words.empty() ? "" : ", ") + std::string(e.name);
     app.add_option_function<std::vector<std::string>>(
-           "--disable-effect",
-           [&s](const std::vector<std::string>& names) {
+           flag,
+           [&bits](const std::vector<std::string>& names) {
                for (const std::string& name : names)
                    for (const EffectInfo& e : list_effects())
-                       if (name == e.name) s.disabled_effects |= e.bit;
+                       if (name == e.name) bits |= e.bit;
            },
-           "compile a material effect out although the scene uses it, to measure what it costs (" + words + ")")
+           help + " (" + words + ")")
         ->delimiter(',')
         ->check([](const std::string& name) {
             for (const EffectInfo& e : list_effects())
-                if (name == e.name && (e.bit & gpu::EFFECT_ATTRIBUTES)) return std::string();
+                if (name == e.name && (e.bit & gpu::EFFECT_MATERIAL)) return std::string();
             return "unknown or not switchable effect '" + name + "'";
         });
+}
+
+}  // namespace
+
+void add_effect_options(CLI::App& app, RenderSettings& s) {
+    add_effect_list_option(app, "--disable-effect", s.disabled_effects,
+                           "compile a material effect out although the scene uses it, to measure what it costs");
+    add_effect_list_option(app, "--force-effect", s.forced_effects,
+                           "compile a material effect in although the scene does not use it (same image, its cost)");
 }
 
 void add_environment_options(CLI::App& app, RenderSettings& s) {

@@ -12,11 +12,12 @@ namespace fh {
 // --filter, --filter-radius, --nee, --mis, --rr, --wave-paths.
 void add_sampling_options(CLI::App& app, RenderSettings& settings);
 
-// --disable-technique NAME[,NAME...] (robustness techniques, to measure their cost), --bvh-leaf-size and
-// --disable-effect.
+// --disable-technique NAME[,NAME...] (robustness techniques, to measure their cost), --bvh-leaf-size,
+// --disable-effect and --force-effect.
 void add_robustness_options(CLI::App& app, RenderSettings& settings);
 
-// --disable-effect NAME[,NAME...]: material effects (textures, vertex colours, alpha, normal maps) compiled out.
+// --disable-effect NAME[,NAME...] / --force-effect NAME[,NAME...]: material effects (textures, vertex colours,
+// alpha, normal maps, transmission, volumes) compiled out although used, or in although unused.
 void add_effect_options(CLI::App& app, RenderSettings& settings);
 
 // --env FILE, --env-intensity, --env-rotation, --background R,G,B; and --variant NAME (what the scene shows).

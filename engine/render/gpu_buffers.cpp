@@ -40,9 +40,18 @@ vk::Buffer make_state_buffer(const vk::Context& context, size_t size, VkBufferUs
     return vk::Buffer(context, size, STORAGE | extra, vk::MemoryUse::device);
 }
 
+// Attributes of a triangle without any: texture coordinates 0, COLOR_0 white, no tangent.
+gpu::TriangleAttributes make_default_attributes() {
+    gpu::TriangleAttributes a{};
+    const uint32_t white = 0x3c003c00u;  // two half-float 1.0s
+    a.color0_rg = a.color0_ba = a.color1_rg = a.color1_ba = a.color2_rg = a.color2_ba = white;
+    return a;
+}
+
 }  // namespace
 
-GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& scene, const gpu::FrameParams& frame) {
+GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& scene, const gpu::FrameParams& frame,
+                              uint32_t effects) {
     GpuBuffers b;
     b.params = make_filled_buffer(context, std::vector<gpu::FrameParams>{frame});
     b.nodes = make_filled_buffer(context, scene.pair_nodes, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
@@ -60,21 +69,29 @@ GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& sce
     b.hits = make_state_buffer(context, capacity * sizeof(gpu::HitItem));
     b.shadow_rays = make_state_buffer(context, capacity * sizeof(gpu::ShadowRayItem));
     b.film = make_state_buffer(context, size_t(frame.width) * frame.height * sizeof(gpu::FilmPixel));
-    b.tri_attributes = make_filled_buffer(context, scene.attributes);
+    // --force-effect of an attribute effect on a scene without attributes: the stages read defaults.
+    if (scene.attributes.empty() && (effects & gpu::EFFECT_ATTRIBUTES))
+        b.tri_attributes = make_filled_buffer(
+            context, std::vector<gpu::TriangleAttributes>(std::max<size_t>(scene.positions.size(), 1),
+                                                          make_default_attributes()));
+    else
+        b.tri_attributes = make_filled_buffer(context, scene.attributes);
     b.texture_slots = make_filled_buffer(context, scene.texture_slots);
     b.texture_images = make_filled_buffer(context, scene.texture_images);
     b.texels = make_filled_buffer(context, scene.texels);
     b.env_radiance = make_filled_buffer(context, scene.environment.texels);
     b.env_cdf = make_filled_buffer(context, scene.environment.cdf);
     b.instances = make_filled_buffer(context, scene.instances);
+    b.material_layers = make_filled_buffer(context, scene.material_layers);
+    b.path_media = make_state_buffer(context, path_media_bytes(frame.wave_capacity, effects));
     // The limits check before rendering relies on the estimate: keep it exact.
     uint64_t allocated = 0;
     for (const vk::Buffer* buffer : {&b.params, &b.nodes, &b.tri_positions, &b.tri_shading, &b.materials, &b.emitters,
                                      &b.punctual_lights, &b.ggx_albedo, &b.counters, &b.counters_readback, &b.paths, &b.rays, &b.hits,
                                      &b.shadow_rays, &b.film, &b.tri_attributes, &b.texture_slots, &b.texture_images,
-                                     &b.texels, &b.env_radiance, &b.env_cdf, &b.instances})
+                                     &b.texels, &b.env_radiance, &b.env_cdf, &b.instances, &b.material_layers, &b.path_media})
         allocated += buffer->size();
-    if (allocated != estimate_render_memory(scene, frame.width, frame.height, frame.wave_capacity).device_bytes())
+    if (allocated != estimate_render_memory(scene, frame.width, frame.height, frame.wave_capacity, effects).device_bytes())
         throw std::logic_error("create_gpu_buffers: allocated sizes differ from estimate_render_memory");
     return b;
 }
@@ -106,6 +123,8 @@ void bind_gpu_buffers(vk::BindingTable& table, const GpuBuffers& b) {
     table.bind_buffer(gpu::BINDING_ENV_RADIANCE, b.env_radiance);
     table.bind_buffer(gpu::BINDING_ENV_CDF, b.env_cdf);
     table.bind_buffer(gpu::BINDING_INSTANCES, b.instances);
+    table.bind_buffer(gpu::BINDING_MATERIAL_LAYERS, b.material_layers);
+    table.bind_buffer(gpu::BINDING_PATH_MEDIA, b.path_media);
 }
 
 }  // namespace fh

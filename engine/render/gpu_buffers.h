@@ -36,9 +36,14 @@ struct GpuBuffers {
     vk::Buffer env_radiance;       // environment light (EFFECT_ENVIRONMENT)
     vk::Buffer env_cdf;
     vk::Buffer instances;          // two-level BVH (one dummy element when the scene has none)
+    vk::Buffer material_layers;    // KHR material extensions, one per material
+    vk::Buffer path_media;         // the volume each path is inside (EFFECT_VOLUME, _ABSORPTION; else one word)
 };
 
-GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& scene, const gpu::FrameParams& frame);
+// `effects`: the EFFECT_* set the stages are compiled with (buffers that only some effects read are sized
+// for them: estimate_render_memory).
+GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& scene, const gpu::FrameParams& frame,
+                              uint32_t effects);
 void bind_gpu_buffers(vk::BindingTable& table, const GpuBuffers& buffers);
 
 }  // namespace fh

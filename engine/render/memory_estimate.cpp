@@ -26,8 +26,18 @@ uint64_t MemoryEstimate::device_bytes() const {
     return total;
 }
 
+uint64_t attribute_bytes(const PackedScene& scene, uint32_t effects) {
+    if (scene.attributes.empty() && (effects & gpu::EFFECT_ATTRIBUTES))
+        return std::max<uint64_t>(scene.positions.size(), 1) * sizeof(gpu::TriangleAttributes);
+    return array_bytes(scene.attributes);
+}
+
+uint64_t path_media_bytes(uint32_t wave_capacity, uint32_t effects) {
+    return (effects & (gpu::EFFECT_VOLUME | gpu::EFFECT_ABSORPTION)) ? uint64_t(wave_capacity) * sizeof(uint32_t) : sizeof(uint32_t);
+}
+
 MemoryEstimate estimate_render_memory(const PackedScene& scene, uint32_t width, uint32_t height,
-                                      uint32_t wave_capacity) {
+                                      uint32_t wave_capacity, uint32_t effects) {
     const uint64_t capacity = wave_capacity;
     const uint64_t film = uint64_t(width) * height * sizeof(gpu::FilmPixel);
     MemoryEstimate e;
@@ -47,13 +57,15 @@ MemoryEstimate estimate_render_memory(const PackedScene& scene, uint32_t width, 
         {"hits", capacity * sizeof(gpu::HitItem), true},
         {"shadow_rays", capacity * sizeof(gpu::ShadowRayItem), true},
         {"film", film, true},
-        {"tri_attributes", array_bytes(scene.attributes), true},
+        {"tri_attributes", attribute_bytes(scene, effects), true},
         {"texture_slots", array_bytes(scene.texture_slots), true},
         {"texture_images", array_bytes(scene.texture_images), true},
         {"texels", array_bytes(scene.texels), true},
         {"env_radiance", array_bytes(scene.environment.texels), true},
         {"env_cdf", array_bytes(scene.environment.cdf), true},
         {"instances", array_bytes(scene.instances), true},
+        {"material_layers", array_bytes(scene.material_layers), true},
+        {"path_media", path_media_bytes(wave_capacity, effects), true},
     };
     e.film_readback_bytes = film;
     return e;
@@ -61,7 +73,8 @@ MemoryEstimate estimate_render_memory(const PackedScene& scene, uint32_t width, 
 
 MemoryEstimate estimate_render_memory(const PackedScene& scene, const RenderSettings& s) {
     const uint64_t samples = uint64_t(s.width) * s.height * s.spp;
-    return estimate_render_memory(scene, s.width, s.height, uint32_t(std::min<uint64_t>(s.wave_paths, samples)));
+    return estimate_render_memory(scene, s.width, s.height, uint32_t(std::min<uint64_t>(s.wave_paths, samples)),
+                                  select_effects(scene.effects.bits, s.forced_effects, s.disabled_effects));
 }
 
 DeviceMemoryLimits query_memory_limits(const vk::Context& context) {

@@ -88,8 +88,8 @@ StageOptions make_stage_options(const vk::Context& context, const PackedScene& s
     o.scene_in_uniform_buffers = fits_uniform_buffers(scene, context.properties().limits.maxUniformBufferRange);
     o.punctual_lights = !scene.punctual_lights.empty();
     o.disabled_techniques = s.disabled_techniques;
-    // Only material effects can be switched off: the environment is also an entry of the light table.
-    o.effects = scene.effects.bits & ~(s.disabled_effects & gpu::EFFECT_ATTRIBUTES);
+    // Only material effects can be forced or switched off: the environment is also an entry of the light table.
+    o.effects = select_effects(scene.effects.bits, s.forced_effects, s.disabled_effects);
     o.instances = !scene.instances.empty();
     return o;
 }
@@ -102,7 +102,7 @@ Renderer::Renderer(const vk::Context& context, const PackedScene& scene, const S
       settings_(settings),
       frame_(make_frame(scene, camera, settings)),
       stages_(context, make_stage_options(context, scene, settings)),
-      buffers_(create_gpu_buffers(context, scene, frame_)),
+      buffers_(create_gpu_buffers(context, scene, frame_, stages_.options().effects)),
       recorder_(context, MAX_DISPATCHES_PER_SUBMIT),
       has_lights_(!scene.emitters.empty()),
       origin_(scene.origin) {

@@ -32,7 +32,7 @@ std::array<VkDescriptorType, gpu::BINDING_COUNT> binding_types() {
 }
 
 StageTable::StageTable(const vk::Context& context, const StageOptions& options)
-    : bindings_(context, binding_types(), sizeof(gpu::StagePush)) {
+    : options_(options), bindings_(context, binding_types(), sizeof(gpu::StagePush)) {
     std::array<uint32_t, 5> spec{};
     spec[gpu::SPEC_SCENE_IN_UNIFORM_BUFFERS] = options.scene_in_uniform_buffers ? 1u : 0u;
     spec[gpu::SPEC_HAS_PUNCTUAL_LIGHTS] = options.punctual_lights ? 1u : 0u;

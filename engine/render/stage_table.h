@@ -25,8 +25,10 @@ public:
     explicit StageTable(const vk::Context& context, const StageOptions& options = {});
     const vk::ComputePipeline& operator[](Stage stage) const { return *pipelines_[size_t(stage)]; }
     vk::BindingTable& bindings() { return bindings_; }
+    const StageOptions& options() const { return options_; }
 
 private:
+    StageOptions options_;
     vk::BindingTable bindings_;
     std::array<std::unique_ptr<vk::ComputePipeline>, STAGE_COUNT> pipelines_;
 };

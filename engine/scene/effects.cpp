@@ -13,6 +13,13 @@ bool is_opaque_image(const SceneImage& image) {
     return true;
 }
 
+// Whether channel `channel` (0 = R) of every texel of `image` is 0.
+bool is_zero_channel(const SceneImage& image, int channel) {
+    for (uint32_t t : image.texels)
+        if (((t >> (8 * channel)) & 0xffu) != 0u) return false;
+    return true;
+}
+
 std::string list_materials(const std::set<uint32_t>& materials) {
     std::string out;
     size_t shown = 0;
@@ -37,6 +44,10 @@ const std::vector<EffectInfo>& list_effects() {
         {gpu::EFFECT_VERTEX_COLORS, "vertex-colors"},
         {gpu::EFFECT_ALPHA, "alpha"},
         {gpu::EFFECT_ENVIRONMENT, "environment"},
+        {gpu::EFFECT_TRANSMISSION, "transmission"},
+        {gpu::EFFECT_TRANSMISSION_TEXTURE, "transmission-texture"},
+        {gpu::EFFECT_VOLUME, "volume"},
+        {gpu::EFFECT_ABSORPTION, "absorption"},
     };
     return effects;
 }
@@ -58,9 +69,26 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
     }
     auto slot_valid = [&](uint32_t slot) { return slot != gpu::INVALID_INDEX && slot < scene.texture_slots.size(); };
 
-    std::set<uint32_t> base, metal_rough, normal, emissive, alpha;
+    std::set<uint32_t> base, metal_rough, normal, emissive, alpha, glass, glass_texture, volume, absorbing;
     for (uint32_t m : used) {
         const gpu::Material& mat = scene.materials[m];
+        if (m < scene.material_layers.size()) {
+            // Glass shows where transmission > 0 and the material is not all metal (metal hides the dielectric).
+            const gpu::MaterialLayers& layers = scene.material_layers[m];
+            const bool has_texture = slot_valid(layers.transmission_texture);
+            const bool visible = layers.transmission > 0.0f &&
+                                 (mat.metallic < 1.0f || slot_valid(mat.metallic_roughness_texture)) &&
+                                 !(has_texture && is_zero_channel(
+                                                      scene.images[scene.texture_slots[layers.transmission_texture].image], 0));
+            if (visible) {
+                glass.insert(m);
+                if (has_texture) glass_texture.insert(m);
+                if (layers.flags & gpu::LAYERS_VOLUME) volume.insert(m);
+                if ((layers.flags & gpu::LAYERS_VOLUME) &&
+                    (layers.attenuation.x > 0.0f || layers.attenuation.y > 0.0f || layers.attenuation.z > 0.0f))
+                    absorbing.insert(m);
+            }
+        }
         const bool black_emission = mat.emission.r == 0.0f && mat.emission.g == 0.0f && mat.emission.b == 0.0f;
         if (slot_valid(mat.base_color_texture)) base.insert(m);
         // Metallic and roughness textures multiply their factors; a factor of 0 keeps the product 0.
@@ -101,7 +129,17 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
            colors_rgb || colors_alpha ? "COLOR_0 is not white everywhere" : "no COLOR_0, or white everywhere");
     by_materials(gpu::EFFECT_ALPHA, alpha, "every visible material is opaque (OPAQUE, or alpha 1 everywhere)");
     decide(gpu::EFFECT_ENVIRONMENT, environment, environment ? "--env or --background" : "no --env or --background");
+    by_materials(gpu::EFFECT_TRANSMISSION, glass,
+                 "no visible material has KHR_materials_transmission > 0 on a dielectric");
+    by_materials(gpu::EFFECT_TRANSMISSION_TEXTURE, glass_texture, "no glass material has a transmissionTexture");
+    by_materials(gpu::EFFECT_VOLUME, volume, "no glass material has KHR_materials_volume thicknessFactor > 0");
+    by_materials(gpu::EFFECT_ABSORPTION, absorbing,
+                 "no volume has a finite attenuationDistance with an attenuationColor below 1");
     return effects;
+}
+
+uint32_t select_effects(uint32_t analysed, uint32_t forced, uint32_t disabled) {
+    return (analysed | (forced & gpu::EFFECT_MATERIAL)) & ~(disabled & gpu::EFFECT_MATERIAL);
 }
 
 }  // namespace fh

@@ -31,6 +31,10 @@ struct SceneEffects {
 // `environment`: the render has --env or --background.
 SceneEffects analyse_effects(const Scene& scene, bool environment);
 
+// The effect set the stages are compiled with: the analysed one, with --force-effect and --disable-effect
+// applied to material effects (EFFECT_MATERIAL; the environment follows the command line).
+uint32_t select_effects(uint32_t analysed, uint32_t forced, uint32_t disabled);
+
 // "base-color-texture,alpha,..." (or "none").
 std::string describe_effects(uint32_t bits);
 

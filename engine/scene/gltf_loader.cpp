@@ -614,6 +614,7 @@ private:
         if (default_material_ == gpu::INVALID_INDEX) {
             default_material_ = uint32_t(scene_.materials.size());
             scene_.materials.push_back(gltf::make_default_material());
+            scene_.material_layers.push_back(gltf::make_default_layers());
         }
         return default_material_;
     }
@@ -981,8 +982,10 @@ Scene load_unprefixed(const std::filesystem::path& file, const LoadOptions& opti
     tinygltf::Model model = read_model(file, scene.warnings);
     check_extensions(model, scene.warnings);
     scene.images = gltf::take_images(model);
-    for (size_t m = 0; m < model.materials.size(); ++m)
+    for (size_t m = 0; m < model.materials.size(); ++m) {
         scene.materials.push_back(gltf::convert_material(model, int(m), scene));
+        scene.material_layers.push_back(gltf::convert_material_layers(model, int(m), scene));
+    }
 
     warn_about_shared_nodes(model, scene.warnings);
     Flattener flattener(model, scene, choose_variant(model, options.variant, scene.variants));

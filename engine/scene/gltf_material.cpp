@@ -1,6 +1,8 @@
-// Converts glTF materials (spec 3.9) and the KHR extensions emissive_strength, specular and ior.
+// Converts glTF materials (spec 3.9) and the KHR extensions emissive_strength, specular, ior, transmission and
+// volume.
 #include "scene/gltf_material.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <tiny_gltf.h>
@@ -14,6 +16,8 @@ constexpr const char* SUPPORTED_EXTENSIONS[] = {
     "KHR_materials_emissive_strength",
     "KHR_materials_specular",
     "KHR_materials_ior",
+    "KHR_materials_transmission",
+    "KHR_materials_volume",
     "KHR_lights_punctual",  // read by gltf_loader.cpp
     "KHR_texture_transform",  // gltf_texture.cpp
     "EXT_texture_webp",
@@ -132,6 +136,52 @@ gpu::Material convert_material(const tinygltf::Model& model, int index, Scene& s
     m.emissive_texture = slot(material.emissiveTexture.index, material.emissiveTexture.texCoord, 1.0,
                               material.emissiveTexture.extensions, true, "emissiveTexture");
     return m;
+}
+
+gpu::MaterialLayers make_default_layers() {
+    gpu::MaterialLayers layers{};
+    layers.attenuation = gpu::vec4(0.0f);
+    layers.transmission = 0.0f;
+    layers.transmission_texture = gpu::INVALID_INDEX;
+    layers.flags = 0u;
+    return layers;
+}
+
+gpu::MaterialLayers convert_material_layers(const tinygltf::Model& model, int index, Scene& scene) {
+    const tinygltf::Material& material = model.materials[size_t(index)];
+    const std::string where = "material " + std::to_string(index);
+    gpu::MaterialLayers layers = make_default_layers();
+
+    const tinygltf::Value* transmission = find_extension(material, "KHR_materials_transmission");
+    layers.transmission = float(std::clamp(read_number(transmission, "transmissionFactor", 0.0), 0.0, 1.0));
+    if (transmission != nullptr && transmission->Has("transmissionTexture")) {
+        tinygltf::TextureInfo info;
+        const tinygltf::Value& t = transmission->Get("transmissionTexture");
+        info.index = t.Has("index") && t.Get("index").IsInt() ? t.Get("index").GetNumberAsInt() : -1;
+        info.texCoord = t.Has("texCoord") && t.Get("texCoord").IsInt() ? t.Get("texCoord").GetNumberAsInt() : 0;
+        tinygltf::ExtensionMap extensions;
+        if (t.Has("extensions") && t.Get("extensions").IsObject())
+            for (const std::string& key : t.Get("extensions").Keys()) extensions[key] = t.Get("extensions").Get(key);
+        if (info.index < 0) throw SceneError(where + " transmissionTexture has no valid index");
+        layers.transmission_texture = gltf::add_texture_slot(
+            model, {info.index, info.texCoord, 1.0, &extensions}, false, where + " transmissionTexture", scene);
+    }
+
+    // KHR_materials_volume: thicknessFactor > 0 makes the mesh the boundary of a volume; its value (and the
+    // thickness texture) is a rasteriser's stand-in for the geometry a path tracer has, so only its sign is read.
+    const tinygltf::Value* volume = find_extension(material, "KHR_materials_volume");
+    if (volume != nullptr && read_number(volume, "thicknessFactor", 0.0) > 0.0) layers.flags |= gpu::LAYERS_VOLUME;
+    const double distance = read_number(volume, "attenuationDistance", HUGE_VAL);
+    if (!(distance > 0.0))
+        throw SceneError(where + " has KHR_materials_volume attenuationDistance " + std::to_string(distance) +
+                         " (must be > 0)");
+    const glm::dvec3 color = glm::clamp(read_color3(volume, "attenuationColor", glm::dvec3(1.0)), 0.0, 1.0);
+    if (std::isfinite(distance) && (layers.flags & gpu::LAYERS_VOLUME)) {
+        // sigma_a = -ln(c) / d per world unit (render space keeps world units); c = 0 absorbs everything.
+        for (int i = 0; i < 3; ++i)
+            layers.attenuation[i] = float(std::min(-std::log(std::max(color[i], 1e-300)) / distance, 1e30));
+    }
+    return layers;
 }
 
 }  // namespace fh::gltf

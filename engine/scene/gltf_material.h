@@ -20,7 +20,12 @@ bool is_supported_extension(const std::string& name);
 // be filled already). Throws SceneError for an unknown alphaMode or a broken texture reference.
 gpu::Material convert_material(const tinygltf::Model& model, int index, Scene& scene);
 
+// What the KHR material extensions add to material `index` (layout.h MaterialLayers):
+// KHR_materials_transmission and KHR_materials_volume. Throws SceneError for an attenuationDistance <= 0.
+gpu::MaterialLayers convert_material_layers(const tinygltf::Model& model, int index, Scene& scene);
+
 // The material of primitives that name none: every property at its glTF default (spec 3.9.6).
 gpu::Material make_default_material();
+gpu::MaterialLayers make_default_layers();
 
 }  // namespace fh::gltf

@@ -97,6 +97,14 @@ uint32_t leaf_count(const gpu::BvhNode& node) {
 
 }  // namespace
 
+std::vector<gpu::MaterialLayers> material_layers_of(const Scene& scene) {
+    std::vector<gpu::MaterialLayers> layers = scene.material_layers;
+    gpu::MaterialLayers none{};
+    none.transmission_texture = gpu::INVALID_INDEX;
+    layers.resize(scene.materials.size(), none);
+    return layers;
+}
+
 std::vector<gpu::BvhPairNode> make_pair_nodes(const std::vector<gpu::BvhNode>& nodes) {
     std::vector<uint32_t> pair_of(nodes.size(), gpu::INVALID_INDEX);
     uint32_t pair_count = 0;
@@ -208,6 +216,7 @@ PackedScene pack_scene(const Scene& scene, const SceneBvh& bvh, EnvironmentMap e
     packed.pair_nodes = bvh.pair_nodes;
     packed.instances = bvh.instances;
     packed.materials = scene.materials;
+    packed.material_layers = material_layers_of(scene);
     packed.positions.resize(n);
     packed.shading.resize(n);
     const bool attributes = !scene.texcoords0.empty();

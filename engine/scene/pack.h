@@ -18,6 +18,7 @@ struct PackedScene {
     std::vector<gpu::TrianglePositions> positions;  // BVH leaf order
     std::vector<gpu::TriangleShading> shading;      // same order
     std::vector<gpu::Material> materials;
+    std::vector<gpu::MaterialLayers> material_layers;  // one per material
     std::vector<gpu::Emitter> emitters;             // alias table over every light (may be empty)
     std::vector<gpu::PunctualLight> punctual_lights;  // render space
     std::vector<gpu::TriangleAttributes> attributes;  // BVH leaf order; empty without textures and COLOR_0
@@ -34,6 +35,9 @@ struct PackedScene {
 // The pair nodes of a depth-first linear BVH (layout.h): one per interior node, in node order; a BVH that is
 // a single leaf gives one pair whose child b is absent.
 std::vector<gpu::BvhPairNode> make_pair_nodes(const std::vector<gpu::BvhNode>& nodes);
+
+// scene.material_layers, one per material (a scene built without them, as in the tests, gets none).
+std::vector<gpu::MaterialLayers> material_layers_of(const Scene& scene);
 
 // Whether every scene array (nodes, triangles, materials, emitters) fits its uniform-buffer binding (layout.h).
 bool fits_uniform_buffers(const PackedScene& scene, uint64_t max_uniform_buffer_range);

@@ -78,6 +78,7 @@ struct Scene {
     std::vector<uint32_t> triangle_material;   // index into materials
     std::vector<uint8_t> triangle_has_normals; // 1: normals hold unit vertex normals; 0: flat shading
     std::vector<gpu::Material> materials;      // a default material appended if any primitive has none
+    std::vector<gpu::MaterialLayers> material_layers;  // the KHR material extensions, parallel to materials
     std::vector<gpu::TextureSlot> texture_slots;  // what Material.*_texture index
     std::vector<SceneImage> images;            // glTF images in file order
     // Vertex attributes, 3 per triangle like positions; empty unless the file has textures or COLOR_0.

@@ -17,6 +17,8 @@ layout(std430, binding = BINDING_SHADOW_RAYS) buffer ShadowBuffer { ShadowRayIte
 layout(std430, binding = BINDING_FILM) buffer FilmBuffer { FilmPixel film[]; };
 layout(std430, binding = BINDING_PUNCTUAL_LIGHTS) readonly buffer PunctualLightBuffer { PunctualLight punctual_lights[]; };
 layout(std430, binding = BINDING_INSTANCES) readonly buffer InstanceBuffer { Instance instances[]; };
+layout(std430, binding = BINDING_MATERIAL_LAYERS) readonly buffer MaterialLayerBuffer { MaterialLayers material_layers[]; };
+layout(std430, binding = BINDING_PATH_MEDIA) buffer PathMediaBuffer { uint path_media[]; };
 
 layout(std140, binding = BINDING_BVH_NODES_UNIFORM) uniform NodeUniforms {
     BvhPairNode uniform_nodes[UNIFORM_NODE_CAPACITY];

@@ -146,6 +146,11 @@ float power_heuristic(float f_pdf, float g_pdf) {
     return r * r / (1.0f + r * r);
 }
 
+// Largest channel.
+float max_value(vec3 c) {
+    return max(c.x, max(c.y, c.z));
+}
+
 // Relative luminance of linear Rec. 709 RGB (ITU-R BT.709 primaries, D65).
 float luminance(vec3 c) {
     return dot(c, vec3(0.2126f, 0.7152f, 0.0722f));

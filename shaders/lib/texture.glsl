@@ -26,11 +26,12 @@ Texcoords interpolate_texcoords(uint triangle, float b1, float b2) {
 
 vec4 unpack_half4(uint rg, uint ba) { return vec4(unpackHalf2x16(rg), unpackHalf2x16(ba)); }
 
+// Written as c0 + b1 (c1 - c0) + b2 (c2 - c0): equal corners give exactly their colour (white stays 1, so forcing
+// the effect on for a scene without COLOR_0 changes no bit).
 vec4 interpolate_color(uint triangle, float b1, float b2) {
     TriangleAttributes a = tri_attributes[triangle];
-    float b0 = 1.0f - b1 - b2;
-    return b0 * unpack_half4(a.color0_rg, a.color0_ba) + b1 * unpack_half4(a.color1_rg, a.color1_ba) +
-           b2 * unpack_half4(a.color2_rg, a.color2_ba);
+    vec4 c0 = unpack_half4(a.color0_rg, a.color0_ba);
+    return c0 + b1 * (unpack_half4(a.color1_rg, a.color1_ba) - c0) + b2 * (unpack_half4(a.color2_rg, a.color2_ba) - c0);
 }
 
 // Interpolated TANGENT (w = bitangent sign), or w = 0 when the mesh has none.

@@ -52,7 +52,9 @@ FH_CONST uint BINDING_TEXELS = 22u;             // uint[]: RGBA8 texels of every
 FH_CONST uint BINDING_ENV_RADIANCE = 23u;       // vec4[]: environment radiance (rgb), equirectangular rows
 FH_CONST uint BINDING_ENV_CDF = 24u;            // float[]: marginal CDF (height + 1), then one CDF per row
 FH_CONST uint BINDING_INSTANCES = 25u;       // Instance[] (two-level BVH), when the scene has instances
-FH_CONST uint BINDING_COUNT = 26u;
+FH_CONST uint BINDING_MATERIAL_LAYERS = 26u; // MaterialLayers[] (KHR material extensions), parallel to Material[]
+FH_CONST uint BINDING_PATH_MEDIA = 27u;      // uint[wave capacity]: the volume a path is in (EFFECT_VOLUME, _ABSORPTION)
+FH_CONST uint BINDING_COUNT = 28u;
 FH_CONST uint UNIFORM_BUFFER_BYTES = 65536u;  // declared size of each; Vulkan guarantees only 16 KiB of
                                               // maxUniformBufferRange, so fits_uniform_buffers (pack.h) checks
 
@@ -71,9 +73,15 @@ FH_CONST uint EFFECT_EMISSIVE_TEXTURE = 8u;        // textured emitters
 FH_CONST uint EFFECT_VERTEX_COLORS = 16u;          // COLOR_0 that is not white
 FH_CONST uint EFFECT_ALPHA = 32u;                  // alphaMode MASK or BLEND: tested during traversal
 FH_CONST uint EFFECT_ENVIRONMENT = 64u;            // --env / --background: escaping rays see light
+FH_CONST uint EFFECT_TRANSMISSION = 128u;          // KHR_materials_transmission: the dielectric BTDF
+FH_CONST uint EFFECT_TRANSMISSION_TEXTURE = 256u;  // transmissionTexture
+FH_CONST uint EFFECT_VOLUME = 512u;                // KHR_materials_volume: refraction into closed meshes
+FH_CONST uint EFFECT_ABSORPTION = 1024u;           // Beer-Lambert absorption inside volumes (path media buffer)
 FH_CONST uint EFFECT_ATTRIBUTES = EFFECT_BASE_COLOR_TEXTURE | EFFECT_METALLIC_ROUGHNESS_TEXTURE |
                                   EFFECT_NORMAL_TEXTURE | EFFECT_EMISSIVE_TEXTURE | EFFECT_VERTEX_COLORS |
-                                  EFFECT_ALPHA;   // the effects that read TriangleAttributes
+                                  EFFECT_ALPHA | EFFECT_TRANSMISSION_TEXTURE;  // effects that read TriangleAttributes
+FH_CONST uint EFFECT_MATERIAL = EFFECT_ATTRIBUTES | EFFECT_TRANSMISSION | EFFECT_VOLUME |
+                                EFFECT_ABSORPTION;  // decided by the materials: --force-effect / --disable-effect
 
 // ---- Robustness techniques (all on by default; `--disable-technique` turns one off to measure its cost and
 // to show what goes wrong without it). README "Numerical stability" has the table.
@@ -92,6 +100,7 @@ FH_CONST uint CAMERA_ORTHOGRAPHIC = 1u;
 FH_CONST uint FILTER_BOX = 0u;             // one pixel wide
 FH_CONST uint FILTER_GAUSSIAN = 1u;        // truncated Gaussian, importance sampled (weight 1)
 FH_CONST uint MATERIAL_DOUBLE_SIDED = 1u;  // Material.flags
+FH_CONST uint LAYERS_VOLUME = 1u;          // MaterialLayers.flags: the mesh bounds a volume (thicknessFactor > 0)
 FH_CONST uint TRIANGLE_HAS_NORMALS = 1u;   // TriangleShading.flags: vertex normals present
 FH_CONST uint RENDER_NEE = 1u;             // FrameParams.flags: next-event estimation
 FH_CONST uint RENDER_MIS = 2u;             // combine NEE and BSDF sampling by MIS (else NEE only)
@@ -191,6 +200,17 @@ struct Material {
     uint alpha_mode;        // ALPHA_OPAQUE / ALPHA_MASK / ALPHA_BLEND
     float alpha_cutoff;     // MASK: present where alpha >= alpha_cutoff
     float pad0, pad1;
+};
+
+// What the KHR material extensions add to a Material (same index), in its own array so that a scene whose
+// materials use none of them never reads it: each effect reads only its own fields.
+struct MaterialLayers {
+    vec4 attenuation;              // KHR_materials_volume: rgb = absorption coefficient per scene unit,
+                                   // -ln(attenuationColor) / attenuationDistance (0: none), a unused
+    float transmission;            // KHR_materials_transmission transmissionFactor
+    uint transmission_texture;     // TextureSlot (R channel), or INVALID_INDEX
+    uint flags;                    // LAYERS_VOLUME
+    float pad0;
 };
 
 // A material's use of a texture (glTF textureInfo): which image, how it is addressed, and

@@ -34,7 +34,7 @@ ExtendResult run_extend_once(vk::Context& context, const PackedScene& packed, co
     frame.height = 1;
     frame.wave_capacity = uint32_t(rays.size());
     frame.triangle_count = uint32_t(packed.positions.size());
-    GpuBuffers buffers = create_gpu_buffers(context, packed, frame);
+    GpuBuffers buffers = create_gpu_buffers(context, packed, frame, 0u);
     StageOptions stage_options;
     stage_options.scene_in_uniform_buffers = uniform_scene;
     StageTable stages(context, stage_options);

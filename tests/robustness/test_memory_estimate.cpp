@@ -29,7 +29,7 @@ uint64_t bytes_of(const fh::MemoryEstimate& e, const std::string& name) {
 
 TEST(MemoryEstimate, FilmIs32BytesAPixel) {
     const fh::PackedScene scene;
-    const fh::MemoryEstimate e = fh::estimate_render_memory(scene, 8192, 8192, 1u << 18);
+    const fh::MemoryEstimate e = fh::estimate_render_memory(scene, 8192, 8192, 1u << 18, 0u);
     EXPECT_EQ(bytes_of(e, "film"), uint64_t(2) << 30);  // an 8192 x 8192 film is 2 GiB
     EXPECT_EQ(e.film_readback_bytes, uint64_t(2) << 30);
     EXPECT_EQ(bytes_of(e, "tri_positions"), sizeof(fh::gpu::TrianglePositions));  // empty arrays: one element
@@ -46,15 +46,15 @@ TEST(MemoryEstimate, WaveCapacityFollowsTheRenderer) {
 }
 
 TEST(MemoryEstimate, RefusesAFilmBeyondTheStorageRangeWithTheNumbers) {
-    EXPECT_EQ(check_error(fh::estimate_render_memory(fh::PackedScene{}, 2048, 2048, 1u << 18), LAVAPIPE), "");
-    const std::string error = check_error(fh::estimate_render_memory(fh::PackedScene{}, 4096, 4096, 1u << 18), LAVAPIPE);
+    EXPECT_EQ(check_error(fh::estimate_render_memory(fh::PackedScene{}, 2048, 2048, 1u << 18, 0u), LAVAPIPE), "");
+    const std::string error = check_error(fh::estimate_render_memory(fh::PackedScene{}, 4096, 4096, 1u << 18, 0u), LAVAPIPE);
     EXPECT_NE(error.find("the film buffer needs 512.0 MiB (536870912 bytes)"), std::string::npos) << error;
     EXPECT_NE(error.find("maxStorageBufferRange of 128.0 MiB (134217728 bytes)"), std::string::npos) << error;
     EXPECT_NE(error.find("--width/--height"), std::string::npos) << error;
 }
 
 TEST(MemoryEstimate, NamesTheSceneArrayThatIsTooLarge) {
-    fh::MemoryEstimate e = fh::estimate_render_memory(fh::PackedScene{}, 64, 64, 4096);
+    fh::MemoryEstimate e = fh::estimate_render_memory(fh::PackedScene{}, 64, 64, 4096, 0u);
     for (auto& b : e.buffers)
         if (b.name == "tri_positions") b.bytes = uint64_t(200) << 20;
     const std::string error = check_error(e, LAVAPIPE);
@@ -63,7 +63,7 @@ TEST(MemoryEstimate, NamesTheSceneArrayThatIsTooLarge) {
 }
 
 TEST(MemoryEstimate, ChecksAllocationSizeAndTheHeap) {
-    const fh::MemoryEstimate e = fh::estimate_render_memory(fh::PackedScene{}, 8192, 8192, 1u << 18);
+    const fh::MemoryEstimate e = fh::estimate_render_memory(fh::PackedScene{}, 8192, 8192, 1u << 18, 0u);
     fh::DeviceMemoryLimits roomy{uint64_t(8) << 30, uint64_t(1) << 30, uint64_t(16) << 30};
     std::string error = check_error(e, roomy);
     EXPECT_NE(error.find("maxMemoryAllocationSize of 1.00 GiB"), std::string::npos) << error;

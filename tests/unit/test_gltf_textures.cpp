@@ -210,3 +210,65 @@ TEST(GltfTextures, MaterialVariantsChooseThePrimitiveMaterial) {
 }
 
 }  // namespace
+
+// ---- KHR_materials_transmission and KHR_materials_volume ------------------------------------------------------
+namespace {
+
+nlohmann::json glass_material(double transmission, double thickness, const nlohmann::json& volume_extra = {},
+                              double metallic = 0.0) {
+    nlohmann::json volume = {{"thicknessFactor", thickness}};
+    for (const auto& [key, value] : volume_extra.items()) volume[key] = value;
+    return {{"pbrMetallicRoughness", {{"metallicFactor", metallic}}},
+            {"extensions",
+             {{"KHR_materials_transmission", {{"transmissionFactor", transmission}, {"transmissionTexture", {{"index", 0}}}}},
+              {"KHR_materials_volume", volume}}}};
+}
+
+}  // namespace
+
+TEST(GltfTransmission, ReadsTransmissionAndVolume) {
+    GltfBuilder b = make_textured_triangle(
+        glass_material(0.7, 0.1, {{"attenuationColor", {0.5, 1.0, 0.25}}, {"attenuationDistance", 2.0}}));
+    b.set_scene({b.add_node({{"mesh", 0}})});
+    const Scene s = fh::load_gltf(b.write_gltf(), WORLD_SPACE);
+    ASSERT_EQ(s.material_layers.size(), 1u);
+    const gpu::MaterialLayers& l = s.material_layers[0];
+    EXPECT_FLOAT_EQ(l.transmission, 0.7f);
+    ASSERT_NE(l.transmission_texture, gpu::INVALID_INDEX);
+    EXPECT_EQ(s.texture_slots[l.transmission_texture].addressing & gpu::SAMPLER_SRGB, 0u);  // data, not colour
+    EXPECT_EQ(l.flags & gpu::LAYERS_VOLUME, gpu::LAYERS_VOLUME);
+    EXPECT_NEAR(l.attenuation.x, -std::log(0.5) / 2.0, 1e-6);  // Beer-Lambert: -ln(colour) / distance
+    EXPECT_EQ(l.attenuation.y, 0.0f);
+    EXPECT_NEAR(l.attenuation.z, -std::log(0.25) / 2.0, 1e-6);
+    const uint32_t bits = fh::analyse_effects(s, false).bits;
+    const uint32_t glass = gpu::EFFECT_TRANSMISSION | gpu::EFFECT_TRANSMISSION_TEXTURE | gpu::EFFECT_VOLUME |
+                           gpu::EFFECT_ABSORPTION;
+    EXPECT_EQ(bits & glass, glass) << fh::describe_effects(bits);
+}
+
+// Glass switches effects on by value: no transmission, all-metal, thickness 0 (thin-walled) and an infinite
+// attenuationDistance (no absorption) each leave their effect off.
+TEST(GltfTransmission, EffectsAreDecidedByValue) {
+    const uint32_t glass = gpu::EFFECT_TRANSMISSION | gpu::EFFECT_TRANSMISSION_TEXTURE | gpu::EFFECT_VOLUME |
+                           gpu::EFFECT_ABSORPTION;
+    auto effects_of = [&](const nlohmann::json& material) {
+        GltfBuilder b = make_textured_triangle(material);
+        b.set_scene({b.add_node({{"mesh", 0}})});
+        return fh::analyse_effects(fh::load_gltf(b.write_gltf(), WORLD_SPACE), false).bits & glass;
+    };
+    EXPECT_EQ(effects_of(glass_material(0.0, 1.0, {{"attenuationDistance", 1.0}})), 0u);
+    EXPECT_EQ(effects_of(glass_material(1.0, 1.0, {{"attenuationDistance", 1.0}}, 1.0)), 0u);  // metal hides it
+    EXPECT_EQ(effects_of(glass_material(1.0, 0.0, {{"attenuationDistance", 1.0}})),
+              gpu::EFFECT_TRANSMISSION | gpu::EFFECT_TRANSMISSION_TEXTURE);  // thin-walled
+    EXPECT_EQ(effects_of(glass_material(1.0, 1.0)),
+              gpu::EFFECT_TRANSMISSION | gpu::EFFECT_TRANSMISSION_TEXTURE | gpu::EFFECT_VOLUME);  // clear volume
+    // The forced/disabled selection touches material effects only.
+    EXPECT_EQ(fh::select_effects(gpu::EFFECT_ENVIRONMENT, gpu::EFFECT_VOLUME, gpu::EFFECT_ENVIRONMENT),
+              gpu::EFFECT_ENVIRONMENT | gpu::EFFECT_VOLUME);
+}
+
+TEST(GltfTransmission, RefusesANonPositiveAttenuationDistance) {
+    GltfBuilder b = make_textured_triangle(glass_material(1.0, 1.0, {{"attenuationDistance", 0.0}}));
+    b.set_scene({b.add_node({{"mesh", 0}})});
+    fh::test::expect_load_refused(b.write_gltf(), "attenuationDistance");
+}

@@ -184,6 +184,7 @@ constexpr bool has_std430_array_stride(bool holds_vec4) {
 TEST(Layout, ArrayStridesFollowStd430) {
     static_assert(sizeof(vec4) == 16 && alignof(uint) == 4 && sizeof(float) == 4);
     EXPECT_TRUE(has_std430_array_stride<Material>(true));
+    EXPECT_TRUE(has_std430_array_stride<MaterialLayers>(true));
     EXPECT_TRUE(has_std430_array_stride<FrameParams>(true));
     for (size_t size : {sizeof(BvhNode), sizeof(BvhPairNode), sizeof(TrianglePositions), sizeof(TriangleShading), sizeof(Emitter),
                         sizeof(QueueCounters), sizeof(PathState), sizeof(RayItem), sizeof(HitItem),
@@ -198,6 +199,7 @@ TEST(Layout, SizesMatchTheGpuStructs) {
     EXPECT_EQ(sizeof(TrianglePositions), 48u);
     EXPECT_EQ(sizeof(TriangleShading), 48u);
     EXPECT_EQ(sizeof(Material), 96u);
+    EXPECT_EQ(sizeof(MaterialLayers), 32u);
     EXPECT_EQ(sizeof(TextureSlot), 48u);
     EXPECT_EQ(sizeof(TriangleAttributes), 96u);
     EXPECT_EQ(sizeof(Emitter), 16u);

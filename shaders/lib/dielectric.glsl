@@ -1,0 +1,179 @@
+// The glass lobe of KHR_materials_transmission: a rough dielectric interface with GGX microfacets (Walter et
+// al. 2007, "Microfacet Models for Refraction through Rough Surfaces"; pbrt-v4's DielectricBxDF), either
+// refracting into a volume (KHR_materials_volume) or thin-walled (light leaves on the other side in the
+// mirrored reflection direction, unbent: the spec's thin-walled case). Shared GLSL/C++ subset.
+//
+// Local frame as bsdf.glsl: z = shading normal on wo's side, wo.z > 0; wi.z > 0 reflects, wi.z < 0 transmits.
+// Per microfacet, exact unpolarised Fresnel F(wo.h) (total internal reflection included) splits the light:
+//   reflected   R = specularFactor * min(F * specularColorFactor, 1)       (the spec's fresnel_mix)
+//   transmitted T = base_color * (1 - max(R))                             (so R + T <= 1 in every channel)
+// Reflection: R D V cos (as the opaque specular lobe). Refraction with eta = n beyond / n on wo's side
+// (Walter eq. 21, pbrt-v4 radiance mode with its 1 / eta^2):
+//   f cos_i = T D G2 |wi.h| (wo.h) / (cos_o (wi.h + wo.h / eta)^2 eta^2) = 4 T D V cos_i |wi.h| (wo.h) / (...)
+// Thin-walled: f(wo, wi) = T D V evaluated at the mirror image of wi (reciprocal, and the same energy as R).
+// Single scattering between microfacets only: rough glass loses a little energy, never gains it.
+#ifndef FREDHOLM_LIB_DIELECTRIC_GLSL
+#define FREDHOLM_LIB_DIELECTRIC_GLSL
+
+#include "sampling.glsl"
+#include "ggx.glsl"
+
+// A refracting eta within this of 1 is moved to 1 +- this: at eta = 1 the interface is invisible and rough
+// refraction degenerates into a delta that no finite pdf describes. (Thin-walled glass has no such limit.)
+const float GLASS_MIN_ETA_OFFSET = 1.0e-3f;
+
+struct GlassParams {
+    vec3 transmission_tint;  // base colour: what passes through is tinted by it
+    float alpha;             // GGX alpha (as the opaque lobes)
+    vec3 specular_color;     // KHR_materials_specular specularColorFactor
+    float specular;          // specularFactor
+    float eta;               // n beyond the surface / n on wo's side; thin-walled: the ior
+    uint thin_walled;        // 1: no volume behind the surface
+};
+
+// Unpolarised Fresnel reflectance for cos_i (incident direction against the normal on its side) and
+// eta = n_t / n_i; 1 under total internal reflection (sin_t >= 1).
+float fresnel_dielectric(float cos_i, float eta) {
+    float c = clamp(cos_i, 0.0f, 1.0f);
+    float sin2_t = (1.0f - c * c) / (eta * eta);
+    if (sin2_t >= 1.0f) {
+        return 1.0f;
+    }
+    float cos_t = sqrt(1.0f - sin2_t);
+    float r_parallel = (eta * c - cos_t) / (eta * c + cos_t);
+    float r_perpendicular = (c - eta * cos_t) / (c + eta * cos_t);
+    return 0.5f * (r_parallel * r_parallel + r_perpendicular * r_perpendicular);
+}
+
+// eta for refraction at an interface of index ratio `ratio` (>= 1e-4), kept GLASS_MIN_ETA_OFFSET away from 1.
+float refraction_eta(float ratio) {
+    float eta = max(ratio, 1.0e-4f);
+    if (abs(eta - 1.0f) < GLASS_MIN_ETA_OFFSET) {
+        eta = eta < 1.0f ? 1.0f - GLASS_MIN_ETA_OFFSET : 1.0f + GLASS_MIN_ETA_OFFSET;
+    }
+    return eta;
+}
+
+vec3 glass_reflectance(GlassParams g, float fresnel) {
+    return g.specular * min(fresnel * g.specular_color, vec3(1.0f));
+}
+
+vec3 glass_transmittance(GlassParams g, float fresnel) {
+    return g.transmission_tint * (1.0f - max_value(glass_reflectance(g, fresnel)));
+}
+
+// The microfacet normal that refracts wo into wi (Walter eq. 16: h ~ wo + eta wi, turned to +z), with the
+// Jacobian's denominator (wi.h + wo.h / eta)^2. valid = 0 when no microfacet facing wo does it.
+struct RefractionHalf {
+    vec3 h;
+    float denom;
+    uint valid;
+};
+
+RefractionHalf refraction_half_vector(vec3 wo, vec3 wi, float eta) {
+    RefractionHalf r;
+    r.h = vec3(0.0f, 0.0f, 1.0f);
+    r.denom = 0.0f;
+    r.valid = 0u;
+    vec3 h = wo + wi * eta;
+    float len = length(h);
+    if (!(len > 0.0f)) {
+        return r;
+    }
+    h = h / len;
+    if (h.z < 0.0f) {
+        h = -h;
+    }
+    if (!(dot(h, wo) > 0.0f && dot(h, wi) < 0.0f)) {
+        return r;  // a back-facing microfacet
+    }
+    float d = dot(wi, h) + dot(wo, h) / eta;
+    r.h = h;
+    r.denom = d * d;
+    r.valid = r.denom > 0.0f ? 1u : 0u;
+    return r;
+}
+
+// f cos(theta_i) of the glass lobe alone.
+vec3 eval_glass(GlassParams g, vec3 wo, vec3 wi) {
+    if (!(wo.z > 0.0f)) {
+        return vec3(0.0f);
+    }
+    if (wi.z > 0.0f) {
+        vec3 h = normalize(wo + wi);
+        float f = fresnel_dielectric(dot(wo, h), g.eta);
+        return glass_reflectance(g, f) * (ggx_d(h, g.alpha) * ggx_v_cos(wo.z, wi.z, g.alpha));
+    }
+    if (!(wi.z < 0.0f)) {
+        return vec3(0.0f);
+    }
+    if (g.thin_walled != 0u) {
+        vec3 mirrored = vec3(wi.x, wi.y, -wi.z);
+        vec3 h = normalize(wo + mirrored);
+        float f = fresnel_dielectric(dot(wo, h), g.eta);
+        return glass_transmittance(g, f) * (ggx_d(h, g.alpha) * ggx_v_cos(wo.z, mirrored.z, g.alpha));
+    }
+    RefractionHalf r = refraction_half_vector(wo, wi, g.eta);
+    if (r.valid == 0u) {
+        return vec3(0.0f);
+    }
+    float f = fresnel_dielectric(dot(wo, r.h), g.eta);
+    float jacobian = abs(dot(wi, r.h)) * dot(wo, r.h) / (r.denom * g.eta * g.eta);
+    return glass_transmittance(g, f) * (4.0f * ggx_d(r.h, g.alpha) * ggx_v_cos(wo.z, -wi.z, g.alpha) * jacobian);
+}
+
+// Solid-angle pdf of sample_glass: h from the visible normals, then reflection with probability F(wo.h).
+float pdf_glass(GlassParams g, vec3 wo, vec3 wi) {
+    if (!(wo.z > 0.0f)) {
+        return 0.0f;
+    }
+    if (wi.z > 0.0f) {
+        vec3 h = normalize(wo + wi);
+        return fresnel_dielectric(dot(wo, h), g.eta) * pdf_ggx_vndf_reflection(wo, h, g.alpha);
+    }
+    if (!(wi.z < 0.0f)) {
+        return 0.0f;
+    }
+    if (g.thin_walled != 0u) {
+        vec3 h = normalize(wo + vec3(wi.x, wi.y, -wi.z));
+        return (1.0f - fresnel_dielectric(dot(wo, h), g.eta)) * pdf_ggx_vndf_reflection(wo, h, g.alpha);
+    }
+    RefractionHalf r = refraction_half_vector(wo, wi, g.eta);
+    if (r.valid == 0u) {
+        return 0.0f;
+    }
+    float reflect_to_refract = 4.0f * dot(wo, r.h) * abs(dot(wi, r.h)) / r.denom;  // D_wo(h) |wi.h| / denom
+    return (1.0f - fresnel_dielectric(dot(wo, r.h), g.eta)) * pdf_ggx_vndf_reflection(wo, r.h, g.alpha) *
+           reflect_to_refract;
+}
+
+// A direction of the glass lobe: u.yz pick a visible microfacet normal, u.x < F(wo.h) reflects about it, else
+// the light refracts (thin-walled: leaves mirrored). Returns vec3(0) when there is no direction.
+vec3 sample_glass(GlassParams g, vec3 wo, vec3 u) {
+    vec3 h = sample_ggx_vndf(wo, g.alpha, vec2(u.y, u.z));
+    float cos_o = dot(wo, h);
+    if (!(cos_o > 0.0f)) {
+        return vec3(0.0f);
+    }
+    vec3 reflected = 2.0f * cos_o * h - wo;
+    bool reflects = u.x < fresnel_dielectric(cos_o, g.eta);
+    if (reflects || g.thin_walled != 0u) {
+        // A reflection must stay above the surface; a thin wall's transmission is its mirror image below.
+        if (!(reflected.z > 0.0f)) {
+            return vec3(0.0f);
+        }
+        return reflects ? reflected : vec3(reflected.x, reflected.y, -reflected.z);
+    }
+    float sin2_t = (1.0f - cos_o * cos_o) / (g.eta * g.eta);
+    if (sin2_t >= 1.0f) {
+        return vec3(0.0f);  // total internal reflection (F = 1: not reached)
+    }
+    float cos_t = sqrt(1.0f - sin2_t);
+    vec3 refracted = -wo / g.eta + (cos_o / g.eta - cos_t) * h;
+    if (!(refracted.z < 0.0f)) {
+        return vec3(0.0f);  // a steep microfacet sent it back up: not a transmission
+    }
+    return refracted;
+}
+
+#endif

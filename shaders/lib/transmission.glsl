@@ -1,0 +1,48 @@
+// A material's KHR_materials_transmission and KHR_materials_volume at a surface point, and Beer-Lambert
+// absorption along a path segment inside a volume. Compiled only for the effects the scene has
+// (EFFECT_TRANSMISSION, EFFECT_TRANSMISSION_TEXTURE, EFFECT_VOLUME, EFFECT_ABSORPTION).
+#ifndef FH_TRANSMISSION_GLSL
+#define FH_TRANSMISSION_GLSL
+#include "effects.glsl"
+#include "texture.glsl"
+
+// transmissionFactor times the R channel of transmissionTexture at barycentrics (b1, b2) of `triangle`.
+float eval_transmission(uint material, uint triangle, float b1, float b2) {
+    if (!effect_on(EFFECT_TRANSMISSION)) return 0.0f;
+    float transmission = material_layers[material].transmission;
+    if (effect_on(EFFECT_TRANSMISSION_TEXTURE) && transmission > 0.0f) {
+        uint slot = material_layers[material].transmission_texture;
+        if (slot != INVALID_INDEX) transmission *= sample_texture(slot, interpolate_texcoords(triangle, b1, b2)).x;
+    }
+    return transmission;
+}
+
+// Whether the material's mesh bounds a volume that light refracts into (else its transmission is thin-walled).
+bool encloses_volume(uint material) {
+    return effect_on(EFFECT_VOLUME) && (material_layers[material].flags & LAYERS_VOLUME) != 0u;
+}
+
+// Whether paths remember the volume they are in (layout.h BINDING_PATH_MEDIA): for absorption, and so that
+// Russian roulette can see through the radiance scaling 1 / eta^2 that refraction into a volume applies.
+bool tracks_media() {
+    return effect_on(EFFECT_VOLUME) || effect_on(EFFECT_ABSORPTION);
+}
+
+// What Russian roulette multiplies the throughput by inside the volume of `medium`: its ior^2, which undoes the
+// 1 / eta^2 of entering it (pbrt-v4's etaScale), so that a path is not rouletted for a scaling it will get
+// back on the way out (that made fireflies of up to 5x in a white furnace around a glass sphere).
+float roulette_scale(uint medium) {
+    if (!tracks_media() || medium == INVALID_INDEX) return 1.0f;
+    float ior = load_material(medium).ior;
+    return ior * ior;
+}
+
+// Beer-Lambert transmittance over distance t (may be infinite) inside the volume of material `medium`
+// (INVALID_INDEX: outside every volume, 1). A channel that does not absorb stays 1 even for t = inf.
+vec3 eval_medium_transmittance(uint medium, float t) {
+    if (!effect_on(EFFECT_ABSORPTION) || medium == INVALID_INDEX) return vec3(1.0f);
+    vec3 sigma = material_layers[medium].attenuation.xyz;
+    return vec3(sigma.x > 0.0f ? exp(-sigma.x * t) : 1.0f, sigma.y > 0.0f ? exp(-sigma.y * t) : 1.0f,
+                sigma.z > 0.0f ? exp(-sigma.z * t) : 1.0f);
+}
+#endif

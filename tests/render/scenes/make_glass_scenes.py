@@ -1,0 +1,84 @@
+#!/usr/bin/env python3
+"""Writes the render-test scenes for KHR_materials_transmission and KHR_materials_volume (standard library only).
+
+usage: make_glass_scenes.py OUT_DIR
+
+Each has an analytic criterion, stated beside its test in tests/render/CMakeLists.txt. An orthographic camera
+looks straight down (-Z) at a white emitter of radiance 1 on the plane z = 0 through:
+  glass_slab.gltf            a smooth glass slab (ior 1.5, closed box, KHR_materials_volume) 1 unit thick: every
+                             pixel reads (1 - F)^2 / (1 - F^2) = 0.9230769 (F = 0.04; all internal reflections).
+  glass_slab_absorbing.gltf  the same slab with attenuationColor 0.5 at attenuationDistance 1: with tau = 0.5,
+                             (1 - F)^2 tau / (1 - F^2 tau^2) = 0.4609844 (Beer-Lambert on every crossing).
+  glass_thin.gltf            one smooth thin-walled glass quad (no volume): 1 - F = 0.96.
+  glass_furnace.gltf         a rough (0.3) glass sphere of ior 1.5, seen in perspective: under --background 1,1,1
+                             nothing may exceed 1 (energy conservation through the volume and back out).
+"""
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "stability" / "render"))
+from make_stability_scenes import Gltf, icosphere, quad  # noqa: E402
+
+IOR = 1.5
+
+
+def box(x0, y0, z0, x1, y1, z1):
+    """The 12 triangles of an axis-aligned box, wound to face outwards."""
+    tris = quad(x0, y0, x1, y1, z1, True) + quad(x0, y0, x1, y1, z0, False)
+    a, b, c, d = (x0, y0), (x1, y0), (x1, y1), (x0, y1)
+    for (p, q) in ((a, b), (b, c), (c, d), (d, a)):  # sides, counter-clockwise seen from above: outward
+        lo_p, lo_q, hi_p, hi_q = (*p, z0), (*q, z0), (*p, z1), (*q, z1)
+        tris += [(lo_p, lo_q, hi_q), (lo_p, hi_q, hi_p)]
+    return tris
+
+
+def glass(roughness=0.0, volume=True, attenuation=None):
+    m = {"pbrMetallicRoughness": {"baseColorFactor": [1.0, 1.0, 1.0, 1.0], "metallicFactor": 0.0,
+                                  "roughnessFactor": roughness},
+         "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0},
+                        "KHR_materials_ior": {"ior": IOR}}}
+    if volume:
+        m["extensions"]["KHR_materials_volume"] = {"thicknessFactor": 1.0}
+        if attenuation is not None:
+            color, distance = attenuation
+            m["extensions"]["KHR_materials_volume"].update(
+                {"attenuationColor": [color] * 3, "attenuationDistance": distance})
+    return m
+
+
+def over_emitter(material, shape):
+    g = Gltf()
+    g.doc["extensionsUsed"] += ["KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_volume"]
+    emitter = g.add_material(base=(0.0, 0.0, 0.0), emission=1.0)
+    g.add_node({"mesh": g.add_mesh(quad(-20, -20, 20, 20, 0.0), emitter)})
+    g.doc["materials"].append(material)
+    g.add_node({"mesh": g.add_mesh(shape, len(g.doc["materials"]) - 1)})
+    g.add_orthographic_camera({"translation": [0.0, 0.0, 3.0]}, 1.0)
+    return g
+
+
+def furnace():
+    g = Gltf()
+    g.doc["extensionsUsed"] += ["KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_volume"]
+    g.doc["materials"].append(glass(roughness=0.3))
+    g.add_node({"mesh": g.add_mesh(icosphere(4), 0)})
+    g.add_perspective_camera({"translation": [0.0, 0.0, 3.0]}, 0.8)
+    return g
+
+
+def main():
+    out = Path(sys.argv[1])
+    out.mkdir(parents=True, exist_ok=True)
+    slab = box(-10, -10, 0.5, 10, 10, 1.5)
+    scenes = {
+        "glass_slab": over_emitter(glass(), slab),
+        "glass_slab_absorbing": over_emitter(glass(attenuation=(0.5, 1.0)), slab),
+        "glass_thin": over_emitter(glass(volume=False), quad(-10, -10, 10, 10, 1.0)),
+        "glass_furnace": furnace(),
+    }
+    for name, g in scenes.items():
+        g.write(out / f"{name}.gltf")
+
+
+if __name__ == "__main__":
+    main()
