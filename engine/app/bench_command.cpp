@@ -92,17 +92,22 @@ nlohmann::json describe_run(uint32_t size, const RenderStats& m, const std::stri
 // What a feature costs at one size: the render with it, then right after it the render without it (the
 // machine's speed drifts), printed as "WITH a s, WITHOUT b s: FEATURE costs +x% of the render time". The
 // variant without it is `without` rendered with `without_disabled_effects` switched off.
+struct FeatureNames {
+    const char* with;     // "with textures"
+    const char* without;  // "factors only"
+    const char* feature;  // "textures"
+};
+
 std::pair<RenderStats, RenderStats> time_feature(const vk::Context& context, const SceneCamera& camera,
                                                  RenderSettings settings, uint32_t size, uint32_t repeats,
                                                  const PreparedScene& with, const PreparedScene& without,
-                                                 uint32_t without_disabled_effects, const char* with_name,
-                                                 const char* without_name, const char* feature) {
+                                                 uint32_t without_disabled_effects, const FeatureNames& names) {
     settings.width = settings.height = size;
     const RenderStats a = time_render(context, with, camera, settings, repeats);
     settings.disabled_effects = without_disabled_effects;
     const RenderStats b = time_render(context, without, camera, settings, repeats);
-    std::printf("%4ux%-4u %s %.3f s, %s %.3f s: %s cost %+.1f%% of the render time\n", size, size, with_name,
-                a.render_seconds, without_name, b.render_seconds, feature,
+    std::printf("%4ux%-4u %s %.3f s, %s %.3f s: %s cost %+.1f%% of the render time\n", size, size, names.with,
+                a.render_seconds, names.without, b.render_seconds, names.feature,
                 100.0 * (a.render_seconds - b.render_seconds) / b.render_seconds);
     return {a, b};
 }
@@ -163,6 +168,20 @@ int run_bench(const BenchCommand& c) {
                         100.0 * (with.render_seconds - without.render_seconds) / without.render_seconds);
         }
     }
+    // A feature's cost at every size (time_feature); each run without it is recorded with `without_key` =
+    // `without_value` and the time with it as `with_key`.
+    auto time_at_sizes = [&](const PreparedScene& with, const PreparedScene& without, uint32_t without_disabled_effects,
+                             const FeatureNames& names, const char* without_key, const std::string& without_value,
+                             const char* with_key) {
+        for (uint32_t size : c.sizes) {
+            const auto [a, b] = time_feature(*context, camera, base, size, c.repeats, with, without,
+                                             without_disabled_effects, names);
+            nlohmann::json run = describe_run(size, b, "none");
+            run[without_key] = without_value;
+            run[with_key] = a.render_seconds;
+            results.push_back(run);
+        }
+    };
     if (c.textures) {
         const PackedScene& p = prepared.packed;
         const uint32_t material_effects = p.effects.bits & gpu::EFFECT_ATTRIBUTES;
@@ -172,14 +191,8 @@ int run_bench(const BenchCommand& c) {
                     double(p.attributes.size() * sizeof(gpu::TriangleAttributes)) / double(1 << 20),
                     p.attributes.empty() ? size_t(0) : sizeof(gpu::TriangleAttributes),
                     describe_effects(p.effects.bits).c_str());
-        for (uint32_t size : c.sizes) {
-            const auto [with, without] = time_feature(*context, camera, base, size, c.repeats, prepared, prepared,
-                                                      material_effects, "with textures", "factors only", "textures");
-            nlohmann::json run = describe_run(size, without, "none");
-            run["disabled_effects"] = describe_effects(material_effects);
-            run["with_textures_seconds"] = with.render_seconds;
-            results.push_back(run);
-        }
+        time_at_sizes(prepared, prepared, material_effects, {"with textures", "factors only", "textures"},
+                      "disabled_effects", describe_effects(material_effects), "with_textures_seconds");
     }
     if (c.instancing) {
         RenderSettings copied_settings = base;
@@ -196,14 +209,8 @@ int run_bench(const BenchCommand& c) {
                     scene_bytes(prepared.packed) / double(1 << 20), scene_bytes(copied.packed) / double(1 << 20),
                     scene_bytes(prepared.packed) / scene_bytes(copied.packed),
                     prepared.load_seconds + prepared.bvh_build_seconds, copied.load_seconds + copied.bvh_build_seconds);
-        for (uint32_t size : c.sizes) {
-            const auto [instanced, flat] = time_feature(*context, camera, base, size, c.repeats, prepared, copied, 0u,
-                                                        "two-level", "copied", "instancing");
-            nlohmann::json run = describe_run(size, flat, "none");
-            run["instancing"] = "off";
-            run["instanced_seconds"] = instanced.render_seconds;
-            results.push_back(run);
-        }
+        time_at_sizes(prepared, copied, 0u, {"two-level", "copied", "instancing"}, "instancing", "off",
+                      "instanced_seconds");
     }
     if (c.techniques) {
         RenderSettings world = base;

@@ -655,7 +655,8 @@ private:
         }
         if (mode == TINYGLTF_MODE_TRIANGLES) leftover_indices_ += indices.size() % 3;
         const uint32_t material = material_index(variant_material(prim), where);
-        const uint32_t sets = gltf::texcoord_sets_read(scene_.materials[material], scene_.texture_slots);
+        const uint32_t sets = gltf::texcoord_sets_read(scene_.materials[material], scene_.material_layers[material],
+                                                       scene_.texture_slots);
         for (uint32_t set = 0; set < 2; ++set)
             if ((sets & (1u << set)) && (set == 0 ? attributes.texcoords0 : attributes.texcoords1).empty())
                 throw SceneError("material " + std::to_string(material) + " reads TEXCOORD_" + std::to_string(set) +

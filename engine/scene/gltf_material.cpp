@@ -155,16 +155,9 @@ gpu::MaterialLayers convert_material_layers(const tinygltf::Model& model, int in
     const tinygltf::Value* transmission = find_extension(material, "KHR_materials_transmission");
     layers.transmission = float(std::clamp(read_number(transmission, "transmissionFactor", 0.0), 0.0, 1.0));
     if (transmission != nullptr && transmission->Has("transmissionTexture")) {
-        tinygltf::TextureInfo info;
-        const tinygltf::Value& t = transmission->Get("transmissionTexture");
-        info.index = t.Has("index") && t.Get("index").IsInt() ? t.Get("index").GetNumberAsInt() : -1;
-        info.texCoord = t.Has("texCoord") && t.Get("texCoord").IsInt() ? t.Get("texCoord").GetNumberAsInt() : 0;
-        tinygltf::ExtensionMap extensions;
-        if (t.Has("extensions") && t.Get("extensions").IsObject())
-            for (const std::string& key : t.Get("extensions").Keys()) extensions[key] = t.Get("extensions").Get(key);
-        if (info.index < 0) throw SceneError(where + " transmissionTexture has no valid index");
-        layers.transmission_texture = gltf::add_texture_slot(
-            model, {info.index, info.texCoord, 1.0, &extensions}, false, where + " transmissionTexture", scene);
+        const TextureReference texture = read_extension_texture(transmission, "transmissionTexture");
+        if (texture.index < 0) throw SceneError(where + " transmissionTexture has no valid index");
+        layers.transmission_texture = add_texture_slot(model, texture, false, where + " transmissionTexture", scene);
     }
 
     // KHR_materials_volume: thicknessFactor > 0 makes the mesh the boundary of a volume; its value (and the

@@ -160,10 +160,23 @@ uint32_t add_texture_slot(const tinygltf::Model& model, const TextureReference& 
     return uint32_t(scene.texture_slots.size() - 1);
 }
 
-uint32_t texcoord_sets_read(const gpu::Material& material, const std::vector<gpu::TextureSlot>& slots) {
+TextureReference read_extension_texture(const tinygltf::Value* extension, const char* key) {
+    TextureReference reference;
+    if (extension == nullptr || !extension->Has(key)) return reference;
+    const tinygltf::Value& info = extension->Get(key);
+    if (info.Has("index") && info.Get("index").IsInt()) reference.index = info.Get("index").GetNumberAsInt();
+    if (info.Has("texCoord") && info.Get("texCoord").IsInt())
+        reference.tex_coord = info.Get("texCoord").GetNumberAsInt();
+    if (info.Has("extensions") && info.Get("extensions").IsObject())
+        reference.extensions = &info.Get("extensions").Get<tinygltf::Value::Object>();
+    return reference;
+}
+
+uint32_t texcoord_sets_read(const gpu::Material& material, const gpu::MaterialLayers& layers,
+                            const std::vector<gpu::TextureSlot>& slots) {
     uint32_t sets = 0;
     for (uint32_t index : {material.base_color_texture, material.metallic_roughness_texture, material.normal_texture,
-                           material.emissive_texture})
+                           material.emissive_texture, layers.transmission_texture})
         if (index != gpu::INVALID_INDEX && index < slots.size())
             sets |= (slots[index].addressing & gpu::SAMPLER_TEXCOORD_1) ? 2u : 1u;
     return sets;

@@ -34,6 +34,10 @@ struct TextureReference {
     const std::map<std::string, tinygltf::Value>* extensions = nullptr;  // the textureInfo's (ExtensionMap)
 };
 
+// The textureInfo object `key` of a material extension (tinygltf leaves extensions as JSON values): index (-1
+// when absent or not an integer), texCoord and the textureInfo's own extensions, which stay owned by `extension`.
+TextureReference read_extension_texture(const tinygltf::Value* extension, const char* key);
+
 // Adds the TextureSlot for `reference` to `scene.texture_slots` and returns its index; INVALID_INDEX when the
 // reference is absent or its texture has no image we can decode (a KTX2 image without a fallback: warned
 // once per texture in `scene.warnings`). Throws SceneError for a texture, image or sampler that does not
@@ -41,7 +45,8 @@ struct TextureReference {
 uint32_t add_texture_slot(const tinygltf::Model& model, const TextureReference& reference, bool srgb,
                           const std::string& where, Scene& scene);
 
-// Which TEXCOORD sets (bit 0: TEXCOORD_0, bit 1: TEXCOORD_1) the slots of `material` read.
-uint32_t texcoord_sets_read(const gpu::Material& material, const std::vector<gpu::TextureSlot>& slots);
+// Which TEXCOORD sets (bit 0: TEXCOORD_0, bit 1: TEXCOORD_1) the slots of `material` and its `layers` read.
+uint32_t texcoord_sets_read(const gpu::Material& material, const gpu::MaterialLayers& layers,
+                            const std::vector<gpu::TextureSlot>& slots);
 
 }  // namespace fh::gltf

@@ -11,6 +11,7 @@
 
 #include "lib/cpp_compat.h"
 #include "scene/alias_table.h"
+#include "scene/gltf_material.h"
 
 namespace fh {
 namespace glsl {
@@ -99,9 +100,7 @@ uint32_t leaf_count(const gpu::BvhNode& node) {
 
 std::vector<gpu::MaterialLayers> material_layers_of(const Scene& scene) {
     std::vector<gpu::MaterialLayers> layers = scene.material_layers;
-    gpu::MaterialLayers none{};
-    none.transmission_texture = gpu::INVALID_INDEX;
-    layers.resize(scene.materials.size(), none);
+    layers.resize(scene.materials.size(), gltf::make_default_layers());
     return layers;
 }
 

@@ -112,25 +112,37 @@ float schlick_weight(float cos_theta) {
     return m2 * m2 * m;
 }
 
-// Probability of sampling the specular lobe for outgoing cos theta `cos_o`: its share of the albedo, the
-// specular layers' mix(f0 A + f90 B, base_color A + B, metallic) against the diffuse lobe's
-// (1 - metallic) base_color (1 - E(cos_o)) (luminances), clamped to [BSDF_MIN_LOBE_PROBABILITY,
-// 1 - BSDF_MIN_LOBE_PROBABILITY] when both lobes exist, and exactly 0 (1) when the specular (diffuse) lobe
-// is absent. Depends on wo only, so pdf_bsdf can recompute it.
+// The opaque lobes' shares of the albedo for outgoing cos theta `cos_o` (luminances): the specular layers'
+// mix(opaque (f0 A + f90 B), base_color A + B, metallic) and the diffuse lobe's (1 - metallic) opaque base_color
+// (1 - E(cos_o)); `opaque` = 1 - transmission, the part of the dielectric that is not glass.
+struct LobeAlbedos {
+    float specular;
+    float diffuse;
+};
+
+LobeAlbedos estimate_lobe_albedos(BsdfParams p, float cos_o, float opaque) {
+    vec2 albedo = ggx_albedo(cos_o, p.alpha);
+    LobeAlbedos a;
+    a.diffuse = (1.0f - p.metallic) * opaque * diffuse_transmittance(p, albedo) * luminance(p.base_color);
+    vec3 e_dielectric = p.f0_dielectric * albedo.x + vec3(p.f90_dielectric * albedo.y);
+    vec3 e_metal = p.base_color * albedo.x + vec3(albedo.y);
+    a.specular = luminance(mix(e_dielectric * opaque, e_metal, p.metallic));
+    return a;
+}
+
+// Probability of sampling the specular lobe without glass: its share of the albedo (estimate_lobe_albedos),
+// clamped to [BSDF_MIN_LOBE_PROBABILITY, 1 - BSDF_MIN_LOBE_PROBABILITY] when both lobes exist, and exactly 0 (1)
+// when the specular (diffuse) lobe is absent. Depends on wo only, so pdf_bsdf can recompute it.
 float specular_probability(BsdfParams p, float cos_o) {
     bool has_specular = p.metallic > 0.0f || p.f90_dielectric > 0.0f || max_value(p.f0_dielectric) > 0.0f;
     if (!has_specular) {
         return 0.0f;
     }
-    vec2 albedo = ggx_albedo(cos_o, p.alpha);
-    float diffuse = (1.0f - p.metallic) * diffuse_transmittance(p, albedo) * luminance(p.base_color);
-    if (!(diffuse > 0.0f)) {
+    LobeAlbedos a = estimate_lobe_albedos(p, cos_o, 1.0f);
+    if (!(a.diffuse > 0.0f)) {
         return 1.0f;
     }
-    vec3 e_dielectric = p.f0_dielectric * albedo.x + vec3(p.f90_dielectric * albedo.y);
-    vec3 e_metal = p.base_color * albedo.x + vec3(albedo.y);
-    float specular = luminance(mix(e_dielectric, e_metal, p.metallic));
-    float q = specular / (specular + diffuse);
+    float q = a.specular / (a.specular + a.diffuse);
     return clamp(q, BSDF_MIN_LOBE_PROBABILITY, 1.0f - BSDF_MIN_LOBE_PROBABILITY);
 }
 
@@ -174,22 +186,17 @@ LobeChoice choose_lobes(BsdfParams p, float cos_o) {
         c.specular = specular_probability(p, cos_o);
         return c;
     }
-    vec2 albedo = ggx_albedo(cos_o, p.alpha);
-    float opaque = 1.0f - p.transmission;
-    float diffuse = (1.0f - p.metallic) * opaque * diffuse_transmittance(p, albedo) * luminance(p.base_color);
-    vec3 e_dielectric = p.f0_dielectric * albedo.x + vec3(p.f90_dielectric * albedo.y);
-    vec3 e_metal = p.base_color * albedo.x + vec3(albedo.y);
-    float specular = luminance(mix(e_dielectric * opaque, e_metal, p.metallic));
+    LobeAlbedos a = estimate_lobe_albedos(p, cos_o, 1.0f - p.transmission);
     float f = fresnel_dielectric(cos_o, p.glass.eta);
     float glass = (1.0f - p.metallic) * p.transmission * (f + (1.0f - f) * luminance(p.base_color));
-    float total = specular + diffuse + glass;
+    float total = a.specular + a.diffuse + glass;
     if (!(total > 0.0f)) {
         c.specular = 0.0f;
         c.glass = 1.0f;
         return c;
     }
-    float q_specular = specular > 0.0f ? max(specular / total, BSDF_MIN_LOBE_PROBABILITY) : 0.0f;
-    float q_diffuse = diffuse > 0.0f ? max(diffuse / total, BSDF_MIN_LOBE_PROBABILITY) : 0.0f;
+    float q_specular = a.specular > 0.0f ? max(a.specular / total, BSDF_MIN_LOBE_PROBABILITY) : 0.0f;
+    float q_diffuse = a.diffuse > 0.0f ? max(a.diffuse / total, BSDF_MIN_LOBE_PROBABILITY) : 0.0f;
     float q_glass = glass > 0.0f ? max(glass / total, BSDF_MIN_LOBE_PROBABILITY) : 0.0f;
     float norm = q_specular + q_diffuse + q_glass;
     c.specular = q_specular / norm;

@@ -26,6 +26,10 @@ vec3 uniform_sphere(float u1, float u2) {
     return vec3(r * std::cos(phi), r * std::sin(phi), z);
 }
 
+// The kinds of glass the furnace and chi-square tests try: glass seen from outside, from inside, thin-walled,
+// and half glass mixed with metal and Lambert.
+const char* const GLASS_KIND_NAMES[] = {"outside", "inside", "thin", "mixed"};
+
 // The fraction of energy `p` keeps from wo: reflected + eta^2 x transmitted (the BTDF carries radiance's 1 / eta^2,
 // so eta^2 undoes it; thin walls do not bend light and are not scaled). Monte Carlo with n samples.
 struct Albedo {
@@ -194,6 +198,8 @@ TEST(Glass, WhiteFurnaceNeverGainsEnergy) {
                                      : kind == 2 ? make_glass(roughness, IOR, true)
                                                  : make_glass(roughness, IOR, false, 0.5f, 0.3f);
                 const Albedo a = estimate_albedo(p, outgoing(deg), 50000, seed++);
+                std::printf("[furnace] %-7s roughness %.1f at %2.0f deg keeps %.4f (+- %.4f)\n",
+                            GLASS_KIND_NAMES[kind], roughness, deg, a.mean, a.standard_error);
                 EXPECT_LT(a.mean, 1.0 + 4.0 * a.standard_error + 1e-3)
                     << "kind " << kind << " roughness " << roughness << " at " << deg << " deg";
                 if (roughness == 0.0f && kind < 3 && deg < 80.0f)
@@ -207,7 +213,6 @@ struct GlassCase {
     float roughness;
     float degrees;
 };
-const char* const GLASS_KIND_NAMES[] = {"outside", "inside", "thin", "mixed"};
 
 BsdfParams make_glass_case(const GlassCase& c) {
     switch (c.kind) {

@@ -267,6 +267,16 @@ TEST(GltfTransmission, EffectsAreDecidedByValue) {
               gpu::EFFECT_ENVIRONMENT | gpu::EFFECT_VOLUME);
 }
 
+// A transmissionTexture on TEXCOORD_1 of a primitive without it is refused like a core slot's would be.
+TEST(GltfTransmission, RefusesATransmissionTextureWithoutItsTexcoords) {
+    nlohmann::json material = glass_material(1.0, 0.0);
+    material["extensions"]["KHR_materials_transmission"]["transmissionTexture"]["texCoord"] = 1;
+    GltfBuilder b = make_textured_triangle(material);
+    b.doc["meshes"][0]["primitives"][0]["attributes"].erase("TEXCOORD_1");
+    b.set_scene({b.add_node({{"mesh", 0}})});
+    fh::test::expect_load_refused(b.write_gltf(), "reads TEXCOORD_1");
+}
+
 TEST(GltfTransmission, RefusesANonPositiveAttenuationDistance) {
     GltfBuilder b = make_textured_triangle(glass_material(1.0, 1.0, {{"attenuationDistance", 0.0}}));
     b.set_scene({b.add_node({{"mesh", 0}})});
