@@ -3,6 +3,7 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -36,6 +37,9 @@ void add_bench_options(CLI::App& app, BenchCommand& c) {
                  "also time each robustness technique switched off (the cost of each; rebase: load time)");
     app.add_flag("--textures", c.textures,
                  "also time the scene with its material effects compiled out (factors only), and report texture memory");
+    app.add_flag("--effects", c.effects,
+                 "also time the scene compiled for its own effects against every material effect compiled in "
+                 "(render time per sample and pipeline build time): what effects on demand save");
     app.add_flag("--instancing", c.instancing,
                  "also load the scene with every instance copied into world space: stored triangles, scene memory, "
                  "load + BVH time and render time of both");
@@ -54,10 +58,12 @@ void add_bench_options(CLI::App& app, BenchCommand& c) {
 
 namespace {
 
-// The median-time render of `repeats` (one Renderer: pipelines are built once, outside the timing).
+// The median-time render of `repeats` (one Renderer: pipelines are built once, outside the timing, and one
+// untimed sample per pixel first lets drivers that compile at first dispatch, such as lavapipe, do so).
 RenderStats time_render(const vk::Context& context, const PreparedScene& prepared, const SceneCamera& camera,
                         const RenderSettings& settings, uint32_t repeats) {
     Renderer renderer(context, prepared.packed, camera, settings);
+    renderer.render_samples(0, 1);
     std::vector<RenderStats> runs;
     for (uint32_t r = 0; r < repeats; ++r) runs.push_back(renderer.render());
     std::sort(runs.begin(), runs.end(),
@@ -91,7 +97,7 @@ nlohmann::json describe_run(uint32_t size, const RenderStats& m, const std::stri
 
 // What a feature costs at one size: the render with it, then right after it the render without it (the
 // machine's speed drifts), printed as "WITH a s, WITHOUT b s: FEATURE costs +x% of the render time". The
-// variant without it is `without` rendered with `without_disabled_effects` switched off.
+// variant with it is `with` rendered with `with_settings`, the one without it `without` with `without_settings`.
 struct FeatureNames {
     const char* with;     // "with textures"
     const char* without;  // "factors only"
@@ -99,17 +105,32 @@ struct FeatureNames {
 };
 
 std::pair<RenderStats, RenderStats> time_feature(const vk::Context& context, const SceneCamera& camera,
-                                                 RenderSettings settings, uint32_t size, uint32_t repeats,
-                                                 const PreparedScene& with, const PreparedScene& without,
-                                                 uint32_t without_disabled_effects, const FeatureNames& names) {
-    settings.width = settings.height = size;
-    const RenderStats a = time_render(context, with, camera, settings, repeats);
-    settings.disabled_effects = without_disabled_effects;
-    const RenderStats b = time_render(context, without, camera, settings, repeats);
+                                                 RenderSettings with_settings, RenderSettings without_settings,
+                                                 uint32_t size, uint32_t repeats, const PreparedScene& with,
+                                                 const PreparedScene& without, const FeatureNames& names) {
+    with_settings.width = with_settings.height = without_settings.width = without_settings.height = size;
+    const RenderStats a = time_render(context, with, camera, with_settings, repeats);
+    const RenderStats b = time_render(context, without, camera, without_settings, repeats);
     std::printf("%4ux%-4u %s %.3f s, %s %.3f s: %s cost %+.1f%% of the render time\n", size, size, names.with,
                 a.render_seconds, names.without, b.render_seconds, names.feature,
                 100.0 * (a.render_seconds - b.render_seconds) / b.render_seconds);
     return {a, b};
+}
+
+// What building the stages costs: constructing a Renderer (pipelines, buffers) plus the first dispatch over
+// what a second one takes (drivers such as lavapipe compile at first use), at 16x16 and 1 spp. Drivers keep
+// their own on-disk shader caches (Mesa: ~/.cache/mesa_shader_cache, MESA_SHADER_CACHE_DISABLE=true to time
+// a cold build), so a repeated run measures the warm build.
+double time_pipeline_build(const vk::Context& context, const PreparedScene& prepared, const SceneCamera& camera,
+                           RenderSettings settings) {
+    settings.width = settings.height = 16;
+    settings.spp = 1;
+    const auto start = std::chrono::steady_clock::now();
+    Renderer renderer(context, prepared.packed, camera, settings);
+    const double constructed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double first = renderer.render().render_seconds;
+    const double second = renderer.render().render_seconds;
+    return constructed + std::max(0.0, first - second);
 }
 
 }  // namespace
@@ -170,12 +191,13 @@ int run_bench(const BenchCommand& c) {
     }
     // A feature's cost at every size (time_feature); each run without it is recorded with `without_key` =
     // `without_value` and the time with it as `with_key`.
-    auto time_at_sizes = [&](const PreparedScene& with, const PreparedScene& without, uint32_t without_disabled_effects,
+    auto time_at_sizes = [&](const PreparedScene& with, const RenderSettings& with_settings,
+                             const PreparedScene& without, const RenderSettings& without_settings,
                              const FeatureNames& names, const char* without_key, const std::string& without_value,
                              const char* with_key) {
         for (uint32_t size : c.sizes) {
-            const auto [a, b] = time_feature(*context, camera, base, size, c.repeats, with, without,
-                                             without_disabled_effects, names);
+            const auto [a, b] = time_feature(*context, camera, with_settings, without_settings, size, c.repeats, with,
+                                             without, names);
             nlohmann::json run = describe_run(size, b, "none");
             run[without_key] = without_value;
             run[with_key] = a.render_seconds;
@@ -191,7 +213,9 @@ int run_bench(const BenchCommand& c) {
                     double(p.attributes.size() * sizeof(gpu::TriangleAttributes)) / double(1 << 20),
                     p.attributes.empty() ? size_t(0) : sizeof(gpu::TriangleAttributes),
                     describe_effects(p.effects.bits).c_str());
-        time_at_sizes(prepared, prepared, material_effects, {"with textures", "factors only", "textures"},
+        RenderSettings factors_only = base;
+        factors_only.disabled_effects = material_effects;
+        time_at_sizes(prepared, base, prepared, factors_only, {"with textures", "factors only", "textures"},
                       "disabled_effects", describe_effects(material_effects), "with_textures_seconds");
     }
     if (c.instancing) {
@@ -209,8 +233,29 @@ int run_bench(const BenchCommand& c) {
                     scene_bytes(prepared.packed) / double(1 << 20), scene_bytes(copied.packed) / double(1 << 20),
                     scene_bytes(prepared.packed) / scene_bytes(copied.packed),
                     prepared.load_seconds + prepared.bvh_build_seconds, copied.load_seconds + copied.bvh_build_seconds);
-        time_at_sizes(prepared, copied, 0u, {"two-level", "copied", "instancing"}, "instancing", "off",
+        time_at_sizes(prepared, base, copied, base, {"two-level", "copied", "instancing"}, "instancing", "off",
                       "instanced_seconds");
+    }
+    if (c.effects) {
+        // The scene compiled for its own effects against every material effect compiled in: what effects on
+        // demand save (the images are identical; tests/render checks the bits).
+        RenderSettings every = base;
+        every.forced_effects = gpu::EFFECT_MATERIAL;
+        const uint32_t own = prepared.packed.effects.bits;
+        const uint32_t all = select_effects(own, every.forced_effects, 0);
+        const double own_build = time_pipeline_build(*context, prepared, camera, base);
+        const double all_build = time_pipeline_build(*context, prepared, camera, every);
+        std::printf("\neffects: own %s; every effect %s\npipeline build (construction + first-dispatch compile, "
+                    "16x16): own %.3f s, every effect %.3f s\n",
+                    describe_effects(own).c_str(), describe_effects(all).c_str(), own_build, all_build);
+        const size_t first = results.size();
+        time_at_sizes(prepared, every, prepared, base, {"every effect", "own effects", "unused effects"},
+                      "effects", describe_effects(own), "every_effect_seconds");
+        for (size_t i = first; i < results.size(); ++i) {
+            results[i]["every_effect"] = describe_effects(all);
+            results[i]["pipeline_build_seconds"] = own_build;
+            results[i]["every_effect_pipeline_build_seconds"] = all_build;
+        }
     }
     if (c.techniques) {
         RenderSettings world = base;

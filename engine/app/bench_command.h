@@ -1,6 +1,7 @@
 // `fredholm bench`: renders a scene at several resolutions and prints samples/s, rays/s and stage times;
 // with --techniques, also the render time with each robustness technique switched off; with --textures, the
-// render time with the scene's textures (and other material effects) against factors only, and texture memory.
+// render time with the scene's textures (and other material effects) against factors only, and texture memory;
+// with --effects, the scene compiled for its own effects against every effect compiled in.
 #pragma once
 #include <filesystem>
 #include <string>
@@ -22,6 +23,7 @@ struct BenchCommand {
     std::string device;
     bool techniques = false;  // also time each robustness technique switched off (README cost table)
     bool textures = false;    // also time the scene with its material effects compiled out (factors only)
+    bool effects = false;     // --effects: own effect set vs every material effect compiled in (time, build)
     bool instancing = false;  // --instancing: two-level BVH vs every instance copied (memory, build, render)
     std::string environment_file;  // --env, --background: light for scenes without their own
     bool has_background = false;

@@ -17,6 +17,7 @@
 #include "io/png.h"
 #include "render/camera_setup.h"
 #include "render/renderer.h"
+#include "scene/effects.h"
 
 namespace fh {
 namespace {
@@ -51,20 +52,27 @@ void apply_vary(const std::string& key, const std::string& v, RenderSettings& s)
     } else if (key == "filter") {
         if (v != "box" && v != "gaussian") throw std::invalid_argument("filter: '" + v + "' is not box or gaussian");
         s.filter = v == "box" ? PixelFilter::box : PixelFilter::gaussian;
+    } else if (key.rfind("effect:", 0) == 0) {
+        // on: compiled in whether or not the scene uses it; off: compiled out although the scene uses it.
+        const uint32_t bit = find_material_effect(key.substr(7));
+        const bool on = parse_on_off(key, v);
+        s.forced_effects = on ? s.forced_effects | bit : s.forced_effects & ~bit;
+        s.disabled_effects = on ? s.disabled_effects & ~bit : s.disabled_effects | bit;
     } else {
-        throw std::invalid_argument("unknown key '" + key + "' (max-depth, nee, mis, rr, filter)");
+        throw std::invalid_argument("unknown key '" + key + "' (max-depth, nee, mis, rr, filter, effect:NAME)");
     }
 }
 
 bool same_settings(const RenderSettings& a, const RenderSettings& b) {
     return a.max_depth == b.max_depth && a.nee == b.nee && a.mis == b.mis &&
-           a.russian_roulette == b.russian_roulette && a.filter == b.filter;
+           a.russian_roulette == b.russian_roulette && a.filter == b.filter && a.forced_effects == b.forced_effects &&
+           a.disabled_effects == b.disabled_effects;
 }
 
 std::string slug(const std::string& name) {
     std::string s = name;
     for (char& c : s)
-        if (c == '=') c = '-';
+        if (c == '=' || c == ':') c = '-';
     return s;
 }
 
@@ -196,6 +204,8 @@ std::string describe_command(const ConvergeCommand& c) {
     if (!s.nee) line += " --nee off";
     if (!s.mis) line += " --mis off";
     if (!s.russian_roulette) line += " --rr off";
+    if (s.forced_effects) line += " --force-effect " + describe_effects(s.forced_effects);
+    if (s.disabled_effects) line += " --disable-effect " + describe_effects(s.disabled_effects);
     return line;
 }
 
@@ -238,7 +248,8 @@ void add_converge_options(CLI::App& app, ConvergeCommand& c) {
     two->excludes(ref_spp);
     app.add_option("--max-seconds", c.max_seconds, "render-time budget per configuration")->check(CLI::PositiveNumber);
     app.add_option("--max-spp", c.max_spp, "largest spp of the doubling sequence")->check(CLI::Range(1u, 1u << 20));
-    app.add_option("--vary", c.vary, "KEY=V1,V2,...: one curve per value (max-depth, nee, mis, rr, filter)")
+    app.add_option("--vary", c.vary, "KEY=V1,V2,...: one curve per value (max-depth, nee, mis, rr, filter; effect:NAME=on,off compiles "
+                   "a material effect in or out, e.g. effect:transmission=on,off)")
         ->check(CLI::Validator(
             [](std::string& spec) {
                 try {

@@ -59,16 +59,17 @@ void add_effect_list_option(CLI::App& app, const std::string& flag, uint32_t& bi
     app.add_option_function<std::vector<std::string>>(
            flag,
            [&bits](const std::vector<std::string>& names) {
-               for (const std::string& name : names)
-                   for (const EffectInfo& e : list_effects())
-                       if (name == e.name) bits |= e.bit;
+               for (const std::string& name : names) bits |= find_material_effect(name);
            },
            help + " (" + words + ")")
         ->delimiter(',')
         ->check([](const std::string& name) {
-            for (const EffectInfo& e : list_effects())
-                if (name == e.name && (e.bit & gpu::EFFECT_MATERIAL)) return std::string();
-            return "unknown or not switchable effect '" + name + "'";
+            try {
+                find_material_effect(name);
+                return std::string();
+            } catch (const std::invalid_argument& e) {
+                return std::string(e.what());
+            }
         });
 }
 

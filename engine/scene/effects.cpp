@@ -2,6 +2,7 @@
 #include "scene/effects.h"
 
 #include <set>
+#include <stdexcept>
 
 namespace fh {
 namespace {
@@ -50,6 +51,16 @@ const std::vector<EffectInfo>& list_effects() {
         {gpu::EFFECT_ABSORPTION, "absorption"},
     };
     return effects;
+}
+
+uint32_t find_material_effect(const std::string& name) {
+    std::string names;
+    for (const EffectInfo& e : list_effects()) {
+        if (!(e.bit & gpu::EFFECT_MATERIAL)) continue;
+        if (name == e.name) return e.bit;
+        names += (names.empty() ? "" : ", ") + std::string(e.name);
+    }
+    throw std::invalid_argument("unknown or not switchable effect '" + name + "' (" + names + ")");
 }
 
 std::string describe_effects(uint32_t bits) {

@@ -35,6 +35,10 @@ SceneEffects analyse_effects(const Scene& scene, bool environment);
 // applied to material effects (EFFECT_MATERIAL; the environment follows the command line).
 uint32_t select_effects(uint32_t analysed, uint32_t forced, uint32_t disabled);
 
+// The bit of a material effect (EFFECT_MATERIAL) named as list_effects() names it; throws std::invalid_argument
+// naming the switchable effects when `name` is not one of them.
+uint32_t find_material_effect(const std::string& name);
+
 // "base-color-texture,alpha,..." (or "none").
 std::string describe_effects(uint32_t bits);
 

@@ -3,6 +3,7 @@
 // step images recomputed here against the analytic answer.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -102,7 +103,7 @@ protected:
                       // Waves of 4 spp (4096 paths): render time then grows in proportion to the samples
                       // instead of being dominated by the fixed cost of one large wave per step.
                       " --wave-paths 4096" +
-                      " --vary max-depth=1 --keep-images");
+                      " --vary max-depth=1 --vary effect:transmission=on --keep-images");
         rows_ = read_csv(OUT / "report" / "convergence.csv");
         std::ifstream json(OUT / "report" / "summary.json");
         summary_ = nlohmann::json::parse(json, nullptr, false);
@@ -123,7 +124,7 @@ TEST_F(ConvergeFurnace, CommandSucceedsAndWritesTheReport) {
     for (const char* f : {"convergence.csv", "summary.json", "plot.svg", "report.md", "default.png"})
         EXPECT_TRUE(fs::exists(OUT / "report" / f)) << f;
     ASSERT_FALSE(summary_.is_discarded());
-    EXPECT_EQ(summary_["configurations"].size(), 2u);
+    EXPECT_EQ(summary_["configurations"].size(), 3u);
 }
 
 // Unbiased: MSE = Var / spp, so slope -1 against spp and (time proportional to spp) against seconds.
@@ -160,7 +161,9 @@ TEST_F(ConvergeFurnace, CsvAndJsonAgreeWithTheStepImages) {
     ASSERT_FALSE(rows_.empty());
     std::map<std::string, size_t> step_of;
     for (const Row& r : rows_) {
-        const std::string slug = r.config == "default" ? "default" : "max-depth-1";
+        const std::string slug = r.config == "default"       ? "default"
+                                 : r.config == "max-depth=1" ? "max-depth-1"
+                                                             : "effect-transmission-on";
         char name[64];
         std::snprintf(name, sizeof name, "_spp%05d.exr", int(r.values.at("spp")));
         const fh::Image img = fh::read_exr(OUT / "report" / "images" / (slug + name));
@@ -183,10 +186,27 @@ TEST_F(ConvergeFurnace, CsvAndJsonAgreeWithTheStepImages) {
     EXPECT_EQ(step_of["default"], config("default")["steps"].size());
 }
 
+// The furnace has no glass: forcing the transmission effect on compiles the glass lobe into every stage but
+// must change no bit, so each step's error equals the default's exactly (the time may differ).
+TEST_F(ConvergeFurnace, ForcingAnUnusedEffectChangesNoError) {
+    const nlohmann::json d = config("default"), forced = config("effect:transmission=on");
+    // Both stop at --max-spp unless the time budget runs out first (on a loaded machine): compare the steps
+    // both reached.
+    const size_t steps = std::min(forced["steps"].size(), d["steps"].size());
+    ASSERT_GE(steps, 6u);
+    for (size_t i = 0; i < steps; ++i) {
+        EXPECT_EQ(forced["steps"][i]["spp"], d["steps"][i]["spp"]);
+        EXPECT_EQ(forced["steps"][i]["mse"].get<double>(), d["steps"][i]["mse"].get<double>()) << "step " << i;
+    }
+    EXPECT_NE(summary_["command"].get<std::string>().find("effect:transmission=on"), std::string::npos);
+}
+
 TEST_F(ConvergeFurnace, BadUsageExitsWithTwoAndMissingSceneWithOne) {
     const std::string out = " -o " + (OUT / "bad").string();
     EXPECT_EQ(run(std::string(FURNACE_SCENE) + out + " --vary colour=red"), 2);
     EXPECT_EQ(run(std::string(FURNACE_SCENE) + out + " --vary nee=maybe"), 2);
+    EXPECT_EQ(run(std::string(FURNACE_SCENE) + out + " --vary effect:sparkle=on"), 2);
+    EXPECT_EQ(run(std::string(FURNACE_SCENE) + out + " --vary effect:transmission=yes"), 2);
     EXPECT_EQ(run(std::string(FURNACE_SCENE) + out + " --reference x.exr --two-seeds"), 2);
     EXPECT_EQ(run((OUT / "missing.gltf").string() + out), 1);
 }
