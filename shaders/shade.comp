@@ -1,9 +1,9 @@
 // Stage "shade": one path vertex per queued ray. Adds emission seen by the ray, or the environment's radiance
 // when it escaped (both MIS-weighted against light sampling), resolves the material (textures, vertex colours,
-// normal map: only the effects the scene has are compiled in), samples a light and pushes a shadow ray (next-event estimation), samples the BSDF, applies
+// normal map, glass, clear coat: only the effects the scene has are compiled in), samples a light and pushes a shadow ray (next-event estimation), samples the BSDF, applies
 // Russian roulette and pushes the continuation ray.
 // Reads: rays[queue depth & 1], hits, paths, triangles, materials, emitters, textures, environment, and for
-// glass the material layers and path media. Writes: paths, path media, rays[queue (depth + 1) & 1], shadow_rays, counters.ray_count / shadow_count.
+// glass and clear coats the material layers, and path media. Writes: paths, path media, rays[queue (depth + 1) & 1], shadow_rays, counters.ray_count / shadow_count.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "lib/bindings.glsl"
@@ -12,7 +12,9 @@
 #include "lib/sampling.glsl"
 #include "lib/effects.glsl"
 #define BSDF_HAS_TRANSMISSION effect_on(EFFECT_TRANSMISSION)
+#define BSDF_HAS_CLEARCOAT effect_on(EFFECT_CLEARCOAT)
 #include "lib/bsdf.glsl"
+#include "lib/clearcoat.glsl"
 #include "lib/surface.glsl"
 #include "lib/lights.glsl"
 #include "lib/transmission.glsl"
@@ -77,6 +79,7 @@ void main() {
         }
         Material m = resolve_material(load_material(s.material), hit.triangle, hit.b1, hit.b2);
         s.ns = apply_normal_texture(m, hit.triangle, hit.b1, hit.b2, s.ns);
+        s.nc = apply_clearcoat_normal_texture(s.material, hit.triangle, hit.b1, hit.b2, s.nc);
         if (instanced) s = place_surface(s, inst);
         bool front = dot(s.ng, wo) > 0.0f;
         bool double_sided = (m.flags & MATERIAL_DOUBLE_SIDED) != 0u;
@@ -120,6 +123,16 @@ void main() {
                 float eta = volume && !front ? 1.0f / max(m.ior, 1.0e-4f) : m.ior;
                 bsdf = with_transmission(bsdf, eval_transmission(s.material, hit.triangle, hit.b1, hit.b2), eta,
                                          volume ? 0u : 1u);
+            }
+            // Clear coat (KHR_materials_clearcoat) over all of it, about its own normal on the viewer's side.
+            if (effect_on(EFFECT_CLEARCOAT)) {
+                ClearcoatLayer coat = eval_clearcoat_layer(s.material, hit.triangle, hit.b1, hit.b2);
+                if (coat.weight > 0.0f) {
+                    vec3 nc = front ? s.nc : -s.nc;
+                    if (dot(nc, wo) <= 0.0f) nc = ng;
+                    if (effect_on(EFFECT_CLEARCOAT_NORMAL_TEXTURE)) nc = keep_reflection_above_surface(nc, ng, wo);
+                    bsdf = with_clearcoat(bsdf, coat.weight, coat.roughness, to_local(frame, nc));
+                }
             }
             bool transmits = has_glass(bsdf);
             uint medium_beyond = volume ? (front ? s.material : INVALID_INDEX) : medium;  // across the surface

@@ -49,6 +49,9 @@ const std::vector<EffectInfo>& list_effects() {
         {gpu::EFFECT_TRANSMISSION_TEXTURE, "transmission-texture"},
         {gpu::EFFECT_VOLUME, "volume"},
         {gpu::EFFECT_ABSORPTION, "absorption"},
+        {gpu::EFFECT_CLEARCOAT, "clearcoat"},
+        {gpu::EFFECT_CLEARCOAT_TEXTURE, "clearcoat-texture"},
+        {gpu::EFFECT_CLEARCOAT_NORMAL_TEXTURE, "clearcoat-normal-texture"},
     };
     return effects;
 }
@@ -73,6 +76,10 @@ std::string describe_effects(uint32_t bits) {
 SceneEffects analyse_effects(const Scene& scene, bool environment) {
     std::set<uint32_t> used;
     for (uint32_t m : scene.triangle_material) used.insert(m);
+    // Instances of shared geometry may replace the mesh's material (SceneInstance::material).
+    for (const SceneInstance& instance : scene.instances)
+        if (instance.material != gpu::INVALID_INDEX && instance.material < scene.materials.size())
+            used.insert(instance.material);
     bool colors_rgb = false, colors_alpha = false;
     for (const glm::vec4& c : scene.colors) {
         colors_rgb = colors_rgb || c.r != 1.0f || c.g != 1.0f || c.b != 1.0f;
@@ -81,6 +88,7 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
     auto slot_valid = [&](uint32_t slot) { return slot != gpu::INVALID_INDEX && slot < scene.texture_slots.size(); };
 
     std::set<uint32_t> base, metal_rough, normal, emissive, alpha, glass, glass_texture, volume, absorbing;
+    std::set<uint32_t> coat, coat_texture, coat_normal;
     for (uint32_t m : used) {
         const gpu::Material& mat = scene.materials[m];
         if (m < scene.material_layers.size()) {
@@ -98,6 +106,18 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
                 if ((layers.flags & gpu::LAYERS_VOLUME) &&
                     (layers.attenuation.x > 0.0f || layers.attenuation.y > 0.0f || layers.attenuation.z > 0.0f))
                     absorbing.insert(m);
+            }
+            // A coat shows where clearcoatFactor > 0 and its texture (if any) is not black; it covers metal too.
+            const bool coat_textured = slot_valid(layers.clearcoat_texture);
+            if (layers.clearcoat > 0.0f &&
+                !(coat_textured &&
+                  is_zero_channel(scene.images[scene.texture_slots[layers.clearcoat_texture].image], 0))) {
+                coat.insert(m);
+                if (coat_textured || (slot_valid(layers.clearcoat_roughness_texture) && layers.clearcoat_roughness > 0.0f))
+                    coat_texture.insert(m);
+                if (slot_valid(layers.clearcoat_normal_texture) &&
+                    scene.texture_slots[layers.clearcoat_normal_texture].scale != 0.0f)
+                    coat_normal.insert(m);
             }
         }
         const bool black_emission = mat.emission.r == 0.0f && mat.emission.g == 0.0f && mat.emission.b == 0.0f;
@@ -146,6 +166,11 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
     by_materials(gpu::EFFECT_VOLUME, volume, "no glass material has KHR_materials_volume thicknessFactor > 0");
     by_materials(gpu::EFFECT_ABSORPTION, absorbing,
                  "no volume has a finite attenuationDistance with an attenuationColor below 1");
+    by_materials(gpu::EFFECT_CLEARCOAT, coat, "no visible material has KHR_materials_clearcoat clearcoatFactor > 0");
+    by_materials(gpu::EFFECT_CLEARCOAT_TEXTURE, coat_texture,
+                 "no coated material has a clearcoatTexture or a clearcoatRoughnessTexture with a non-zero factor");
+    by_materials(gpu::EFFECT_CLEARCOAT_NORMAL_TEXTURE, coat_normal,
+                 "no coated material has a clearcoatNormalTexture of non-zero scale");
     return effects;
 }
 

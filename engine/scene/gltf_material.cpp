@@ -1,5 +1,5 @@
-// Converts glTF materials (spec 3.9) and the KHR extensions emissive_strength, specular, ior, transmission and
-// volume.
+// Converts glTF materials (spec 3.9) and the KHR extensions emissive_strength, specular, ior, transmission,
+// volume and clearcoat.
 #include "scene/gltf_material.h"
 
 #include <algorithm>
@@ -18,6 +18,7 @@ constexpr const char* SUPPORTED_EXTENSIONS[] = {
     "KHR_materials_ior",
     "KHR_materials_transmission",
     "KHR_materials_volume",
+    "KHR_materials_clearcoat",
     "KHR_lights_punctual",  // read by gltf_loader.cpp
     "KHR_texture_transform",  // gltf_texture.cpp
     "EXT_texture_webp",
@@ -144,6 +145,11 @@ gpu::MaterialLayers make_default_layers() {
     layers.transmission = 0.0f;
     layers.transmission_texture = gpu::INVALID_INDEX;
     layers.flags = 0u;
+    layers.clearcoat = 0.0f;
+    layers.clearcoat_roughness = 0.0f;
+    layers.clearcoat_texture = gpu::INVALID_INDEX;
+    layers.clearcoat_roughness_texture = gpu::INVALID_INDEX;
+    layers.clearcoat_normal_texture = gpu::INVALID_INDEX;
     return layers;
 }
 
@@ -152,13 +158,24 @@ gpu::MaterialLayers convert_material_layers(const tinygltf::Model& model, int in
     const std::string where = "material " + std::to_string(index);
     gpu::MaterialLayers layers = make_default_layers();
 
+    // A textureInfo of extension object `extension` (INVALID_INDEX when absent).
+    auto extension_slot = [&](const tinygltf::Value* extension, const char* key) {
+        if (extension == nullptr || !extension->Has(key)) return gpu::INVALID_INDEX;
+        const TextureReference texture = read_extension_texture(extension, key);
+        if (texture.index < 0) throw SceneError(where + " " + key + " has no valid index");
+        return add_texture_slot(model, texture, false, where + " " + key, scene);
+    };
+
     const tinygltf::Value* transmission = find_extension(material, "KHR_materials_transmission");
     layers.transmission = float(std::clamp(read_number(transmission, "transmissionFactor", 0.0), 0.0, 1.0));
-    if (transmission != nullptr && transmission->Has("transmissionTexture")) {
-        const TextureReference texture = read_extension_texture(transmission, "transmissionTexture");
-        if (texture.index < 0) throw SceneError(where + " transmissionTexture has no valid index");
-        layers.transmission_texture = add_texture_slot(model, texture, false, where + " transmissionTexture", scene);
-    }
+    layers.transmission_texture = extension_slot(transmission, "transmissionTexture");
+
+    const tinygltf::Value* clearcoat = find_extension(material, "KHR_materials_clearcoat");
+    layers.clearcoat = float(std::clamp(read_number(clearcoat, "clearcoatFactor", 0.0), 0.0, 1.0));
+    layers.clearcoat_roughness = float(std::clamp(read_number(clearcoat, "clearcoatRoughnessFactor", 0.0), 0.0, 1.0));
+    layers.clearcoat_texture = extension_slot(clearcoat, "clearcoatTexture");
+    layers.clearcoat_roughness_texture = extension_slot(clearcoat, "clearcoatRoughnessTexture");
+    layers.clearcoat_normal_texture = extension_slot(clearcoat, "clearcoatNormalTexture");
 
     // KHR_materials_volume: thicknessFactor > 0 makes the mesh the boundary of a volume; its value (and the
     // thickness texture) is a rasteriser's stand-in for the geometry a path tracer has, so only its sign is read.

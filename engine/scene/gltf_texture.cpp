@@ -167,6 +167,7 @@ TextureReference read_extension_texture(const tinygltf::Value* extension, const 
     if (info.Has("index") && info.Get("index").IsInt()) reference.index = info.Get("index").GetNumberAsInt();
     if (info.Has("texCoord") && info.Get("texCoord").IsInt())
         reference.tex_coord = info.Get("texCoord").GetNumberAsInt();
+    if (info.Has("scale") && info.Get("scale").IsNumber()) reference.scale = info.Get("scale").GetNumberAsDouble();
     if (info.Has("extensions") && info.Get("extensions").IsObject())
         reference.extensions = &info.Get("extensions").Get<tinygltf::Value::Object>();
     return reference;
@@ -176,7 +177,8 @@ uint32_t texcoord_sets_read(const gpu::Material& material, const gpu::MaterialLa
                             const std::vector<gpu::TextureSlot>& slots) {
     uint32_t sets = 0;
     for (uint32_t index : {material.base_color_texture, material.metallic_roughness_texture, material.normal_texture,
-                           material.emissive_texture, layers.transmission_texture})
+                           material.emissive_texture, layers.transmission_texture, layers.clearcoat_texture,
+                           layers.clearcoat_roughness_texture, layers.clearcoat_normal_texture})
         if (index != gpu::INVALID_INDEX && index < slots.size())
             sets |= (slots[index].addressing & gpu::SAMPLER_TEXCOORD_1) ? 2u : 1u;
     return sets;

@@ -35,7 +35,7 @@ struct TextureReference {
 };
 
 // The textureInfo object `key` of a material extension (tinygltf leaves extensions as JSON values): index (-1
-// when absent or not an integer), texCoord and the textureInfo's own extensions, which stay owned by `extension`.
+// when absent or not an integer), texCoord, scale (normalTextureInfo) and the textureInfo's own extensions, which stay owned by `extension`.
 TextureReference read_extension_texture(const tinygltf::Value* extension, const char* key);
 
 // Adds the TextureSlot for `reference` to `scene.texture_slots` and returns its index; INVALID_INDEX when the

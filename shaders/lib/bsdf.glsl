@@ -24,6 +24,18 @@
 //   dielectric = mix(F_d specular + albedo-scaled Lambert, glass, transmission)
 // a convex mix of two energy-conserving, reciprocal BSDFs. Stages compiled without EFFECT_TRANSMISSION define
 // BSDF_HAS_TRANSMISSION false, and none of the glass code is left in them.
+//
+// KHR_materials_clearcoat puts a white GGX coat (ior 1.5: f0 = 0.04, f90 = 1; its own roughness and normal)
+// over all of the above, layered as the extension's fresnel_coat does, with the coat's albedo in place of
+// its Fresnel term:
+//   f = clearcoat F_c(v.h) D_c V_c + f_base (1 - clearcoat E_c(mu_o))      mu_o: cos theta_o about the coat normal
+// E_c = 0.04 A + B (ggx_albedo.glsl) is the coat lobe's albedo, so the albedo is clearcoat E_c + (1 - clearcoat
+// E_c) albedo_base <= 1: energy conserving, exactly 1 over a white dielectric. DEVIATION: like the spec's
+// (whose weight is Fresnel at n.v) this attenuates the base on the viewer's side only, so the coated BSDF is
+// not reciprocal; weighting both sides, (1 - E_c(mu_o)) (1 - E_c(mu_i)), is reciprocal but darkens a coated
+// white base by the coat's average albedo (about 9% at normal incidence), and normalising that product as the
+// diffuse lobe does gains energy over a specular base (README "Clearcoat"). Stages without EFFECT_CLEARCOAT
+// define BSDF_HAS_CLEARCOAT false.
 #ifndef FREDHOLM_LIB_BSDF_GLSL
 #define FREDHOLM_LIB_BSDF_GLSL
 
@@ -40,6 +52,12 @@ using fh::gpu::Material;  // C++: include shaders/shared/layout.h at global scop
 #ifndef BSDF_HAS_TRANSMISSION
 #define BSDF_HAS_TRANSMISSION true
 #endif
+#ifndef BSDF_HAS_CLEARCOAT
+#define BSDF_HAS_CLEARCOAT true
+#endif
+
+// KHR_materials_clearcoat: the coat's Fresnel at normal incidence, ((1.5 - 1) / (1.5 + 1))^2.
+const float CLEARCOAT_F0 = 0.04f;
 
 // Smallest GGX alpha: roughness 0 becomes a very sharp but finite lobe (D <= 1 / (pi 1e-6) = 3.2e5), never
 // a delta, so every path stays a plain (non-delta) sample with a finite pdf.
@@ -57,6 +75,9 @@ struct BsdfParams {
     float diffuse_scale;    // 1 / (1 - E_avg) of the dielectric's specular layer (see the top of the file)
     float transmission;     // KHR_materials_transmission: the glass lobe's share of the dielectric
     GlassParams glass;
+    float clearcoat;        // KHR_materials_clearcoat: the coat's weight (0: no coat)
+    float clearcoat_alpha;  // the coat's GGX alpha, at least BSDF_MIN_ALPHA
+    vec3 clearcoat_normal;  // the coat's normal in the local frame (z: the base's shading normal)
 };
 
 // Floor of 1 - E_avg (approached only by f0 = f90 = 1 at small alpha): loses energy, never adds it.
@@ -83,6 +104,9 @@ BsdfParams make_bsdf_params(Material m) {
     p.glass.specular = specular;
     p.glass.eta = max(m.ior, 1.0e-4f);
     p.glass.thin_walled = 1u;
+    p.clearcoat = 0.0f;
+    p.clearcoat_alpha = BSDF_MIN_ALPHA;
+    p.clearcoat_normal = vec3(0.0f, 0.0f, 1.0f);
     return p;
 }
 
@@ -97,6 +121,20 @@ BsdfParams with_transmission(BsdfParams p, float transmission, float eta, uint t
 
 bool has_glass(BsdfParams p) {
     return BSDF_HAS_TRANSMISSION && p.transmission > 0.0f && p.metallic < 1.0f;
+}
+
+// `p` under a clear coat of weight `clearcoat`, perceptual roughness `roughness` and unit normal `normal`
+// (local frame, on the viewer's side).
+BsdfParams with_clearcoat(BsdfParams p, float clearcoat, float roughness, vec3 normal) {
+    p.clearcoat = clamp(clearcoat, 0.0f, 1.0f);
+    float r = clamp(roughness, 0.0f, 1.0f);
+    p.clearcoat_alpha = max(r * r, BSDF_MIN_ALPHA);
+    p.clearcoat_normal = normal;
+    return p;
+}
+
+bool has_clearcoat(BsdfParams p) {
+    return BSDF_HAS_CLEARCOAT && p.clearcoat > 0.0f;
 }
 
 // Fraction of the light from cos theta = mu that the dielectric's specular layer lets through to the
@@ -146,8 +184,8 @@ float specular_probability(BsdfParams p, float cos_o) {
     return clamp(q, BSDF_MIN_LOBE_PROBABILITY, 1.0f - BSDF_MIN_LOBE_PROBABILITY);
 }
 
-// f(wo, wi) * cos(theta_i): the BRDF already multiplied by the cosine of the incident direction.
-vec3 eval_bsdf(BsdfParams p, vec3 wo, vec3 wi) {
+// f(wo, wi) * cos(theta_i) of everything under the coat (the whole BSDF without KHR_materials_clearcoat).
+vec3 eval_base_bsdf(BsdfParams p, vec3 wo, vec3 wi) {
     if (!(wo.z > 0.0f && wi.z > 0.0f)) {
         if (has_glass(p) && wo.z > 0.0f && wi.z < 0.0f) {
             return eval_glass(p.glass, wo, wi) * ((1.0f - p.metallic) * p.transmission);
@@ -176,6 +214,12 @@ struct LobeChoice {
     float glass;
 };
 
+// The glass lobe's share of the albedo, estimated as F(cos_o) + (1 - F) luminance(base_color).
+float estimate_glass_albedo(BsdfParams p, float cos_o) {
+    float f = fresnel_dielectric(cos_o, p.glass.eta);
+    return (1.0f - p.metallic) * p.transmission * (f + (1.0f - f) * luminance(p.base_color));
+}
+
 // Without glass: specular_probability. With it: each lobe's share of the albedo (the glass lobe's estimated
 // as F(cos_o) + (1 - F) luminance(base_color)), every lobe present at least BSDF_MIN_LOBE_PROBABILITY before
 // renormalising. Depends on wo only.
@@ -187,8 +231,7 @@ LobeChoice choose_lobes(BsdfParams p, float cos_o) {
         return c;
     }
     LobeAlbedos a = estimate_lobe_albedos(p, cos_o, 1.0f - p.transmission);
-    float f = fresnel_dielectric(cos_o, p.glass.eta);
-    float glass = (1.0f - p.metallic) * p.transmission * (f + (1.0f - f) * luminance(p.base_color));
+    float glass = estimate_glass_albedo(p, cos_o);
     float total = a.specular + a.diffuse + glass;
     if (!(total > 0.0f)) {
         c.specular = 0.0f;
@@ -219,9 +262,103 @@ float pdf_bsdf_lobes(BsdfParams p, LobeChoice c, vec3 wo, vec3 wi) {
     return pdf;
 }
 
+// The coat lobe's albedo clearcoat E_c(cos_c) for the outgoing cos theta about the coat normal (0 below it).
+float clearcoat_albedo(BsdfParams p, float cos_c) {
+    if (!(cos_c > 0.0f)) {
+        return 0.0f;
+    }
+    vec2 albedo = ggx_albedo(cos_c, p.clearcoat_alpha);
+    return p.clearcoat * min(CLEARCOAT_F0 * albedo.x + albedo.y, 1.0f);
+}
+
+// The coat lobe clearcoat F_c(v.h) D V cos(theta_i), directions in the coat's frame (z: its normal).
+float eval_clearcoat(BsdfParams p, vec3 wo_c, vec3 wi_c) {
+    if (!(wo_c.z > 0.0f && wi_c.z > 0.0f)) {
+        return 0.0f;
+    }
+    vec3 h = normalize(wo_c + wi_c);
+    float f = CLEARCOAT_F0 + (1.0f - CLEARCOAT_F0) * schlick_weight(abs(dot(wo_c, h)));
+    return p.clearcoat * f * ggx_d(h, p.clearcoat_alpha) * ggx_v_cos(wo_c.z, wi_c.z, p.clearcoat_alpha);
+}
+
+// f(wo, wi) * cos(theta_i): the BSDF already multiplied by the cosine of the incident direction.
+vec3 eval_bsdf(BsdfParams p, vec3 wo, vec3 wi) {
+    vec3 f = eval_base_bsdf(p, wo, wi);
+    if (has_clearcoat(p)) {
+        Frame coat = make_frame(p.clearcoat_normal);
+        vec3 wo_c = to_local(coat, wo);
+        float reflected = wo.z > 0.0f && wi.z > 0.0f ? eval_clearcoat(p, wo_c, to_local(coat, wi)) : 0.0f;
+        f = f * (1.0f - clearcoat_albedo(p, wo_c.z)) + vec3(reflected);
+    }
+    return f;
+}
+
+// How sample_bsdf picks the coat: with `probability`, its share of the albedo (the base's estimated as in
+// choose_lobes), clamped to [BSDF_MIN_LOBE_PROBABILITY, 1 - BSDF_MIN_LOBE_PROBABILITY]; 0 without a coat or
+// with the viewer below it. Depends on wo only.
+struct CoatChoice {
+    float probability;
+    Frame frame;  // the coat's (z: its normal)
+    vec3 wo;      // wo in that frame
+};
+
+CoatChoice choose_coat(BsdfParams p, vec3 wo, LobeChoice c) {
+    CoatChoice coat;
+    coat.probability = 0.0f;
+    coat.frame = make_frame(p.clearcoat_normal);
+    coat.wo = to_local(coat.frame, wo);
+    float e = clearcoat_albedo(p, coat.wo.z);
+    if (!(e > 0.0f)) {
+        return coat;
+    }
+    LobeAlbedos a = estimate_lobe_albedos(p, wo.z, 1.0f - (c.glass > 0.0f ? p.transmission : 0.0f));
+    float base = a.specular + a.diffuse + (c.glass > 0.0f ? estimate_glass_albedo(p, wo.z) : 0.0f);
+    float q = e / max(e + (1.0f - e) * base, 1.0e-30f);
+    coat.probability = clamp(q, BSDF_MIN_LOBE_PROBABILITY, 1.0f - BSDF_MIN_LOBE_PROBABILITY);
+    return coat;
+}
+
+// The pdf of sampling wi: the base's lobes mixed with the coat's visible normals (only above both the coat
+// and the base's shading normal, where the coat sampler keeps its directions).
+float pdf_bsdf_choice(BsdfParams p, LobeChoice c, CoatChoice coat, vec3 wo, vec3 wi) {
+    float pdf = pdf_bsdf_lobes(p, c, wo, wi);
+    if (coat.probability > 0.0f) {
+        vec3 wi_c = to_local(coat.frame, wi);
+        float pdf_coat = wi_c.z > 0.0f && wi.z > 0.0f
+                             ? pdf_ggx_vndf_reflection(coat.wo, normalize(coat.wo + wi_c), p.clearcoat_alpha)
+                             : 0.0f;
+        pdf = mix(pdf, pdf_coat, coat.probability);
+    }
+    return pdf;
+}
+
 // Solid-angle pdf of sample_bsdf (one-sample MIS over the lobes: Veach 1997 sec. 9.2.4, "balance" mix).
 float pdf_bsdf(BsdfParams p, vec3 wo, vec3 wi) {
-    return pdf_bsdf_lobes(p, choose_lobes(p, wo.z), wo, wi);
+    LobeChoice c = choose_lobes(p, wo.z);
+    if (!has_clearcoat(p)) {
+        return pdf_bsdf_lobes(p, c, wo, wi);
+    }
+    return pdf_bsdf_choice(p, c, choose_coat(p, wo, c), wo, wi);
+}
+
+// A direction from the base's lobes as `c` picks them with u.x (specular reflection, glass, Lambert), in xyz;
+// w = 0 when there is none (a specular sample below the surface: not a reflection, nor, with glass, a
+// transmission of this lobe).
+vec4 sample_base_direction(BsdfParams p, LobeChoice c, vec3 wo, vec3 u) {
+    vec3 wi;
+    if (u.x < c.specular) {
+        vec3 h = sample_ggx_vndf(wo, p.alpha, vec2(u.y, u.z));
+        wi = 2.0f * dot(wo, h) * h - wo;  // reflect wo about h; h = 0 (degenerate) gives -wo, rejected below
+        if (!(wi.z > 0.0f)) {
+            return vec4(0.0f);
+        }
+    } else if (u.x < c.specular + c.glass) {
+        float u_glass = min((u.x - c.specular) / c.glass, 0.99999994f);  // reused: reflect or refract
+        wi = sample_glass(p.glass, wo, vec3(u_glass, u.y, u.z));
+    } else {
+        wi = sample_cosine_hemisphere(vec2(u.y, u.z));
+    }
+    return vec4(wi, 1.0f);
 }
 
 struct BsdfSample {
@@ -231,8 +368,9 @@ struct BsdfSample {
     uint valid;     // 0: no direction (wo below the surface, or no lobe sends light that way)
 };
 
-// u.x picks the lobe (specular with probability specular_probability), u.yz pick the direction: visible
-// normals of GGX (Dupuy & Benyoub 2023) reflected about, the glass lobe, or the cosine-weighted hemisphere.
+// u.x picks the lobe (the coat with probability choose_coat's, then the base's as choose_lobes says), u.yz pick
+// the direction: visible normals of GGX (Dupuy & Benyoub 2023) reflected about, the glass lobe, or the cosine-
+// weighted hemisphere.
 BsdfSample sample_bsdf(BsdfParams p, vec3 wo, vec3 u) {
     BsdfSample s;
     s.wi = vec3(0.0f, 0.0f, 1.0f);
@@ -243,20 +381,30 @@ BsdfSample sample_bsdf(BsdfParams p, vec3 wo, vec3 u) {
         return s;
     }
     LobeChoice c = choose_lobes(p, wo.z);
-    vec3 wi;
-    if (u.x < c.specular) {
-        vec3 h = sample_ggx_vndf(wo, p.alpha, vec2(u.y, u.z));
-        wi = 2.0f * dot(wo, h) * h - wo;  // reflect wo about h; h = 0 (degenerate) gives -wo, rejected below
-        if (!(wi.z > 0.0f)) {
-            return s;  // below the surface: not a reflection (nor, with glass, a transmission of this lobe)
-        }
-    } else if (u.x < c.specular + c.glass) {
-        float u_glass = min((u.x - c.specular) / c.glass, 0.99999994f);  // reused: reflect or refract
-        wi = sample_glass(p.glass, wo, vec3(u_glass, u.y, u.z));
-    } else {
-        wi = sample_cosine_hemisphere(vec2(u.y, u.z));
+    CoatChoice coat;
+    coat.probability = 0.0f;
+    if (has_clearcoat(p)) {
+        coat = choose_coat(p, wo, c);
     }
-    float pdf = pdf_bsdf_lobes(p, c, wo, wi);
+    vec3 wi;
+    if (u.x < coat.probability) {
+        vec3 h = sample_ggx_vndf(coat.wo, p.clearcoat_alpha, vec2(u.y, u.z));
+        vec3 wi_c = 2.0f * dot(coat.wo, h) * h - coat.wo;
+        wi = to_world(coat.frame, wi_c);
+        if (!(wi_c.z > 0.0f && wi.z > 0.0f)) {
+            return s;  // below the coat or below the base's shading normal: no reflection of the coat
+        }
+    } else {
+        if (coat.probability > 0.0f) {
+            u.x = min((u.x - coat.probability) / (1.0f - coat.probability), 0.99999994f);  // reused for the base
+        }
+        vec4 base = sample_base_direction(p, c, wo, u);
+        if (base.w == 0.0f) {
+            return s;
+        }
+        wi = vec3(base);
+    }
+    float pdf = coat.probability > 0.0f ? pdf_bsdf_choice(p, c, coat, wo, wi) : pdf_bsdf_lobes(p, c, wo, wi);
     if (!(pdf > 0.0f)) {
         return s;
     }
@@ -266,5 +414,4 @@ BsdfSample sample_bsdf(BsdfParams p, vec3 wo, vec3 u) {
     s.valid = 1u;
     return s;
 }
-
 #endif

@@ -52,12 +52,12 @@ bool is_surface_present(uint triangle, float b1, float b2, uint ray_seed) {
     return float(h >> 8u) * (1.0f / 16777216.0f) < coverage;
 }
 
-// The shading normal with the normal texture applied (spec 3.9.3), on the side of `ns` (the interpolated
-// normal, on the geometric normal's side). Tangents come from TANGENT or, without it, from the triangle's
-// texture-coordinate derivatives (README "Textures": per-triangle, not MikkTSpace's per-vertex average).
-vec3 apply_normal_texture(Material m, uint triangle, float b1, float b2, vec3 ns) {
-    if (!effect_on(EFFECT_NORMAL_TEXTURE) || m.normal_texture == INVALID_INDEX) return ns;
-    TextureSlot slot = texture_slots[m.normal_texture];
+// `ns` (the interpolated normal, on the geometric normal's side) with the tangent-space normal texture of
+// TextureSlot `slot_index` applied (spec 3.9.3), on the same side. Tangents come from TANGENT or, without it,
+// from the triangle's texture-coordinate derivatives (README "Textures": per-triangle, not MikkTSpace's
+// per-vertex average).
+vec3 apply_normal_map(uint slot_index, uint triangle, float b1, float b2, vec3 ns) {
+    TextureSlot slot = texture_slots[slot_index];
     Texcoords tc = interpolate_texcoords(triangle, b1, b2);
     vec4 tangent = interpolate_tangent(triangle, b1, b2);
     vec3 t = tangent.xyz;
@@ -85,11 +85,17 @@ vec3 apply_normal_texture(Material m, uint triangle, float b1, float b2, vec3 ns
     if (!(t_len > 0.0f) || isinf(t_len)) return ns;
     t /= t_len;
     vec3 b = cross(ns, t) * sign;
-    vec3 n_ts = sample_texture(m.normal_texture, tc).xyz * 2.0f - 1.0f;
+    vec3 n_ts = sample_texture(slot_index, tc).xyz * 2.0f - 1.0f;
     n_ts.xy *= slot.scale;
     vec3 n = t * n_ts.x + b * n_ts.y + ns * n_ts.z;
     float n_len = length(n);
     return n_len > 0.0f && !isinf(n_len) ? n / n_len : ns;
+}
+
+// The shading normal with the material's normalTexture applied (apply_normal_map).
+vec3 apply_normal_texture(Material m, uint triangle, float b1, float b2, vec3 ns) {
+    if (!effect_on(EFFECT_NORMAL_TEXTURE) || m.normal_texture == INVALID_INDEX) return ns;
+    return apply_normal_map(m.normal_texture, triangle, b1, b2, ns);
 }
 
 // A normal-mapped normal can tilt so far that the mirror direction of the viewer falls below the geometric

@@ -9,6 +9,7 @@ struct SurfaceHit {
     vec3 p_error;    // absolute float error bound of p
     vec3 ng;         // unit geometric normal (winding order: (p1 - p0) x (p2 - p0))
     vec3 ns;         // unit shading normal, on the same side of the surface as ng
+    vec3 nc;         // unit normal of a clear coat (KHR_materials_clearcoat): the interpolated normal, or its own map
     uint material;
     float light_pdf_area;
     float area;
@@ -45,6 +46,7 @@ SurfaceHit load_surface(uint triangle, float b1, float b2) {
             s.ns = dot(n, s.ng) < 0.0f ? -n : n;
         }
     }
+    s.nc = s.ns;
     s.material = ts.material;
     s.light_pdf_area = ts.light_pdf_area;
     return s;
@@ -71,10 +73,13 @@ SurfaceHit place_surface(SurfaceHit s, Instance inst) {
                                    vec3(inst.object_from_render_2));
     vec3 ng = normal_from_object * s.ng;
     vec3 ns = normal_from_object * s.ns;
+    vec3 nc = normal_from_object * s.nc;
     float ng_len = length(ng);
     float ns_len = length(ns);
+    float nc_len = length(nc);
     if (ng_len > 0.0f && !isinf(ng_len)) s.ng = ng / ng_len;
     if (ns_len > 0.0f && !isinf(ns_len)) s.ns = ns / ns_len;
+    if (nc_len > 0.0f && !isinf(nc_len)) s.nc = nc / nc_len;
     return s;
 }
 #endif

@@ -77,11 +77,15 @@ FH_CONST uint EFFECT_TRANSMISSION = 128u;          // KHR_materials_transmission
 FH_CONST uint EFFECT_TRANSMISSION_TEXTURE = 256u;  // transmissionTexture
 FH_CONST uint EFFECT_VOLUME = 512u;                // KHR_materials_volume: refraction into closed meshes
 FH_CONST uint EFFECT_ABSORPTION = 1024u;           // Beer-Lambert absorption inside volumes (path media buffer)
+FH_CONST uint EFFECT_CLEARCOAT = 2048u;            // KHR_materials_clearcoat: the coat lobe over the base
+FH_CONST uint EFFECT_CLEARCOAT_TEXTURE = 4096u;    // clearcoatTexture, clearcoatRoughnessTexture
+FH_CONST uint EFFECT_CLEARCOAT_NORMAL_TEXTURE = 8192u;  // clearcoatNormalTexture
 FH_CONST uint EFFECT_ATTRIBUTES = EFFECT_BASE_COLOR_TEXTURE | EFFECT_METALLIC_ROUGHNESS_TEXTURE |
                                   EFFECT_NORMAL_TEXTURE | EFFECT_EMISSIVE_TEXTURE | EFFECT_VERTEX_COLORS |
-                                  EFFECT_ALPHA | EFFECT_TRANSMISSION_TEXTURE;  // effects that read TriangleAttributes
-FH_CONST uint EFFECT_MATERIAL = EFFECT_ATTRIBUTES | EFFECT_TRANSMISSION | EFFECT_VOLUME |
-                                EFFECT_ABSORPTION;  // decided by the materials: --force-effect / --disable-effect
+                                  EFFECT_ALPHA | EFFECT_TRANSMISSION_TEXTURE | EFFECT_CLEARCOAT_TEXTURE |
+                                  EFFECT_CLEARCOAT_NORMAL_TEXTURE;  // effects that read TriangleAttributes
+FH_CONST uint EFFECT_MATERIAL = EFFECT_ATTRIBUTES | EFFECT_TRANSMISSION | EFFECT_VOLUME | EFFECT_ABSORPTION |
+                                EFFECT_CLEARCOAT;  // decided by the materials: --force-effect / --disable-effect
 
 // ---- Robustness techniques (all on by default; `--disable-technique` turns one off to measure its cost and
 // to show what goes wrong without it). README "Numerical stability" has the table.
@@ -210,7 +214,11 @@ struct MaterialLayers {
     float transmission;            // KHR_materials_transmission transmissionFactor
     uint transmission_texture;     // TextureSlot (R channel), or INVALID_INDEX
     uint flags;                    // LAYERS_VOLUME
-    float pad0;
+    float clearcoat;               // KHR_materials_clearcoat clearcoatFactor
+    float clearcoat_roughness;     // clearcoatRoughnessFactor (perceptual; alpha = roughness^2)
+    uint clearcoat_texture;        // TextureSlot (R channel), or INVALID_INDEX
+    uint clearcoat_roughness_texture;  // TextureSlot (G channel), or INVALID_INDEX
+    uint clearcoat_normal_texture;     // TextureSlot (its scale in the slot), or INVALID_INDEX
 };
 
 // A material's use of a texture (glTF textureInfo): which image, how it is addressed, and

@@ -4,6 +4,7 @@
 #pragma once
 #include <cmath>
 #include <numeric>
+#include <random>
 #include <vector>
 
 #include "chi_square.h"
@@ -67,6 +68,84 @@ double integrate_hemisphere(vec3 wo, const D& density) {
     grid.res_cos = 32;
     grid.res_phi = 64;
     return sum(integrate_cells(grid, wo, density));
+}
+
+// The fraction of the energy from wo that `p` keeps: reflected + eta^2 x transmitted (the BTDF carries radiance's 1 / eta^2,
+// so eta^2 undoes it; thin walls do not bend light and are not scaled). Monte Carlo with n samples.
+struct Albedo {
+    double mean = 0.0;
+    double standard_error = 0.0;
+    double transmitted = 0.0;  // fraction of samples that went through
+};
+
+inline Albedo estimate_albedo(const BsdfParams& p, vec3 wo, int n, uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
+    double sum = 0.0, sum2 = 0.0, through = 0.0;
+    const float scale = p.glass.thin_walled != 0u ? 1.0f : p.glass.eta * p.glass.eta;
+    for (int i = 0; i < n; ++i) {
+        const BsdfSample s = sample_bsdf(p, wo, vec3(uniform(rng), uniform(rng), uniform(rng)));
+        if (s.valid == 0u) continue;
+        EXPECT_TRUE(finite(s.weight) && std::isfinite(s.pdf));
+        const double w = s.weight.y * (s.wi.z < 0.0f ? scale : 1.0f);
+        sum += w;
+        sum2 += w * w;
+        through += s.wi.z < 0.0f;
+    }
+    Albedo a;
+    a.mean = sum / n;
+    a.standard_error = std::sqrt(std::max(sum2 / n - a.mean * a.mean, 0.0) / n);
+    a.transmitted = through / n;
+    return a;
+}
+
+// Chi-square of sample_bsdf against pdf_bsdf over both hemispheres (a 32 x 64 grid each; n samples from `seed`),
+// with the checks every such test makes: each sample's pdf equals pdf_bsdf, the pdf integrates to at most 1 and
+// the invalid samples make up the rest. The quadrature splits cells at the mirror direction above and at
+// `peak_below` (|z|) below. Returns the test's result and the pdf's integral, to print.
+struct TwoSidedChiSquare {
+    ChiSquareResult result;
+    double pdf_integral = 0.0;
+};
+
+inline TwoSidedChiSquare check_sampling_both_hemispheres(const BsdfParams& p, vec3 wo, vec3 peak_below, int n,
+                                                         uint32_t seed) {
+    HemisphereGrid grid;
+    grid.res_cos = 32;
+    grid.res_phi = 64;
+    std::vector<double> observed(2 * grid.cells(), 0.0);
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
+    int pdf_mismatches = 0;
+    double invalid = 0.0;
+    for (int i = 0; i < n; ++i) {
+        const BsdfSample s = sample_bsdf(p, wo, vec3(uniform(rng), uniform(rng), uniform(rng)));
+        if (s.valid == 0u) {
+            invalid += 1.0;
+            continue;
+        }
+        EXPECT_TRUE(finite(s.weight) && std::isfinite(s.pdf) && s.pdf > 0.0f);
+        const float pdf = pdf_bsdf(p, wo, s.wi);
+        pdf_mismatches += std::abs(pdf - s.pdf) > 1e-3f * pdf;
+        observed[(s.wi.z < 0.0f ? grid.cells() : 0) + grid.cell_of(s.wi.x, s.wi.y, std::abs(s.wi.z))] += 1.0;
+    }
+    EXPECT_EQ(pdf_mismatches, 0) << "sample.pdf != pdf_bsdf(wi)";
+    std::vector<double> expected = integrate_cells(grid, wo, [&](vec3 wi) { return pdf_bsdf(p, wo, wi); });
+    const std::vector<double> below = grid.integrate(
+        [&](double x, double y, double z) { return pdf_bsdf(p, wo, vec3(float(x), float(y), -float(z))); },
+        peak_below.x, peak_below.y, peak_below.z, 1e-5, 1e-11);
+    expected.insert(expected.end(), below.begin(), below.end());
+    TwoSidedChiSquare out;
+    out.pdf_integral = sum(expected);
+    EXPECT_LT(out.pdf_integral, 1.0 + 1e-3) << "pdf_bsdf integrates to more than 1";
+    EXPECT_NEAR(invalid / n, 1.0 - out.pdf_integral,
+                5.0 * std::sqrt(std::max(1.0 - out.pdf_integral, 1.0 / n) / n) + 2e-3);
+    for (double& e : expected) e *= n;
+    out.result = chi_square_test(observed, expected);
+    EXPECT_TRUE(out.result.error.empty()) << out.result.error;
+    EXPECT_GT(out.result.p_value, corrected_significance(UNIT_CHI_SQUARE_TESTS))
+        << "chi2 = " << out.result.statistic << ", dof = " << out.result.dof;
+    return out;
 }
 
 }  // namespace fh::test

@@ -8,6 +8,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "gltf_builder.h"
+#include "scene/effects.h"
 #include "scene/pack.h"
 #include "scene/scene.h"
 #include "scene/scene_bvh.h"
@@ -167,6 +168,30 @@ TEST(GltfInstancing, MetalRoughSpheresStoreAboutOneNinetyEighthOfTheTriangles) {
     std::printf("MetalRoughSpheresNoTextures: %zu stored of %zu rendered triangles; scene buffers %.2f MiB vs %.2f MiB "
                 "flattened (%.4f)\n", instanced.triangle_count(), flat.triangle_count(), bytes_a / 1048576.0,
                 bytes_b / 1048576.0, bytes_a / bytes_b);
+}
+
+}  // namespace
+
+namespace {
+
+// Instances of shared geometry may carry another material than the stored triangles: the effect analysis sees
+// it (here a clear coat that only the instance's material has).
+TEST(GltfInstancing, EffectsSeeTheMaterialsOfInstances) {
+    GltfBuilder b;
+    const int plain = b.add_material({{"pbrMetallicRoughness", {{"metallicFactor", 0.0}}}});
+    const int coated = b.add_material(
+        {{"extensions", {{"KHR_materials_clearcoat", {{"clearcoatFactor", 1.0}}}}}});
+    const int mesh = b.add_simple_mesh(UNIT_TRIANGLE, {}, {}, 4, plain);
+    nlohmann::json copy = b.doc["meshes"][size_t(mesh)];
+    copy["primitives"][0]["material"] = coated;
+    b.doc["meshes"].push_back(copy);
+    std::vector<int> roots;
+    for (int i = 0; i < 4; ++i)
+        roots.push_back(b.add_node({{"mesh", i == 3 ? mesh + 1 : mesh}, {"translation", {2.0 * i, 0.0, 0.0}}}));
+    b.set_scene(roots);
+    const Scene s = fh::load_gltf(b.write_gltf(), options(Instancing::always));
+    ASSERT_FALSE(s.instances.empty());
+    EXPECT_NE(fh::analyse_effects(s, false).bits & fh::gpu::EFFECT_CLEARCOAT, 0u);
 }
 
 }  // namespace

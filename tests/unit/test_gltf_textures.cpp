@@ -282,3 +282,62 @@ TEST(GltfTransmission, RefusesANonPositiveAttenuationDistance) {
     b.set_scene({b.add_node({{"mesh", 0}})});
     fh::test::expect_load_refused(b.write_gltf(), "attenuationDistance");
 }
+
+// ---- KHR_materials_clearcoat --------------------------------------------------------------------------------
+namespace {
+
+nlohmann::json coat_material(double clearcoat, double roughness, int roughness_tex_coord = 0) {
+    return {{"pbrMetallicRoughness", {{"metallicFactor", 1.0}}},
+            {"extensions",
+             {{"KHR_materials_clearcoat",
+               {{"clearcoatFactor", clearcoat},
+                {"clearcoatTexture", {{"index", 0}}},
+                {"clearcoatRoughnessFactor", roughness},
+                {"clearcoatRoughnessTexture", {{"index", 0}, {"texCoord", roughness_tex_coord}}},
+                {"clearcoatNormalTexture", {{"index", 0}, {"scale", 0.5}}}}}}}};
+}
+
+TEST(GltfClearcoat, ReadsFactorsAndTextures) {
+    GltfBuilder b = make_textured_triangle(coat_material(0.75, 0.25, 1));
+    b.set_scene({b.add_node({{"mesh", 0}})});
+    const Scene s = fh::load_gltf(b.write_gltf(), WORLD_SPACE);
+    ASSERT_EQ(s.material_layers.size(), 1u);
+    const gpu::MaterialLayers& l = s.material_layers[0];
+    EXPECT_FLOAT_EQ(l.clearcoat, 0.75f);
+    EXPECT_FLOAT_EQ(l.clearcoat_roughness, 0.25f);
+    for (uint32_t slot : {l.clearcoat_texture, l.clearcoat_roughness_texture, l.clearcoat_normal_texture}) {
+        ASSERT_LT(slot, s.texture_slots.size());
+        EXPECT_EQ(s.texture_slots[slot].addressing & gpu::SAMPLER_SRGB, 0u);  // data, not colour
+    }
+    EXPECT_EQ(s.texture_slots[l.clearcoat_roughness_texture].addressing & gpu::SAMPLER_TEXCOORD_1,
+              gpu::SAMPLER_TEXCOORD_1);
+    EXPECT_FLOAT_EQ(s.texture_slots[l.clearcoat_normal_texture].scale, 0.5f);
+    // A coat covers metal too: all three effects are on.
+    const uint32_t coat = gpu::EFFECT_CLEARCOAT | gpu::EFFECT_CLEARCOAT_TEXTURE | gpu::EFFECT_CLEARCOAT_NORMAL_TEXTURE;
+    EXPECT_EQ(fh::analyse_effects(s, false).bits & coat, coat);
+}
+
+// By value: clearcoatFactor 0 switches nothing on, whatever textures it names; a roughness texture under a
+// roughness factor of 0 is not a texture effect.
+TEST(GltfClearcoat, EffectsAreDecidedByValue) {
+    const uint32_t coat = gpu::EFFECT_CLEARCOAT | gpu::EFFECT_CLEARCOAT_TEXTURE | gpu::EFFECT_CLEARCOAT_NORMAL_TEXTURE;
+    auto effects_of = [&](const nlohmann::json& material) {
+        GltfBuilder b = make_textured_triangle(material);
+        b.set_scene({b.add_node({{"mesh", 0}})});
+        return fh::analyse_effects(fh::load_gltf(b.write_gltf(), WORLD_SPACE), false).bits & coat;
+    };
+    EXPECT_EQ(effects_of(coat_material(0.0, 0.5)), 0u);
+    nlohmann::json plain = coat_material(1.0, 0.0);
+    plain["extensions"]["KHR_materials_clearcoat"].erase("clearcoatTexture");
+    plain["extensions"]["KHR_materials_clearcoat"].erase("clearcoatNormalTexture");
+    EXPECT_EQ(effects_of(plain), gpu::EFFECT_CLEARCOAT);
+}
+
+TEST(GltfClearcoat, RefusesACoatTextureWithoutItsTexcoords) {
+    GltfBuilder b = make_textured_triangle(coat_material(1.0, 0.5, 1));
+    b.doc["meshes"][0]["primitives"][0]["attributes"].erase("TEXCOORD_1");
+    b.set_scene({b.add_node({{"mesh", 0}})});
+    fh::test::expect_load_refused(b.write_gltf(), "reads TEXCOORD_1");
+}
+
+}  // namespace

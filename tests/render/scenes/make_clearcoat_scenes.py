@@ -1,0 +1,53 @@
+#!/usr/bin/env python3
+"""Writes the render-test scenes for KHR_materials_clearcoat (standard library only).
+
+usage: make_clearcoat_scenes.py OUT_DIR
+
+Rendered under a white environment of radiance 1 (--background 1,1,1); each has an analytic criterion, stated
+beside its test in tests/render/CMakeLists.txt:
+  coat_black_quad.gltf  a smooth clear coat (clearcoatFactor 1, roughness 0) over a black base without specular,
+                        seen head-on by an orthographic camera: only the coat reflects, its Fresnel at normal
+                        incidence ((1.5 - 1) / (1.5 + 1))^2 = 0.04.
+  coat_furnace.gltf     a white dielectric sphere (roughness 0.5) under a clear coat of roughness 0.3, seen in
+                        perspective: the coat and the base it lets through keep all the energy, so every pixel,
+                        sphere and background alike, reads 1 (a white furnace).
+"""
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "stability" / "render"))
+from make_stability_scenes import Gltf, icosphere, quad  # noqa: E402
+
+
+def coated(base, roughness, clearcoat, clearcoat_roughness, specular=1.0):
+    return {"pbrMetallicRoughness": {"baseColorFactor": [*base, 1.0], "metallicFactor": 0.0,
+                                     "roughnessFactor": roughness},
+            "extensions": {"KHR_materials_specular": {"specularFactor": specular},
+                           "KHR_materials_clearcoat": {"clearcoatFactor": clearcoat,
+                                                       "clearcoatRoughnessFactor": clearcoat_roughness}}}
+
+
+def scene(material, shape, camera):
+    g = Gltf()
+    g.doc["extensionsUsed"] += ["KHR_materials_clearcoat", "KHR_materials_specular"]
+    g.doc["materials"].append(material)
+    g.add_node({"mesh": g.add_mesh(shape, 0)})
+    camera(g)
+    return g
+
+
+def main():
+    out = Path(sys.argv[1])
+    out.mkdir(parents=True, exist_ok=True)
+    scenes = {
+        "coat_black_quad": scene(coated((0.0, 0.0, 0.0), 1.0, 1.0, 0.0, specular=0.0), quad(-10, -10, 10, 10, 0.0),
+                                 lambda g: g.add_orthographic_camera({"translation": [0.0, 0.0, 3.0]}, 1.0)),
+        "coat_furnace": scene(coated((1.0, 1.0, 1.0), 0.5, 1.0, 0.3), icosphere(4),
+                              lambda g: g.add_perspective_camera({"translation": [0.0, 0.0, 3.0]}, 0.8)),
+    }
+    for name, g in scenes.items():
+        g.write(out / f"{name}.gltf")
+
+
+if __name__ == "__main__":
+    main()
