@@ -1,6 +1,6 @@
 // Stage "shade": one path vertex per queued ray. Adds emission seen by the ray, or the environment's radiance
 // when it escaped (both MIS-weighted against light sampling), resolves the material (textures, vertex colours,
-// normal map, glass, clear coat: only the effects the scene has are compiled in), samples a light and pushes a shadow ray (next-event estimation), samples the BSDF, applies
+// normal map, glass, clear coat, unlit: only the effects the scene has are compiled in), samples a light and pushes a shadow ray (next-event estimation), samples the BSDF, applies
 // Russian roulette and pushes the continuation ray.
 // Reads: rays[queue depth & 1], hits, paths, triangles, materials, emitters, textures, environment, and for
 // glass and clear coats the material layers, and path media. Writes: paths, path media, rays[queue (depth + 1) & 1], shadow_rays, counters.ray_count / shadow_count.
@@ -84,6 +84,11 @@ void main() {
         bool front = dot(s.ng, wo) > 0.0f;
         bool double_sided = (m.flags & MATERIAL_DOUBLE_SIDED) != 0u;
 
+        // KHR_materials_unlit: camera rays see the base colour (times its texture and COLOR_0); every other
+        // ray finds a black surface that ends the path (README "Unlit").
+        bool unlit = effect_on(EFFECT_UNLIT) && (m.flags & MATERIAL_UNLIT) != 0u;
+        if (unlit && push.depth == 0u) radiance += beta * max(vec3(m.base_color), vec3(0.0f));
+
         // Emission. Paths that could also have sampled this light by NEE are weighted by the power
         // heuristic (Veach 1997, eq. 9.13); with NEE on and MIS off, only NEE counts light from surfaces.
         vec3 emission = m.emission.xyz;
@@ -102,7 +107,7 @@ void main() {
             radiance += beta * emission * weight;
         }
 
-        bool may_extend = params.max_depth == 0u || segments < params.max_depth;
+        bool may_extend = !unlit && (params.max_depth == 0u || segments < params.max_depth);
         if (may_extend) {
             // Both normals on the side the ray came from (z of the local frame).
             vec3 ng = front ? s.ng : -s.ng;

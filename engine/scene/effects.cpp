@@ -52,6 +52,7 @@ const std::vector<EffectInfo>& list_effects() {
         {gpu::EFFECT_CLEARCOAT, "clearcoat"},
         {gpu::EFFECT_CLEARCOAT_TEXTURE, "clearcoat-texture"},
         {gpu::EFFECT_CLEARCOAT_NORMAL_TEXTURE, "clearcoat-normal-texture"},
+        {gpu::EFFECT_UNLIT, "unlit"},
     };
     return effects;
 }
@@ -88,7 +89,7 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
     auto slot_valid = [&](uint32_t slot) { return slot != gpu::INVALID_INDEX && slot < scene.texture_slots.size(); };
 
     std::set<uint32_t> base, metal_rough, normal, emissive, alpha, glass, glass_texture, volume, absorbing;
-    std::set<uint32_t> coat, coat_texture, coat_normal;
+    std::set<uint32_t> coat, coat_texture, coat_normal, unlit;
     for (uint32_t m : used) {
         const gpu::Material& mat = scene.materials[m];
         if (m < scene.material_layers.size()) {
@@ -120,6 +121,7 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
                     coat_normal.insert(m);
             }
         }
+        if (mat.flags & gpu::MATERIAL_UNLIT) unlit.insert(m);
         const bool black_emission = mat.emission.r == 0.0f && mat.emission.g == 0.0f && mat.emission.b == 0.0f;
         if (slot_valid(mat.base_color_texture)) base.insert(m);
         // Metallic and roughness textures multiply their factors; a factor of 0 keeps the product 0.
@@ -171,6 +173,7 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
                  "no coated material has a clearcoatTexture or a clearcoatRoughnessTexture with a non-zero factor");
     by_materials(gpu::EFFECT_CLEARCOAT_NORMAL_TEXTURE, coat_normal,
                  "no coated material has a clearcoatNormalTexture of non-zero scale");
+    by_materials(gpu::EFFECT_UNLIT, unlit, "no visible material has KHR_materials_unlit");
     return effects;
 }
 

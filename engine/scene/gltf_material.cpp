@@ -1,5 +1,5 @@
-// Converts glTF materials (spec 3.9) and the KHR extensions emissive_strength, specular, ior, transmission,
-// volume and clearcoat.
+// Converts glTF materials (spec 3.9) and the KHR extensions emissive_strength, specular, ior, unlit,
+// transmission, volume and clearcoat.
 #include "scene/gltf_material.h"
 
 #include <algorithm>
@@ -19,6 +19,7 @@ constexpr const char* SUPPORTED_EXTENSIONS[] = {
     "KHR_materials_transmission",
     "KHR_materials_volume",
     "KHR_materials_clearcoat",
+    "KHR_materials_unlit",
     "KHR_lights_punctual",  // read by gltf_loader.cpp
     "KHR_texture_transform",  // gltf_texture.cpp
     "EXT_texture_webp",
@@ -113,6 +114,12 @@ gpu::Material convert_material(const tinygltf::Model& model, int index, Scene& s
 
     m.ior = float(read_number(find_extension(material, "KHR_materials_ior"), "ior", 1.5));
     m.flags = material.doubleSided ? gpu::MATERIAL_DOUBLE_SIDED : 0u;
+    // KHR_materials_unlit: only the base colour counts (shade.comp shows it to camera rays); an emissiveFactor
+    // beside it is not light.
+    if (find_extension(material, "KHR_materials_unlit") != nullptr) {
+        m.flags |= gpu::MATERIAL_UNLIT;
+        m.emission = gpu::vec4(0.0f);
+    }
 
     if (material.alphaMode == "MASK") m.alpha_mode = gpu::ALPHA_MASK;
     else if (material.alphaMode == "BLEND") m.alpha_mode = gpu::ALPHA_BLEND;

@@ -80,12 +80,13 @@ FH_CONST uint EFFECT_ABSORPTION = 1024u;           // Beer-Lambert absorption in
 FH_CONST uint EFFECT_CLEARCOAT = 2048u;            // KHR_materials_clearcoat: the coat lobe over the base
 FH_CONST uint EFFECT_CLEARCOAT_TEXTURE = 4096u;    // clearcoatTexture, clearcoatRoughnessTexture
 FH_CONST uint EFFECT_CLEARCOAT_NORMAL_TEXTURE = 8192u;  // clearcoatNormalTexture
+FH_CONST uint EFFECT_UNLIT = 16384u;               // KHR_materials_unlit: base colour to camera rays, black otherwise
 FH_CONST uint EFFECT_ATTRIBUTES = EFFECT_BASE_COLOR_TEXTURE | EFFECT_METALLIC_ROUGHNESS_TEXTURE |
                                   EFFECT_NORMAL_TEXTURE | EFFECT_EMISSIVE_TEXTURE | EFFECT_VERTEX_COLORS |
                                   EFFECT_ALPHA | EFFECT_TRANSMISSION_TEXTURE | EFFECT_CLEARCOAT_TEXTURE |
                                   EFFECT_CLEARCOAT_NORMAL_TEXTURE;  // effects that read TriangleAttributes
 FH_CONST uint EFFECT_MATERIAL = EFFECT_ATTRIBUTES | EFFECT_TRANSMISSION | EFFECT_VOLUME | EFFECT_ABSORPTION |
-                                EFFECT_CLEARCOAT;  // decided by the materials: --force-effect / --disable-effect
+                                EFFECT_CLEARCOAT | EFFECT_UNLIT;  // decided by the materials: --force-effect / --disable-effect
 
 // ---- Robustness techniques (all on by default; `--disable-technique` turns one off to measure its cost and
 // to show what goes wrong without it). README "Numerical stability" has the table.
@@ -104,6 +105,7 @@ FH_CONST uint CAMERA_ORTHOGRAPHIC = 1u;
 FH_CONST uint FILTER_BOX = 0u;             // one pixel wide
 FH_CONST uint FILTER_GAUSSIAN = 1u;        // truncated Gaussian, importance sampled (weight 1)
 FH_CONST uint MATERIAL_DOUBLE_SIDED = 1u;  // Material.flags
+FH_CONST uint MATERIAL_UNLIT = 2u;         // Material.flags: KHR_materials_unlit (EFFECT_UNLIT)
 FH_CONST uint LAYERS_VOLUME = 1u;          // MaterialLayers.flags: the mesh bounds a volume (thicknessFactor > 0)
 FH_CONST uint TRIANGLE_HAS_NORMALS = 1u;   // TriangleShading.flags: vertex normals present
 FH_CONST uint RENDER_NEE = 1u;             // FrameParams.flags: next-event estimation
@@ -196,7 +198,7 @@ struct Material {
     float metallic;
     float roughness;        // perceptual; alpha = roughness^2
     float ior;              // KHR_materials_ior (1.5 by default)
-    uint flags;             // MATERIAL_DOUBLE_SIDED
+    uint flags;             // MATERIAL_DOUBLE_SIDED, MATERIAL_UNLIT
     uint base_color_texture;
     uint metallic_roughness_texture;
     uint normal_texture;

@@ -341,3 +341,25 @@ TEST(GltfClearcoat, RefusesACoatTextureWithoutItsTexcoords) {
 }
 
 }  // namespace
+
+// ---- KHR_materials_unlit ------------------------------------------------------------------------------------
+namespace {
+
+// Unlit keeps the base colour (and its texture) and drops emission, which would otherwise become a light.
+TEST(GltfUnlit, FlagsTheMaterialAndDropsItsEmission) {
+    GltfBuilder b = make_textured_triangle({{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}},
+                                            {"emissiveFactor", {1.0, 0.5, 0.25}},
+                                            {"emissiveTexture", {{"index", 0}}},
+                                            {"extensions", {{"KHR_materials_unlit", nlohmann::json::object()}}}});
+    b.set_scene({b.add_node({{"mesh", 0}})});
+    const Scene s = fh::load_gltf(b.write_gltf(), WORLD_SPACE);
+    ASSERT_EQ(s.materials.size(), 1u);
+    EXPECT_EQ(s.materials[0].flags & gpu::MATERIAL_UNLIT, gpu::MATERIAL_UNLIT);
+    EXPECT_EQ(s.materials[0].emission.x, 0.0f);
+    EXPECT_NE(s.materials[0].base_color_texture, gpu::INVALID_INDEX);
+    const uint32_t bits = fh::analyse_effects(s, false).bits;
+    EXPECT_NE(bits & gpu::EFFECT_UNLIT, 0u);
+    EXPECT_EQ(bits & gpu::EFFECT_EMISSIVE_TEXTURE, 0u);
+}
+
+}  // namespace

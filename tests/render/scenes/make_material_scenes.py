@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
-"""Writes the render-test scenes for KHR_materials_clearcoat (standard library only).
+"""Writes the render-test scenes for the KHR material extensions other than glass: KHR_materials_clearcoat and
+KHR_materials_unlit (standard library only).
 
-usage: make_clearcoat_scenes.py OUT_DIR
+usage: make_material_scenes.py OUT_DIR
 
 Rendered under a white environment of radiance 1 (--background 1,1,1); each has an analytic criterion, stated
 beside its test in tests/render/CMakeLists.txt:
@@ -11,6 +12,8 @@ beside its test in tests/render/CMakeLists.txt:
   coat_furnace.gltf     a white dielectric sphere (roughness 0.5) under a clear coat of roughness 0.3, seen in
                         perspective: the coat and the base it lets through keep all the energy, so every pixel,
                         sphere and background alike, reads 1 (a white furnace).
+  unlit_quad.gltf       an unlit quad of base colour 0.5 (with an emissiveFactor of 1, which unlit ignores), seen
+                        head-on: every camera ray sees exactly its base colour, 0.5, whatever lights the scene.
 """
 import sys
 from pathlib import Path
@@ -36,6 +39,17 @@ def scene(material, shape, camera):
     return g
 
 
+def unlit_quad():
+    g = Gltf()
+    g.doc["extensionsUsed"] += ["KHR_materials_unlit"]
+    g.doc["materials"].append({"pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1.0]},
+                               "emissiveFactor": [1.0, 1.0, 1.0],
+                               "extensions": {"KHR_materials_unlit": {}}})
+    g.add_node({"mesh": g.add_mesh(quad(-10, -10, 10, 10, 0.0), 0)})
+    g.add_orthographic_camera({"translation": [0.0, 0.0, 3.0]}, 1.0)
+    return g
+
+
 def main():
     out = Path(sys.argv[1])
     out.mkdir(parents=True, exist_ok=True)
@@ -44,6 +58,7 @@ def main():
                                  lambda g: g.add_orthographic_camera({"translation": [0.0, 0.0, 3.0]}, 1.0)),
         "coat_furnace": scene(coated((1.0, 1.0, 1.0), 0.5, 1.0, 0.3), icosphere(4),
                               lambda g: g.add_perspective_camera({"translation": [0.0, 0.0, 3.0]}, 0.8)),
+        "unlit_quad": unlit_quad(),
     }
     for name, g in scenes.items():
         g.write(out / f"{name}.gltf")
