@@ -1,9 +1,9 @@
 // Stage "shade": one path vertex per queued ray. Adds emission seen by the ray, or the environment's radiance
 // when it escaped (both MIS-weighted against light sampling), resolves the material (textures, vertex colours,
-// normal map, glass, clear coat, unlit: only the effects the scene has are compiled in), samples a light and pushes a shadow ray (next-event estimation), samples the BSDF, applies
+// normal map, glass, sheen, clear coat, unlit: only the effects the scene has are compiled in), samples a light and pushes a shadow ray (next-event estimation), samples the BSDF, applies
 // Russian roulette and pushes the continuation ray.
 // Reads: rays[queue depth & 1], hits, paths, triangles, materials, emitters, textures, environment, and for
-// glass and clear coats the material layers, and path media. Writes: paths, path media, rays[queue (depth + 1) & 1], shadow_rays, counters.ray_count / shadow_count.
+// glass, sheens and clear coats the material layers, and path media. Writes: paths, path media, rays[queue (depth + 1) & 1], shadow_rays, counters.ray_count / shadow_count.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "lib/bindings.glsl"
@@ -13,8 +13,10 @@
 #include "lib/effects.glsl"
 #define BSDF_HAS_TRANSMISSION effect_on(EFFECT_TRANSMISSION)
 #define BSDF_HAS_CLEARCOAT effect_on(EFFECT_CLEARCOAT)
+#define BSDF_HAS_SHEEN effect_on(EFFECT_SHEEN)
 #include "lib/bsdf.glsl"
 #include "lib/clearcoat.glsl"
+#include "lib/sheen_layer.glsl"
 #include "lib/surface.glsl"
 #include "lib/lights.glsl"
 #include "lib/transmission.glsl"
@@ -128,6 +130,11 @@ void main() {
                 float eta = volume && !front ? 1.0f / max(m.ior, 1.0e-4f) : m.ior;
                 bsdf = with_transmission(bsdf, eval_transmission(s.material, hit.triangle, hit.b1, hit.b2), eta,
                                          volume ? 0u : 1u);
+            }
+            // Sheen (KHR_materials_sheen) over the base, about its shading normal.
+            if (effect_on(EFFECT_SHEEN)) {
+                SheenLayer sheen = eval_sheen_layer(s.material, hit.triangle, hit.b1, hit.b2);
+                bsdf = with_sheen(bsdf, sheen.color, sheen.roughness);
             }
             // Clear coat (KHR_materials_clearcoat) over all of it, about its own normal on the viewer's side.
             if (effect_on(EFFECT_CLEARCOAT)) {

@@ -12,16 +12,18 @@
 namespace fh {
 namespace tables {
 #include "lib/ggx_albedo_table.glsl"
+#include "lib/sheen_albedo_table.glsl"
 }  // namespace tables
 namespace {
 
-// The GGX albedo table in the order shaders/lib/ggx_albedo_table.glsl documents.
-std::vector<float> flatten_ggx_albedo_table() {
+// The GGX albedo table in the order shaders/lib/ggx_albedo_table.glsl documents, then the sheen lobe's
+// (bindings.glsl reads both from one uniform buffer).
+std::vector<float> flatten_albedo_tables() {
     std::vector<float> words;
-    words.reserve(tables::GGX_ALBEDO_TABLE_SIZE);
+    words.reserve(tables::GGX_ALBEDO_TABLE_SIZE + tables::SHEEN_ALBEDO_TABLE_SIZE);
     for (const auto& part : {std::span<const float>(tables::GGX_ALBEDO_A), std::span<const float>(tables::GGX_ALBEDO_B),
                              std::span<const float>(tables::GGX_ALBEDO_AVERAGE_A),
-                             std::span<const float>(tables::GGX_ALBEDO_AVERAGE_B)})
+                             std::span<const float>(tables::GGX_ALBEDO_AVERAGE_B), std::span<const float>(tables::SHEEN_ALBEDO)})
         words.insert(words.end(), part.begin(), part.end());
     return words;
 }
@@ -60,7 +62,7 @@ GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& sce
     b.materials = make_filled_buffer(context, scene.materials, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
     b.emitters = make_filled_buffer(context, scene.emitters, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
     b.punctual_lights = make_filled_buffer(context, scene.punctual_lights);
-    b.ggx_albedo = make_filled_buffer(context, flatten_ggx_albedo_table(), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
+    b.ggx_albedo = make_filled_buffer(context, flatten_albedo_tables(), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
     const size_t capacity = frame.wave_capacity;
     b.counters = make_state_buffer(context, sizeof(gpu::QueueCounters), VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT);
     b.counters_readback = vk::Buffer(context, sizeof(gpu::QueueCounters), STORAGE, vk::MemoryUse::host);

@@ -21,7 +21,7 @@ struct GpuBuffers {
     vk::Buffer materials;
     vk::Buffer emitters;
     vk::Buffer punctual_lights;
-    vk::Buffer ggx_albedo;         // the GGX albedo table of the energy-conserving BSDF (uniform)
+    vk::Buffer ggx_albedo;         // the BSDF's albedo tables, GGX and sheen (uniform)
     vk::Buffer counters;           // device-local: atomics stay on the device
     vk::Buffer counters_readback;  // host-visible copy made at the end of each submission
     vk::Buffer paths;

@@ -10,6 +10,7 @@
 namespace fh {
 namespace tables {
 #include "lib/ggx_albedo_table.glsl"
+#include "lib/sheen_albedo_table.glsl"
 }  // namespace tables
 namespace {
 
@@ -49,7 +50,7 @@ MemoryEstimate estimate_render_memory(const PackedScene& scene, uint32_t width, 
         {"materials", array_bytes(scene.materials), true},
         {"emitters", array_bytes(scene.emitters), true},
         {"punctual_lights", array_bytes(scene.punctual_lights), true},
-        {"ggx_albedo", uint64_t(tables::GGX_ALBEDO_TABLE_SIZE) * sizeof(float), false},
+        {"albedo_tables", uint64_t(tables::GGX_ALBEDO_TABLE_SIZE + tables::SHEEN_ALBEDO_TABLE_SIZE) * sizeof(float), false},
         {"counters", sizeof(gpu::QueueCounters), true},
         {"counters_readback", sizeof(gpu::QueueCounters), true},
         {"paths", capacity * sizeof(gpu::PathState), true},

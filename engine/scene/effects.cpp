@@ -1,6 +1,7 @@
 // Scene analysis for effects on demand: which EFFECT_* bits the stages must be compiled with.
 #include "scene/effects.h"
 
+#include <algorithm>
 #include <set>
 #include <stdexcept>
 
@@ -53,6 +54,8 @@ const std::vector<EffectInfo>& list_effects() {
         {gpu::EFFECT_CLEARCOAT_TEXTURE, "clearcoat-texture"},
         {gpu::EFFECT_CLEARCOAT_NORMAL_TEXTURE, "clearcoat-normal-texture"},
         {gpu::EFFECT_UNLIT, "unlit"},
+        {gpu::EFFECT_SHEEN, "sheen"},
+        {gpu::EFFECT_SHEEN_TEXTURE, "sheen-texture"},
     };
     return effects;
 }
@@ -89,7 +92,7 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
     auto slot_valid = [&](uint32_t slot) { return slot != gpu::INVALID_INDEX && slot < scene.texture_slots.size(); };
 
     std::set<uint32_t> base, metal_rough, normal, emissive, alpha, glass, glass_texture, volume, absorbing;
-    std::set<uint32_t> coat, coat_texture, coat_normal, unlit;
+    std::set<uint32_t> coat, coat_texture, coat_normal, unlit, sheen, sheen_texture;
     for (uint32_t m : used) {
         const gpu::Material& mat = scene.materials[m];
         if (m < scene.material_layers.size()) {
@@ -119,6 +122,18 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
                 if (slot_valid(layers.clearcoat_normal_texture) &&
                     scene.texture_slots[layers.clearcoat_normal_texture].scale != 0.0f)
                     coat_normal.insert(m);
+            }
+            // A sheen shows where sheenColorFactor is not black and its colour texture (if any) is not black.
+            const bool sheen_textured = slot_valid(layers.sheen_color_texture);
+            auto black_texture = [&](uint32_t slot) {
+                const SceneImage& image = scene.images[scene.texture_slots[slot].image];
+                return is_zero_channel(image, 0) && is_zero_channel(image, 1) && is_zero_channel(image, 2);
+            };
+            if (std::max({layers.sheen.x, layers.sheen.y, layers.sheen.z}) > 0.0f &&
+                !(sheen_textured && black_texture(layers.sheen_color_texture))) {
+                sheen.insert(m);
+                if (sheen_textured || (slot_valid(layers.sheen_roughness_texture) && layers.sheen.w > 0.0f))
+                    sheen_texture.insert(m);
             }
         }
         if (mat.flags & gpu::MATERIAL_UNLIT) unlit.insert(m);
@@ -174,6 +189,9 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
     by_materials(gpu::EFFECT_CLEARCOAT_NORMAL_TEXTURE, coat_normal,
                  "no coated material has a clearcoatNormalTexture of non-zero scale");
     by_materials(gpu::EFFECT_UNLIT, unlit, "no visible material has KHR_materials_unlit");
+    by_materials(gpu::EFFECT_SHEEN, sheen, "no visible material has a KHR_materials_sheen sheenColor above black");
+    by_materials(gpu::EFFECT_SHEEN_TEXTURE, sheen_texture,
+                 "no sheen has a sheenColorTexture or a sheenRoughnessTexture with a non-zero factor");
     return effects;
 }
 

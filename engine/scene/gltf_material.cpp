@@ -1,5 +1,5 @@
 // Converts glTF materials (spec 3.9) and the KHR extensions emissive_strength, specular, ior, unlit,
-// transmission, volume and clearcoat.
+// transmission, volume, clearcoat and sheen.
 #include "scene/gltf_material.h"
 
 #include <algorithm>
@@ -20,6 +20,7 @@ constexpr const char* SUPPORTED_EXTENSIONS[] = {
     "KHR_materials_volume",
     "KHR_materials_clearcoat",
     "KHR_materials_unlit",
+    "KHR_materials_sheen",
     "KHR_lights_punctual",  // read by gltf_loader.cpp
     "KHR_texture_transform",  // gltf_texture.cpp
     "EXT_texture_webp",
@@ -157,6 +158,10 @@ gpu::MaterialLayers make_default_layers() {
     layers.clearcoat_texture = gpu::INVALID_INDEX;
     layers.clearcoat_roughness_texture = gpu::INVALID_INDEX;
     layers.clearcoat_normal_texture = gpu::INVALID_INDEX;
+    layers.sheen = gpu::vec4(0.0f);
+    layers.sheen_color_texture = gpu::INVALID_INDEX;
+    layers.sheen_roughness_texture = gpu::INVALID_INDEX;
+    layers.pad0 = layers.pad1 = 0u;
     return layers;
 }
 
@@ -166,11 +171,11 @@ gpu::MaterialLayers convert_material_layers(const tinygltf::Model& model, int in
     gpu::MaterialLayers layers = make_default_layers();
 
     // A textureInfo of extension object `extension` (INVALID_INDEX when absent).
-    auto extension_slot = [&](const tinygltf::Value* extension, const char* key) {
+    auto extension_slot = [&](const tinygltf::Value* extension, const char* key, bool srgb = false) {
         if (extension == nullptr || !extension->Has(key)) return gpu::INVALID_INDEX;
         const TextureReference texture = read_extension_texture(extension, key);
         if (texture.index < 0) throw SceneError(where + " " + key + " has no valid index");
-        return add_texture_slot(model, texture, false, where + " " + key, scene);
+        return add_texture_slot(model, texture, srgb, where + " " + key, scene);
     };
 
     const tinygltf::Value* transmission = find_extension(material, "KHR_materials_transmission");
@@ -183,6 +188,14 @@ gpu::MaterialLayers convert_material_layers(const tinygltf::Model& model, int in
     layers.clearcoat_texture = extension_slot(clearcoat, "clearcoatTexture");
     layers.clearcoat_roughness_texture = extension_slot(clearcoat, "clearcoatRoughnessTexture");
     layers.clearcoat_normal_texture = extension_slot(clearcoat, "clearcoatNormalTexture");
+
+    // KHR_materials_sheen: sheenColor (sRGB texture, RGB) and sheenRoughness (the texture's alpha).
+    const tinygltf::Value* sheen = find_extension(material, "KHR_materials_sheen");
+    const glm::dvec3 sheen_color = glm::clamp(read_color3(sheen, "sheenColorFactor", glm::dvec3(0.0)), 0.0, 1.0);
+    layers.sheen = gpu::vec4(float(sheen_color.r), float(sheen_color.g), float(sheen_color.b),
+                             float(std::clamp(read_number(sheen, "sheenRoughnessFactor", 0.0), 0.0, 1.0)));
+    layers.sheen_color_texture = extension_slot(sheen, "sheenColorTexture", true);
+    layers.sheen_roughness_texture = extension_slot(sheen, "sheenRoughnessTexture");
 
     // KHR_materials_volume: thicknessFactor > 0 makes the mesh the boundary of a volume; its value (and the
     // thickness texture) is a rasteriser's stand-in for the geometry a path tracer has, so only its sign is read.

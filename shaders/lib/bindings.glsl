@@ -66,10 +66,13 @@ Emitter load_emitter(uint entry) {
 }
 
 #include "ggx_albedo_table.glsl"
+#include "sheen_albedo_table.glsl"
+// The BSDF's albedo tables: GGX's, then the sheen lobe's.
 layout(std140, binding = BINDING_GGX_ALBEDO_UNIFORM) uniform GgxAlbedoTable {
-    vec4 ggx_albedo_words[GGX_ALBEDO_TABLE_SIZE / 4];
+    vec4 ggx_albedo_words[(GGX_ALBEDO_TABLE_SIZE + SHEEN_ALBEDO_TABLE_SIZE) / 4];
 };
 float ggx_albedo_entry(int i) { return ggx_albedo_words[i >> 2][i & 3]; }
+float sheen_albedo_entry(int i) { return ggx_albedo_entry(GGX_ALBEDO_TABLE_SIZE + i); }
 
 layout(push_constant) uniform PushBlock { StagePush push; };
 

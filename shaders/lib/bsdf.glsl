@@ -36,6 +36,13 @@
 // white base by the coat's average albedo (about 9% at normal incidence), and normalising that product as the
 // diffuse lobe does gains energy over a specular base (README "Clearcoat"). Stages without EFFECT_CLEARCOAT
 // define BSDF_HAS_CLEARCOAT false.
+//
+// KHR_materials_sheen lays the Charlie sheen lobe of sheen.glsl (colour sheenColor, its own roughness, about the
+// base's shading normal) over everything under the coat, with the extension's albedo scaling:
+//   f_under_coat = f_sheen + f_base min(1 - max(sheenColor) E_s(mu_o), 1 - max(sheenColor) E_s(mu_i))
+// E_s = min(sheen_albedo, 1) >= the lobe's albedo (the table bounds it from above), so the albedo is at most
+// sheenColor E_s + (1 - max(sheenColor) E_s) albedo_base <= 1, and the whole stays reciprocal. Stages without
+// EFFECT_SHEEN define BSDF_HAS_SHEEN false.
 #ifndef FREDHOLM_LIB_BSDF_GLSL
 #define FREDHOLM_LIB_BSDF_GLSL
 
@@ -48,12 +55,16 @@ using fh::gpu::Material;  // C++: include shaders/shared/layout.h at global scop
 #include "ggx.glsl"
 #include "ggx_albedo.glsl"
 #include "dielectric.glsl"
+#include "sheen.glsl"
 
 #ifndef BSDF_HAS_TRANSMISSION
 #define BSDF_HAS_TRANSMISSION true
 #endif
 #ifndef BSDF_HAS_CLEARCOAT
 #define BSDF_HAS_CLEARCOAT true
+#endif
+#ifndef BSDF_HAS_SHEEN
+#define BSDF_HAS_SHEEN true
 #endif
 
 // KHR_materials_clearcoat: the coat's Fresnel at normal incidence, ((1.5 - 1) / (1.5 + 1))^2.
@@ -78,6 +89,8 @@ struct BsdfParams {
     float clearcoat;        // KHR_materials_clearcoat: the coat's weight (0: no coat)
     float clearcoat_alpha;  // the coat's GGX alpha, at least BSDF_MIN_ALPHA
     vec3 clearcoat_normal;  // the coat's normal in the local frame (z: the base's shading normal)
+    vec3 sheen_color;       // KHR_materials_sheen: the sheen's colour (0: no sheen)
+    float sheen_roughness;  // perceptual, at least SHEEN_MIN_ROUGHNESS
 };
 
 // Floor of 1 - E_avg (approached only by f0 = f90 = 1 at small alpha): loses energy, never adds it.
@@ -107,6 +120,8 @@ BsdfParams make_bsdf_params(Material m) {
     p.clearcoat = 0.0f;
     p.clearcoat_alpha = BSDF_MIN_ALPHA;
     p.clearcoat_normal = vec3(0.0f, 0.0f, 1.0f);
+    p.sheen_color = vec3(0.0f);
+    p.sheen_roughness = SHEEN_MIN_ROUGHNESS;
     return p;
 }
 
@@ -135,6 +150,27 @@ BsdfParams with_clearcoat(BsdfParams p, float clearcoat, float roughness, vec3 n
 
 bool has_clearcoat(BsdfParams p) {
     return BSDF_HAS_CLEARCOAT && p.clearcoat > 0.0f;
+}
+
+// `p` under a sheen of colour `color` and perceptual roughness `roughness`.
+BsdfParams with_sheen(BsdfParams p, vec3 color, float roughness) {
+    p.sheen_color = clamp(color, vec3(0.0f), vec3(1.0f));
+    p.sheen_roughness = clamp(roughness, SHEEN_MIN_ROUGHNESS, 1.0f);
+    return p;
+}
+
+bool has_sheen(BsdfParams p) {
+    return BSDF_HAS_SHEEN && max_value(p.sheen_color) > 0.0f;
+}
+
+// What the sheen leaves to the layers below for light from cos theta = mu: 1 - max(sheenColor) E_s(mu).
+float sheen_transmittance(BsdfParams p, float mu) {
+    return 1.0f - max_value(p.sheen_color) * min(sheen_albedo(abs(mu), p.sheen_roughness), 1.0f);
+}
+
+// The sheen lobe's share of the albedo for outgoing cos theta `cos_o` (a luminance, for picking lobes).
+float estimate_sheen_albedo(BsdfParams p, float cos_o) {
+    return luminance(p.sheen_color) * min(sheen_albedo(cos_o, p.sheen_roughness), 1.0f);
 }
 
 // Fraction of the light from cos theta = mu that the dielectric's specular layer lets through to the
@@ -220,18 +256,26 @@ float estimate_glass_albedo(BsdfParams p, float cos_o) {
     return (1.0f - p.metallic) * p.transmission * (f + (1.0f - f) * luminance(p.base_color));
 }
 
-// Without glass: specular_probability. With it: each lobe's share of the albedo (the glass lobe's estimated
-// as F(cos_o) + (1 - F) luminance(base_color)), every lobe present at least BSDF_MIN_LOBE_PROBABILITY before
-// renormalising. Depends on wo only.
+// Without glass or sheen: specular_probability. With them: each lobe's share of the albedo (the glass lobe's
+// estimated as F(cos_o) + (1 - F) luminance(base_color); the sheen's counted with the cosine-sampled diffuse
+// lobe), every lobe present at least BSDF_MIN_LOBE_PROBABILITY before renormalising. Depends on wo only.
 LobeChoice choose_lobes(BsdfParams p, float cos_o) {
     LobeChoice c;
     c.glass = 0.0f;
-    if (!has_glass(p)) {
+    bool glassy = has_glass(p);
+    if (!glassy && !has_sheen(p)) {
         c.specular = specular_probability(p, cos_o);
         return c;
     }
-    LobeAlbedos a = estimate_lobe_albedos(p, cos_o, 1.0f - p.transmission);
-    float glass = estimate_glass_albedo(p, cos_o);
+    LobeAlbedos a = estimate_lobe_albedos(p, cos_o, glassy ? 1.0f - p.transmission : 1.0f);
+    float glass = glassy ? estimate_glass_albedo(p, cos_o) : 0.0f;
+    if (has_sheen(p)) {
+        // The sheen is sampled as the diffuse lobe is (cosine-weighted): its share joins the diffuse one.
+        float below = sheen_transmittance(p, cos_o);
+        a.specular *= below;
+        glass *= below;
+        a.diffuse = a.diffuse * below + estimate_sheen_albedo(p, cos_o);
+    }
     float total = a.specular + a.diffuse + glass;
     if (!(total > 0.0f)) {
         c.specular = 0.0f;
@@ -284,6 +328,10 @@ float eval_clearcoat(BsdfParams p, vec3 wo_c, vec3 wi_c) {
 // f(wo, wi) * cos(theta_i): the BSDF already multiplied by the cosine of the incident direction.
 vec3 eval_bsdf(BsdfParams p, vec3 wo, vec3 wi) {
     vec3 f = eval_base_bsdf(p, wo, wi);
+    if (has_sheen(p)) {
+        f *= min(sheen_transmittance(p, wo.z), sheen_transmittance(p, wi.z));
+        f += p.sheen_color * eval_sheen_lobe(wo, wi, p.sheen_roughness);
+    }
     if (has_clearcoat(p)) {
         Frame coat = make_frame(p.clearcoat_normal);
         vec3 wo_c = to_local(coat, wo);
@@ -313,6 +361,9 @@ CoatChoice choose_coat(BsdfParams p, vec3 wo, LobeChoice c) {
     }
     LobeAlbedos a = estimate_lobe_albedos(p, wo.z, 1.0f - (c.glass > 0.0f ? p.transmission : 0.0f));
     float base = a.specular + a.diffuse + (c.glass > 0.0f ? estimate_glass_albedo(p, wo.z) : 0.0f);
+    if (has_sheen(p)) {
+        base = base * sheen_transmittance(p, wo.z) + estimate_sheen_albedo(p, wo.z);
+    }
     float q = e / max(e + (1.0f - e) * base, 1.0e-30f);
     coat.probability = clamp(q, BSDF_MIN_LOBE_PROBABILITY, 1.0f - BSDF_MIN_LOBE_PROBABILITY);
     return coat;

@@ -81,12 +81,14 @@ FH_CONST uint EFFECT_CLEARCOAT = 2048u;            // KHR_materials_clearcoat: t
 FH_CONST uint EFFECT_CLEARCOAT_TEXTURE = 4096u;    // clearcoatTexture, clearcoatRoughnessTexture
 FH_CONST uint EFFECT_CLEARCOAT_NORMAL_TEXTURE = 8192u;  // clearcoatNormalTexture
 FH_CONST uint EFFECT_UNLIT = 16384u;               // KHR_materials_unlit: base colour to camera rays, black otherwise
+FH_CONST uint EFFECT_SHEEN = 32768u;               // KHR_materials_sheen: the Charlie sheen lobe over the base
+FH_CONST uint EFFECT_SHEEN_TEXTURE = 65536u;       // sheenColorTexture, sheenRoughnessTexture
 FH_CONST uint EFFECT_ATTRIBUTES = EFFECT_BASE_COLOR_TEXTURE | EFFECT_METALLIC_ROUGHNESS_TEXTURE |
                                   EFFECT_NORMAL_TEXTURE | EFFECT_EMISSIVE_TEXTURE | EFFECT_VERTEX_COLORS |
                                   EFFECT_ALPHA | EFFECT_TRANSMISSION_TEXTURE | EFFECT_CLEARCOAT_TEXTURE |
-                                  EFFECT_CLEARCOAT_NORMAL_TEXTURE;  // effects that read TriangleAttributes
+                                  EFFECT_CLEARCOAT_NORMAL_TEXTURE | EFFECT_SHEEN_TEXTURE;  // effects that read TriangleAttributes
 FH_CONST uint EFFECT_MATERIAL = EFFECT_ATTRIBUTES | EFFECT_TRANSMISSION | EFFECT_VOLUME | EFFECT_ABSORPTION |
-                                EFFECT_CLEARCOAT | EFFECT_UNLIT;  // decided by the materials: --force-effect / --disable-effect
+                                EFFECT_CLEARCOAT | EFFECT_UNLIT | EFFECT_SHEEN;  // decided by the materials: --force-effect / --disable-effect
 
 // ---- Robustness techniques (all on by default; `--disable-technique` turns one off to measure its cost and
 // to show what goes wrong without it). README "Numerical stability" has the table.
@@ -213,6 +215,7 @@ struct Material {
 struct MaterialLayers {
     vec4 attenuation;              // KHR_materials_volume: rgb = absorption coefficient per scene unit,
                                    // -ln(attenuationColor) / attenuationDistance (0: none), a unused
+    vec4 sheen;                    // KHR_materials_sheen: rgb = sheenColorFactor, a = sheenRoughnessFactor
     float transmission;            // KHR_materials_transmission transmissionFactor
     uint transmission_texture;     // TextureSlot (R channel), or INVALID_INDEX
     uint flags;                    // LAYERS_VOLUME
@@ -221,6 +224,10 @@ struct MaterialLayers {
     uint clearcoat_texture;        // TextureSlot (R channel), or INVALID_INDEX
     uint clearcoat_roughness_texture;  // TextureSlot (G channel), or INVALID_INDEX
     uint clearcoat_normal_texture;     // TextureSlot (its scale in the slot), or INVALID_INDEX
+    uint sheen_color_texture;          // TextureSlot (RGB, sRGB), or INVALID_INDEX
+    uint sheen_roughness_texture;      // TextureSlot (A channel), or INVALID_INDEX
+    uint pad0;
+    uint pad1;
 };
 
 // A material's use of a texture (glTF textureInfo): which image, how it is addressed, and

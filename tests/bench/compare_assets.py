@@ -89,6 +89,23 @@ def use_single_scattering():
                 node.distribution = "GGX"
 
 
+# --without LAYER: the Principled BSDF input that switches a layer off in Cycles, beside Fredholm's --disable-effect.
+LAYER_WEIGHTS = {"sheen": "Sheen Weight", "clearcoat": "Coat Weight", "transmission": "Transmission Weight"}
+
+
+def remove_layer(layer):
+    """Every Principled BSDF with the layer's weight 0 (and nothing linked to it)."""
+    for material in bpy.data.materials:
+        if material.node_tree is None:
+            continue
+        for node in material.node_tree.nodes:
+            if node.type == "BSDF_PRINCIPLED":
+                socket = node.inputs[LAYER_WEIGHTS[layer]]
+                for link in list(socket.links):
+                    material.node_tree.links.remove(link)
+                socket.default_value = 0.0
+
+
 def setup_blender(eye, yfov_deg, env, size, spp, seed):
     scene = bpy.context.scene
     cam_data = bpy.data.cameras.new("compare")
@@ -203,6 +220,9 @@ def main():
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--single-scattering", action="store_true",
                     help="Cycles: single-scattering GGX in every Principled BSDF (as the glTF BRDF)")
+    ap.add_argument("--without", choices=sorted(LAYER_WEIGHTS), action="append", default=[],
+                    help="leave a layer out of both renders (Fredholm --disable-effect, Cycles' weight 0), to isolate "
+                         "what it contributes to a difference; repeatable")
     args = ap.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else sys.argv[1:])
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -218,6 +238,8 @@ def main():
                str(args.size), "--spp", str(args.spp), "--env", str(env), "--seed", str(args.seed),
                "--look-from", ",".join(f"{v:.9g}" for v in eye), "--look-at", ",".join(f"{v:.9g}" for v in target),
                "--up", "0,1,0", "--yfov", str(args.yfov), "--stats", str(out / f"{name}_fredholm.json"), "--quiet"]
+        for layer in args.without:
+            cmd += ["--disable-effect", layer]
         done = subprocess.run(cmd, capture_output=True, text=True)
         warnings = [l for l in done.stderr.splitlines() if "warning" in l and "negative values" not in l]
         if done.returncode != 0:
@@ -226,6 +248,8 @@ def main():
         setup_blender(eye, args.yfov, env, args.size, args.cycles_spp or args.spp, args.seed)
         if args.single_scattering:
             use_single_scattering()
+        for layer in args.without:
+            remove_layer(layer)
         # The model's pixels: Cycles' alpha with a transparent film (4 samples), then the real render.
         scene = bpy.context.scene
         scene.render.film_transparent = True

@@ -9,6 +9,7 @@
 #include <random>
 #include <string>
 
+#include "albedo_table_fit.h"
 #include "ggx_albedo_reference.h"
 #include "shared/layout.h"
 #include "lib/cpp_compat.h"
@@ -30,13 +31,6 @@ struct Table {
     std::vector<double> a, b, average_a, average_b;  // a[j * NX + i]: alpha row j, mu column i
 };
 
-double bilinear(const std::vector<double>& t, double x, double y) {
-    const int i = std::min(int(x), NX - 2), j = std::min(int(y), NY - 2);
-    const double fx = x - i, fy = y - j;
-    return (1 - fy) * ((1 - fx) * t[j * NX + i] + fx * t[j * NX + i + 1]) +
-           fy * ((1 - fx) * t[(j + 1) * NX + i] + fx * t[(j + 1) * NX + i + 1]);
-}
-
 // 2 int_0^1 mu T(mu) dmu for row j of a table piecewise linear in x = mu^(1/3) (NX - 1): with mu = s^3,
 // 6 int s^5 T ds, a degree-6 polynomial per cell, so 4-point Gauss-Legendre is exact.
 template <class Row>
@@ -51,11 +45,9 @@ double cosine_average(const Row& row) {
     return sum;
 }
 
-// Nodes are the reference albedos, then raised by the largest shortfall of the bilinear interpolant found in
-// the cells around them (on a REFINE x finer grid) plus a margin for points between those samples: raising
-// all four corners by d raises the whole cell by d, so the interpolant is an upper bound of A and B (and of
-// f0 A + f90 B for f0, f90 >= 0), except where that would exceed 1 (below). Averages are then computed
-// from the raised interpolant.
+// Nodes are the reference albedos raised so that the interpolant is an upper bound of A and B (and of
+// f0 A + f90 B for f0, f90 >= 0; albedo_table_fit.h), except where that would exceed 1 (below). Averages are
+// then computed from the raised interpolant.
 Table build_table(double margin) {
     const int FX = (NX - 1) * REFINE + 1, FY = (NY - 1) * REFINE + 1;
     std::vector<ref::Albedo> fine(FX * FY);
@@ -64,32 +56,10 @@ Table build_table(double margin) {
         if ((q + 1) % 25 == 0) std::fprintf(stderr, "reference albedo: row %d of %d\n", q + 1, FY);
     }
     Table t;
-    t.a.resize(NX * NY);
-    t.b.resize(NX * NY);
-    for (int j = 0; j < NY; ++j)
-        for (int i = 0; i < NX; ++i) {
-            t.a[j * NX + i] = fine[j * REFINE * FX + i * REFINE].a;
-            t.b[j * NX + i] = fine[j * REFINE * FX + i * REFINE].b;
-        }
     for (auto [nodes, member] : {std::pair{&t.a, &ref::Albedo::a}, std::pair{&t.b, &ref::Albedo::b}}) {
-        std::vector<double> raise_cell((NX - 1) * (NY - 1), 0.0);
-        for (int q = 0; q < FY; ++q)
-            for (int p = 0; p < FX; ++p) {
-                const double x = double(p) / REFINE, y = double(q) / REFINE;
-                const double shortfall = fine[q * FX + p].*member - bilinear(*nodes, x, y);
-                for (int j = std::max(0, (q - 1) / REFINE); j <= std::min(NY - 2, q / REFINE); ++j)
-                    for (int i = std::max(0, (p - 1) / REFINE); i <= std::min(NX - 2, p / REFINE); ++i)
-                        raise_cell[j * (NX - 1) + i] = std::max(raise_cell[j * (NX - 1) + i], shortfall);
-            }
-        std::vector<double> raised = *nodes;
-        for (int j = 0; j < NY; ++j)
-            for (int i = 0; i < NX; ++i) {
-                double r = 0.0;
-                for (int cj = std::max(0, j - 1); cj <= std::min(NY - 2, j); ++cj)
-                    for (int ci = std::max(0, i - 1); ci <= std::min(NX - 2, i); ++ci) r = std::max(r, raise_cell[cj * (NX - 1) + ci]);
-                raised[j * NX + i] += r + margin;
-            }
-        *nodes = raised;
+        std::vector<double> values(fine.size());
+        for (size_t k = 0; k < fine.size(); ++k) values[k] = fine[k].*member;
+        *nodes = fh::test::raise_to_upper_bound(values, NX, NY, REFINE, margin);
     }
     // A + B (the albedo of a white mirror, f0 = f90 = 1) is at most 1, and must stay so in the table: where
     // f0 A + f90 B > 1, 1 - E is clamped to 0 in bsdf.glsl, which no longer integrates to 1 - E_avg, and the
@@ -106,16 +76,6 @@ Table build_table(double margin) {
         t.average_b.push_back(cosine_average([&](int i) { return double(float(t.b[j * NX + i])); }));
     }
     return t;
-}
-
-void write_array(std::ofstream& out, const char* name, const std::vector<double>& v) {
-    out << "const float " << name << "[" << v.size() << "] = {\n";
-    for (size_t k = 0; k < v.size(); ++k) {
-        char buf[32];
-        std::snprintf(buf, sizeof buf, "%.8ef", double(float(v[k])));
-        out << (k % 8 == 0 ? "    " : " ") << buf << (k + 1 < v.size() ? "," : "") << (k % 8 == 7 || k + 1 == v.size() ? "\n" : "");
-    }
-    out << "};\n";
 }
 
 const double MARGIN = 2e-5;
@@ -140,10 +100,10 @@ void write_table(const std::string& path) {
            "const int GGX_ALBEDO_AVERAGE_B_OFFSET = " << 2 * NX * NY + NY << ";\n"
            "const int GGX_ALBEDO_TABLE_SIZE = " << 2 * NX * NY + 2 * NY << ";  // floats; a multiple of 4 (std140 vec4 packing)\n\n"
            "#ifdef __cplusplus\n";
-    write_array(out, "GGX_ALBEDO_A", t.a);
-    write_array(out, "GGX_ALBEDO_B", t.b);
-    write_array(out, "GGX_ALBEDO_AVERAGE_A", t.average_a);
-    write_array(out, "GGX_ALBEDO_AVERAGE_B", t.average_b);
+    fh::test::write_float_array(out, "GGX_ALBEDO_A", t.a);
+    fh::test::write_float_array(out, "GGX_ALBEDO_B", t.b);
+    fh::test::write_float_array(out, "GGX_ALBEDO_AVERAGE_A", t.average_a);
+    fh::test::write_float_array(out, "GGX_ALBEDO_AVERAGE_B", t.average_b);
     out << "#endif  // __cplusplus\n\n#endif\n";
     std::printf("wrote %s\n", path.c_str());
 }

@@ -363,3 +363,48 @@ TEST(GltfUnlit, FlagsTheMaterialAndDropsItsEmission) {
 }
 
 }  // namespace
+
+// ---- KHR_materials_sheen ------------------------------------------------------------------------------------
+namespace {
+
+nlohmann::json sheen_material(nlohmann::json color, double roughness, bool textured) {
+    nlohmann::json sheen = {{"sheenColorFactor", color}, {"sheenRoughnessFactor", roughness}};
+    if (textured) {
+        sheen["sheenColorTexture"] = {{"index", 0}};
+        sheen["sheenRoughnessTexture"] = {{"index", 0}};
+    }
+    return {{"extensions", {{"KHR_materials_sheen", sheen}}}};
+}
+
+// The factors land in MaterialLayers.sheen; the colour texture is sRGB (a colour), the roughness one is data.
+TEST(GltfSheen, ReadsFactorsAndTextures) {
+    GltfBuilder b = make_textured_triangle(sheen_material({1.0, 0.5, 0.25}, 0.8, true));
+    b.set_scene({b.add_node({{"mesh", 0}})});
+    const Scene s = fh::load_gltf(b.write_gltf(), WORLD_SPACE);
+    ASSERT_EQ(s.material_layers.size(), 1u);
+    const gpu::MaterialLayers& l = s.material_layers[0];
+    EXPECT_FLOAT_EQ(l.sheen.x, 1.0f);
+    EXPECT_FLOAT_EQ(l.sheen.y, 0.5f);
+    EXPECT_FLOAT_EQ(l.sheen.z, 0.25f);
+    EXPECT_FLOAT_EQ(l.sheen.w, 0.8f);
+    ASSERT_LT(l.sheen_color_texture, s.texture_slots.size());
+    ASSERT_LT(l.sheen_roughness_texture, s.texture_slots.size());
+    EXPECT_EQ(s.texture_slots[l.sheen_color_texture].addressing & gpu::SAMPLER_SRGB, gpu::SAMPLER_SRGB);
+    EXPECT_EQ(s.texture_slots[l.sheen_roughness_texture].addressing & gpu::SAMPLER_SRGB, 0u);
+    const uint32_t sheen = gpu::EFFECT_SHEEN | gpu::EFFECT_SHEEN_TEXTURE;
+    EXPECT_EQ(fh::analyse_effects(s, false).bits & sheen, sheen);
+}
+
+// By value: a black sheenColorFactor switches nothing on, whatever textures it names.
+TEST(GltfSheen, EffectsAreDecidedByValue) {
+    const uint32_t sheen = gpu::EFFECT_SHEEN | gpu::EFFECT_SHEEN_TEXTURE;
+    auto effects_of = [&](const nlohmann::json& material) {
+        GltfBuilder b = make_textured_triangle(material);
+        b.set_scene({b.add_node({{"mesh", 0}})});
+        return fh::analyse_effects(fh::load_gltf(b.write_gltf(), WORLD_SPACE), false).bits & sheen;
+    };
+    EXPECT_EQ(effects_of(sheen_material({0.0, 0.0, 0.0}, 0.5, true)), 0u);
+    EXPECT_EQ(effects_of(sheen_material({0.0, 0.1, 0.0}, 0.5, false)), gpu::EFFECT_SHEEN);
+}
+
+}  // namespace

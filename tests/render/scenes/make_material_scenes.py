@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""Writes the render-test scenes for the KHR material extensions other than glass: KHR_materials_clearcoat and
-KHR_materials_unlit (standard library only).
+"""Writes the render-test scenes for the KHR material extensions other than glass: KHR_materials_clearcoat,
+KHR_materials_sheen and KHR_materials_unlit (standard library only).
 
 usage: make_material_scenes.py OUT_DIR
 
@@ -12,6 +12,9 @@ beside its test in tests/render/CMakeLists.txt:
   coat_furnace.gltf     a white dielectric sphere (roughness 0.5) under a clear coat of roughness 0.3, seen in
                         perspective: the coat and the base it lets through keep all the energy, so every pixel,
                         sphere and background alike, reads 1 (a white furnace).
+  sheen_black_quad.gltf a white sheen of roughness 1 over a black base without specular (specularFactor 0), seen
+                        head-on: only the sheen reflects, its directional albedo at normal incidence, 0.1638 (the
+                        Charlie lobe integrated in double precision: tests/unit/sheen_albedo_reference.h).
   unlit_quad.gltf       an unlit quad of base colour 0.5 (with an emissiveFactor of 1, which unlit ignores), seen
                         head-on: every camera ray sees exactly its base colour, 0.5, whatever lights the scene.
 """
@@ -32,11 +35,18 @@ def coated(base, roughness, clearcoat, clearcoat_roughness, specular=1.0):
 
 def scene(material, shape, camera):
     g = Gltf()
-    g.doc["extensionsUsed"] += ["KHR_materials_clearcoat", "KHR_materials_specular"]
+    g.doc["extensionsUsed"] += ["KHR_materials_clearcoat", "KHR_materials_sheen", "KHR_materials_specular"]
     g.doc["materials"].append(material)
     g.add_node({"mesh": g.add_mesh(shape, 0)})
     camera(g)
     return g
+
+
+def sheened(base, sheen_color, sheen_roughness, specular=1.0):
+    return {"pbrMetallicRoughness": {"baseColorFactor": [*base, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.5},
+            "extensions": {"KHR_materials_specular": {"specularFactor": specular},
+                           "KHR_materials_sheen": {"sheenColorFactor": list(sheen_color),
+                                                   "sheenRoughnessFactor": sheen_roughness}}}
 
 
 def unlit_quad():
@@ -58,6 +68,9 @@ def main():
                                  lambda g: g.add_orthographic_camera({"translation": [0.0, 0.0, 3.0]}, 1.0)),
         "coat_furnace": scene(coated((1.0, 1.0, 1.0), 0.5, 1.0, 0.3), icosphere(4),
                               lambda g: g.add_perspective_camera({"translation": [0.0, 0.0, 3.0]}, 0.8)),
+        "sheen_black_quad": scene(sheened((0.0, 0.0, 0.0), (1.0, 1.0, 1.0), 1.0, specular=0.0),
+                                  quad(-10, -10, 10, 10, 0.0),
+                                  lambda g: g.add_orthographic_camera({"translation": [0.0, 0.0, 3.0]}, 1.0)),
         "unlit_quad": unlit_quad(),
     }
     for name, g in scenes.items():

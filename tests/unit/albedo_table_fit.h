@@ -1,0 +1,58 @@
+// Shared by the generators of the BSDF's albedo tables (test_ggx_albedo_table, test_sheen_albedo_table): a table
+// of nx x ny nodes read by bilinear interpolation, raised so that the interpolant bounds the reference from above
+// (the energy-conserving layerings need E_table >= E_true), and written as a C++ array for the .glsl file.
+#pragma once
+#include <algorithm>
+#include <cstdio>
+#include <ostream>
+#include <vector>
+
+namespace fh::test {
+
+// t[j * nx + i] (row j, column i) at x in [0, nx - 1], y in [0, ny - 1].
+inline double interpolate_bilinear(const std::vector<double>& t, int nx, int ny, double x, double y) {
+    const int i = std::min(int(x), nx - 2), j = std::min(int(y), ny - 2);
+    const double fx = x - i, fy = y - j;
+    return (1 - fy) * ((1 - fx) * t[j * nx + i] + fx * t[j * nx + i + 1]) +
+           fy * ((1 - fx) * t[(j + 1) * nx + i] + fx * t[(j + 1) * nx + i + 1]);
+}
+
+// Nodes are the reference values (every `refine`-th sample of `fine`, a grid (nx - 1) refine + 1 wide), raised by
+// the largest shortfall of the interpolant found in the cells around them plus `margin` for points between the
+// samples: raising all four corners of a cell by d raises the whole cell by d.
+inline std::vector<double> raise_to_upper_bound(const std::vector<double>& fine, int nx, int ny, int refine, double margin) {
+    const int fx = (nx - 1) * refine + 1, fy = (ny - 1) * refine + 1;
+    std::vector<double> nodes(size_t(nx) * ny);
+    for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i) nodes[j * nx + i] = fine[j * refine * fx + i * refine];
+    std::vector<double> raise_cell(size_t(nx - 1) * (ny - 1), 0.0);
+    for (int q = 0; q < fy; ++q)
+        for (int p = 0; p < fx; ++p) {
+            const double shortfall = fine[q * fx + p] - interpolate_bilinear(nodes, nx, ny, double(p) / refine, double(q) / refine);
+            for (int j = std::max(0, (q - 1) / refine); j <= std::min(ny - 2, q / refine); ++j)
+                for (int i = std::max(0, (p - 1) / refine); i <= std::min(nx - 2, p / refine); ++i)
+                    raise_cell[j * (nx - 1) + i] = std::max(raise_cell[j * (nx - 1) + i], shortfall);
+        }
+    std::vector<double> raised = nodes;
+    for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i) {
+            double r = 0.0;
+            for (int cj = std::max(0, j - 1); cj <= std::min(ny - 2, j); ++cj)
+                for (int ci = std::max(0, i - 1); ci <= std::min(nx - 2, i); ++ci) r = std::max(r, raise_cell[cj * (nx - 1) + ci]);
+            raised[j * nx + i] += r + margin;
+        }
+    return raised;
+}
+
+// `const float NAME[n] = {...};`, eight floats a line, each rounded to float as the shader reads it.
+inline void write_float_array(std::ostream& out, const char* name, const std::vector<double>& v) {
+    out << "const float " << name << "[" << v.size() << "] = {\n";
+    for (size_t k = 0; k < v.size(); ++k) {
+        char buf[32];
+        std::snprintf(buf, sizeof buf, "%.8ef", double(float(v[k])));
+        out << (k % 8 == 0 ? "    " : " ") << buf << (k + 1 < v.size() ? "," : "") << (k % 8 == 7 || k + 1 == v.size() ? "\n" : "");
+    }
+    out << "};\n";
+}
+
+}  // namespace fh::test
