@@ -1,6 +1,6 @@
 // Stage "shade": one path vertex per queued ray. Adds emission seen by the ray, or the environment's radiance
 // when it escaped (both MIS-weighted against light sampling), resolves the material (textures, vertex colours,
-// normal map, glass, sheen, clear coat, unlit: only the effects the scene has are compiled in), samples a light and pushes a shadow ray (next-event estimation), samples the BSDF, applies
+// normal map, glass, diffuse transmission, sheen, clear coat, unlit: only the effects the scene has are compiled in), samples a light and pushes a shadow ray (next-event estimation), samples the BSDF, applies
 // Russian roulette and pushes the continuation ray.
 // Reads: rays[queue depth & 1], hits, paths, triangles, materials, emitters, textures, environment, and for
 // glass, sheens and clear coats the material layers, and path media. Writes: paths, path media, rays[queue (depth + 1) & 1], shadow_rays, counters.ray_count / shadow_count.
@@ -14,9 +14,11 @@
 #define BSDF_HAS_TRANSMISSION effect_on(EFFECT_TRANSMISSION)
 #define BSDF_HAS_CLEARCOAT effect_on(EFFECT_CLEARCOAT)
 #define BSDF_HAS_SHEEN effect_on(EFFECT_SHEEN)
+#define BSDF_HAS_DIFFUSE_TRANSMISSION effect_on(EFFECT_DIFFUSE_TRANSMISSION)
 #include "lib/bsdf.glsl"
 #include "lib/clearcoat.glsl"
 #include "lib/sheen_layer.glsl"
+#include "lib/diffuse_transmission.glsl"
 #include "lib/surface.glsl"
 #include "lib/lights.glsl"
 #include "lib/transmission.glsl"
@@ -131,6 +133,11 @@ void main() {
                 bsdf = with_transmission(bsdf, eval_transmission(s.material, hit.triangle, hit.b1, hit.b2), eta,
                                          volume ? 0u : 1u);
             }
+            // Diffuse transmission (KHR_materials_diffuse_transmission): part of the Lambert lobe goes through.
+            if (effect_on(EFFECT_DIFFUSE_TRANSMISSION)) {
+                DiffuseTransmission through = eval_diffuse_transmission(s.material, hit.triangle, hit.b1, hit.b2);
+                bsdf = with_diffuse_transmission(bsdf, through.factor, through.color);
+            }
             // Sheen (KHR_materials_sheen) over the base, about its shading normal.
             if (effect_on(EFFECT_SHEEN)) {
                 SheenLayer sheen = eval_sheen_layer(s.material, hit.triangle, hit.b1, hit.b2);
@@ -146,7 +153,7 @@ void main() {
                     bsdf = with_clearcoat(bsdf, coat.weight, coat.roughness, to_local(frame, nc));
                 }
             }
-            bool transmits = has_glass(bsdf);
+            bool transmits = has_transmission_lobe(bsdf);
             uint medium_beyond = volume ? (front ? s.material : INVALID_INDEX) : medium;  // across the surface
 
             float u_pick = next_float(rng);

@@ -56,6 +56,8 @@ const std::vector<EffectInfo>& list_effects() {
         {gpu::EFFECT_UNLIT, "unlit"},
         {gpu::EFFECT_SHEEN, "sheen"},
         {gpu::EFFECT_SHEEN_TEXTURE, "sheen-texture"},
+        {gpu::EFFECT_DIFFUSE_TRANSMISSION, "diffuse-transmission"},
+        {gpu::EFFECT_DIFFUSE_TRANSMISSION_TEXTURE, "diffuse-transmission-texture"},
     };
     return effects;
 }
@@ -92,7 +94,7 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
     auto slot_valid = [&](uint32_t slot) { return slot != gpu::INVALID_INDEX && slot < scene.texture_slots.size(); };
 
     std::set<uint32_t> base, metal_rough, normal, emissive, alpha, glass, glass_texture, volume, absorbing;
-    std::set<uint32_t> coat, coat_texture, coat_normal, unlit, sheen, sheen_texture;
+    std::set<uint32_t> coat, coat_texture, coat_normal, unlit, sheen, sheen_texture, diffuse, diffuse_texture;
     for (uint32_t m : used) {
         const gpu::Material& mat = scene.materials[m];
         if (m < scene.material_layers.size()) {
@@ -134,6 +136,15 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
                 sheen.insert(m);
                 if (sheen_textured || (slot_valid(layers.sheen_roughness_texture) && layers.sheen.w > 0.0f))
                     sheen_texture.insert(m);
+            }
+            // Diffuse transmission shows where its factor > 0 on a dielectric and its texture's alpha is not 0.
+            const bool diffuse_textured = slot_valid(layers.diffuse_transmission_texture);
+            if (layers.diffuse_transmission.w > 0.0f &&
+                (mat.metallic < 1.0f || slot_valid(mat.metallic_roughness_texture)) &&
+                !(diffuse_textured &&
+                  is_zero_channel(scene.images[scene.texture_slots[layers.diffuse_transmission_texture].image], 3))) {
+                diffuse.insert(m);
+                if (diffuse_textured || slot_valid(layers.diffuse_transmission_color_texture)) diffuse_texture.insert(m);
             }
         }
         if (mat.flags & gpu::MATERIAL_UNLIT) unlit.insert(m);
@@ -192,6 +203,10 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
     by_materials(gpu::EFFECT_SHEEN, sheen, "no visible material has a KHR_materials_sheen sheenColor above black");
     by_materials(gpu::EFFECT_SHEEN_TEXTURE, sheen_texture,
                  "no sheen has a sheenColorTexture or a sheenRoughnessTexture with a non-zero factor");
+    by_materials(gpu::EFFECT_DIFFUSE_TRANSMISSION, diffuse,
+                 "no visible material has KHR_materials_diffuse_transmission > 0 on a dielectric");
+    by_materials(gpu::EFFECT_DIFFUSE_TRANSMISSION_TEXTURE, diffuse_texture,
+                 "no diffusely transmitting material has a diffuseTransmissionTexture or ...ColorTexture");
     return effects;
 }
 

@@ -1,5 +1,5 @@
 // Converts glTF materials (spec 3.9) and the KHR extensions emissive_strength, specular, ior, unlit,
-// transmission, volume, clearcoat and sheen.
+// transmission, volume, clearcoat, sheen and diffuse_transmission.
 #include "scene/gltf_material.h"
 
 #include <algorithm>
@@ -21,6 +21,7 @@ constexpr const char* SUPPORTED_EXTENSIONS[] = {
     "KHR_materials_clearcoat",
     "KHR_materials_unlit",
     "KHR_materials_sheen",
+    "KHR_materials_diffuse_transmission",
     "KHR_lights_punctual",  // read by gltf_loader.cpp
     "KHR_texture_transform",  // gltf_texture.cpp
     "EXT_texture_webp",
@@ -161,7 +162,9 @@ gpu::MaterialLayers make_default_layers() {
     layers.sheen = gpu::vec4(0.0f);
     layers.sheen_color_texture = gpu::INVALID_INDEX;
     layers.sheen_roughness_texture = gpu::INVALID_INDEX;
-    layers.pad0 = layers.pad1 = 0u;
+    layers.diffuse_transmission = gpu::vec4(1.0f, 1.0f, 1.0f, 0.0f);
+    layers.diffuse_transmission_texture = gpu::INVALID_INDEX;
+    layers.diffuse_transmission_color_texture = gpu::INVALID_INDEX;
     return layers;
 }
 
@@ -196,6 +199,16 @@ gpu::MaterialLayers convert_material_layers(const tinygltf::Model& model, int in
                              float(std::clamp(read_number(sheen, "sheenRoughnessFactor", 0.0), 0.0, 1.0)));
     layers.sheen_color_texture = extension_slot(sheen, "sheenColorTexture", true);
     layers.sheen_roughness_texture = extension_slot(sheen, "sheenRoughnessTexture");
+
+    // KHR_materials_diffuse_transmission: the factor (the texture's alpha) and colour (sRGB texture, RGB).
+    const tinygltf::Value* diffuse = find_extension(material, "KHR_materials_diffuse_transmission");
+    const glm::dvec3 diffuse_color =
+        glm::clamp(read_color3(diffuse, "diffuseTransmissionColorFactor", glm::dvec3(1.0)), 0.0, 1.0);
+    layers.diffuse_transmission =
+        gpu::vec4(float(diffuse_color.r), float(diffuse_color.g), float(diffuse_color.b),
+                  float(std::clamp(read_number(diffuse, "diffuseTransmissionFactor", 0.0), 0.0, 1.0)));
+    layers.diffuse_transmission_texture = extension_slot(diffuse, "diffuseTransmissionTexture");
+    layers.diffuse_transmission_color_texture = extension_slot(diffuse, "diffuseTransmissionColorTexture", true);
 
     // KHR_materials_volume: thicknessFactor > 0 makes the mesh the boundary of a volume; its value (and the
     // thickness texture) is a rasteriser's stand-in for the geometry a path tracer has, so only its sign is read.

@@ -25,6 +25,12 @@
 // a convex mix of two energy-conserving, reciprocal BSDFs. Stages compiled without EFFECT_TRANSMISSION define
 // BSDF_HAS_TRANSMISSION false, and none of the glass code is left in them.
 //
+// KHR_materials_diffuse_transmission sends a fraction `diffuse_transmission` of the diffuse lobe through the
+// surface instead, as a Lambert lobe of colour diffuseTransmissionColor on the other side, under the same albedo
+// scaling (with |mu_i|), so reflected + transmitted stays 1 - E(mu_o) times the colours and the BTDF is symmetric
+// in wo and wi: thin-walled (README "Diffuse transmission"). Without EFFECT_DIFFUSE_TRANSMISSION,
+// BSDF_HAS_DIFFUSE_TRANSMISSION is false.
+//
 // KHR_materials_clearcoat puts a white GGX coat (ior 1.5: f0 = 0.04, f90 = 1; its own roughness and normal)
 // over all of the above, layered as the extension's fresnel_coat does, with the coat's albedo in place of
 // its Fresnel term:
@@ -66,6 +72,9 @@ using fh::gpu::Material;  // C++: include shaders/shared/layout.h at global scop
 #ifndef BSDF_HAS_SHEEN
 #define BSDF_HAS_SHEEN true
 #endif
+#ifndef BSDF_HAS_DIFFUSE_TRANSMISSION
+#define BSDF_HAS_DIFFUSE_TRANSMISSION true
+#endif
 
 // KHR_materials_clearcoat: the coat's Fresnel at normal incidence, ((1.5 - 1) / (1.5 + 1))^2.
 const float CLEARCOAT_F0 = 0.04f;
@@ -91,6 +100,8 @@ struct BsdfParams {
     vec3 clearcoat_normal;  // the coat's normal in the local frame (z: the base's shading normal)
     vec3 sheen_color;       // KHR_materials_sheen: the sheen's colour (0: no sheen)
     float sheen_roughness;  // perceptual, at least SHEEN_MIN_ROUGHNESS
+    float diffuse_transmission;       // KHR_materials_diffuse_transmission: the diffuse lobe's share sent through
+    vec3 diffuse_transmission_color;  // the colour it takes on the way
 };
 
 // Floor of 1 - E_avg (approached only by f0 = f90 = 1 at small alpha): loses energy, never adds it.
@@ -122,6 +133,8 @@ BsdfParams make_bsdf_params(Material m) {
     p.clearcoat_normal = vec3(0.0f, 0.0f, 1.0f);
     p.sheen_color = vec3(0.0f);
     p.sheen_roughness = SHEEN_MIN_ROUGHNESS;
+    p.diffuse_transmission = 0.0f;
+    p.diffuse_transmission_color = vec3(1.0f);
     return p;
 }
 
@@ -136,6 +149,22 @@ BsdfParams with_transmission(BsdfParams p, float transmission, float eta, uint t
 
 bool has_glass(BsdfParams p) {
     return BSDF_HAS_TRANSMISSION && p.transmission > 0.0f && p.metallic < 1.0f;
+}
+
+// `p` with a fraction `factor` of its diffuse lobe transmitted, tinted by `color`.
+BsdfParams with_diffuse_transmission(BsdfParams p, float factor, vec3 color) {
+    p.diffuse_transmission = clamp(factor, 0.0f, 1.0f);
+    p.diffuse_transmission_color = clamp(color, vec3(0.0f), vec3(1.0f));
+    return p;
+}
+
+bool has_diffuse_transmission(BsdfParams p) {
+    return BSDF_HAS_DIFFUSE_TRANSMISSION && p.diffuse_transmission > 0.0f && p.metallic < 1.0f;
+}
+
+// Whether any lobe sends light through the surface (glass or diffuse transmission).
+bool has_transmission_lobe(BsdfParams p) {
+    return has_glass(p) || has_diffuse_transmission(p);
 }
 
 // `p` under a clear coat of weight `clearcoat`, perceptual roughness `roughness` and unit normal `normal`
@@ -192,12 +221,19 @@ float schlick_weight(float cos_theta) {
 struct LobeAlbedos {
     float specular;
     float diffuse;
+    float through;  // the diffusely transmitted share (KHR_materials_diffuse_transmission)
 };
 
 LobeAlbedos estimate_lobe_albedos(BsdfParams p, float cos_o, float opaque) {
     vec2 albedo = ggx_albedo(cos_o, p.alpha);
     LobeAlbedos a;
     a.diffuse = (1.0f - p.metallic) * opaque * diffuse_transmittance(p, albedo) * luminance(p.base_color);
+    a.through = 0.0f;
+    if (has_diffuse_transmission(p)) {
+        float below = (1.0f - p.metallic) * opaque * diffuse_transmittance(p, albedo);
+        a.through = below * p.diffuse_transmission * luminance(p.diffuse_transmission_color);
+        a.diffuse *= 1.0f - p.diffuse_transmission;
+    }
     vec3 e_dielectric = p.f0_dielectric * albedo.x + vec3(p.f90_dielectric * albedo.y);
     vec3 e_metal = p.base_color * albedo.x + vec3(albedo.y);
     a.specular = luminance(mix(e_dielectric * opaque, e_metal, p.metallic));
@@ -223,10 +259,20 @@ float specular_probability(BsdfParams p, float cos_o) {
 // f(wo, wi) * cos(theta_i) of everything under the coat (the whole BSDF without KHR_materials_clearcoat).
 vec3 eval_base_bsdf(BsdfParams p, vec3 wo, vec3 wi) {
     if (!(wo.z > 0.0f && wi.z > 0.0f)) {
-        if (has_glass(p) && wo.z > 0.0f && wi.z < 0.0f) {
-            return eval_glass(p.glass, wo, wi) * ((1.0f - p.metallic) * p.transmission);
+        vec3 through = vec3(0.0f);
+        if (wo.z > 0.0f && wi.z < 0.0f) {
+            if (has_diffuse_transmission(p)) {
+                float transmittance = diffuse_transmittance(p, ggx_albedo(wo.z, p.alpha)) *
+                                      diffuse_transmittance(p, ggx_albedo(-wi.z, p.alpha)) * p.diffuse_scale;
+                through = p.diffuse_transmission_color *
+                          (INV_PI * -wi.z * transmittance * p.diffuse_transmission * (1.0f - p.metallic) *
+                           (has_glass(p) ? 1.0f - p.transmission : 1.0f));
+            }
+            if (has_glass(p)) {
+                through += eval_glass(p.glass, wo, wi) * ((1.0f - p.metallic) * p.transmission);
+            }
         }
-        return vec3(0.0f);
+        return through;
     }
     vec3 h = normalize(wo + wi);  // |wo + wi| >= wo.z + wi.z > 0
     float w = schlick_weight(abs(dot(wo, h)));
@@ -234,6 +280,9 @@ vec3 eval_base_bsdf(BsdfParams p, vec3 wo, vec3 wi) {
     float transmittance = diffuse_transmittance(p, ggx_albedo(wo.z, p.alpha)) *
                           diffuse_transmittance(p, ggx_albedo(wi.z, p.alpha)) * p.diffuse_scale;
     vec3 diffuse = p.base_color * (INV_PI * wi.z * transmittance);
+    if (has_diffuse_transmission(p)) {
+        diffuse *= 1.0f - p.diffuse_transmission;
+    }
     vec3 f_dielectric = p.f0_dielectric + (vec3(p.f90_dielectric) - p.f0_dielectric) * w;
     vec3 dielectric = diffuse + f_dielectric * specular;
     if (has_glass(p)) {
@@ -248,6 +297,7 @@ vec3 eval_base_bsdf(BsdfParams p, vec3 wo, vec3 wi) {
 struct LobeChoice {
     float specular;
     float glass;
+    float through;  // Lambert through the surface (KHR_materials_diffuse_transmission)
 };
 
 // The glass lobe's share of the albedo, estimated as F(cos_o) + (1 - F) luminance(base_color).
@@ -256,14 +306,16 @@ float estimate_glass_albedo(BsdfParams p, float cos_o) {
     return (1.0f - p.metallic) * p.transmission * (f + (1.0f - f) * luminance(p.base_color));
 }
 
-// Without glass or sheen: specular_probability. With them: each lobe's share of the albedo (the glass lobe's
-// estimated as F(cos_o) + (1 - F) luminance(base_color); the sheen's counted with the cosine-sampled diffuse
-// lobe), every lobe present at least BSDF_MIN_LOBE_PROBABILITY before renormalising. Depends on wo only.
+// Without glass, sheen or diffuse transmission: specular_probability. With them: each lobe's share of the albedo
+// (the glass lobe's estimated as F(cos_o) + (1 - F) luminance(base_color); the sheen's counted with the
+// cosine-sampled diffuse lobe; diffuse transmission as its own cosine lobe below), every lobe present at least
+// BSDF_MIN_LOBE_PROBABILITY before renormalising. Depends on wo only.
 LobeChoice choose_lobes(BsdfParams p, float cos_o) {
     LobeChoice c;
     c.glass = 0.0f;
+    c.through = 0.0f;
     bool glassy = has_glass(p);
-    if (!glassy && !has_sheen(p)) {
+    if (!glassy && !has_sheen(p) && !has_diffuse_transmission(p)) {
         c.specular = specular_probability(p, cos_o);
         return c;
     }
@@ -275,31 +327,41 @@ LobeChoice choose_lobes(BsdfParams p, float cos_o) {
         a.specular *= below;
         glass *= below;
         a.diffuse = a.diffuse * below + estimate_sheen_albedo(p, cos_o);
+        a.through *= below;
     }
-    float total = a.specular + a.diffuse + glass;
+    float total = a.specular + a.diffuse + glass + a.through;
     if (!(total > 0.0f)) {
         c.specular = 0.0f;
-        c.glass = 1.0f;
+        c.glass = glassy ? 1.0f : 0.0f;
+        c.through = glassy ? 0.0f : 1.0f;
         return c;
     }
     float q_specular = a.specular > 0.0f ? max(a.specular / total, BSDF_MIN_LOBE_PROBABILITY) : 0.0f;
     float q_diffuse = a.diffuse > 0.0f ? max(a.diffuse / total, BSDF_MIN_LOBE_PROBABILITY) : 0.0f;
     float q_glass = glass > 0.0f ? max(glass / total, BSDF_MIN_LOBE_PROBABILITY) : 0.0f;
-    float norm = q_specular + q_diffuse + q_glass;
+    float q_through = a.through > 0.0f ? max(a.through / total, BSDF_MIN_LOBE_PROBABILITY) : 0.0f;
+    float norm = q_specular + q_diffuse + q_glass + q_through;
     c.specular = q_specular / norm;
     c.glass = q_glass / norm;
+    c.through = q_through / norm;
     return c;
 }
 
 float pdf_bsdf_lobes(BsdfParams p, LobeChoice c, vec3 wo, vec3 wi) {
     if (!(wo.z > 0.0f && wi.z > 0.0f)) {
-        if (c.glass > 0.0f && wo.z > 0.0f && wi.z < 0.0f) {
-            return c.glass * pdf_glass(p.glass, wo, wi);
+        float pdf = 0.0f;
+        if (wo.z > 0.0f && wi.z < 0.0f) {
+            if (c.glass > 0.0f) {
+                pdf = c.glass * pdf_glass(p.glass, wo, wi);
+            }
+            if (c.through > 0.0f) {
+                pdf += c.through * pdf_cosine_hemisphere(-wi.z);
+            }
         }
-        return 0.0f;
+        return pdf;
     }
     float pdf_specular = c.specular > 0.0f ? pdf_ggx_vndf_reflection(wo, normalize(wo + wi), p.alpha) : 0.0f;
-    float pdf = c.specular * pdf_specular + (1.0f - c.specular - c.glass) * pdf_cosine_hemisphere(wi.z);
+    float pdf = c.specular * pdf_specular + (1.0f - c.specular - c.glass - c.through) * pdf_cosine_hemisphere(wi.z);
     if (c.glass > 0.0f) {
         pdf += c.glass * pdf_glass(p.glass, wo, wi);
     }
@@ -360,7 +422,7 @@ CoatChoice choose_coat(BsdfParams p, vec3 wo, LobeChoice c) {
         return coat;
     }
     LobeAlbedos a = estimate_lobe_albedos(p, wo.z, 1.0f - (c.glass > 0.0f ? p.transmission : 0.0f));
-    float base = a.specular + a.diffuse + (c.glass > 0.0f ? estimate_glass_albedo(p, wo.z) : 0.0f);
+    float base = a.specular + a.diffuse + a.through + (c.glass > 0.0f ? estimate_glass_albedo(p, wo.z) : 0.0f);
     if (has_sheen(p)) {
         base = base * sheen_transmittance(p, wo.z) + estimate_sheen_albedo(p, wo.z);
     }
@@ -392,7 +454,8 @@ float pdf_bsdf(BsdfParams p, vec3 wo, vec3 wi) {
     return pdf_bsdf_choice(p, c, choose_coat(p, wo, c), wo, wi);
 }
 
-// A direction from the base's lobes as `c` picks them with u.x (specular reflection, glass, Lambert), in xyz;
+// A direction from the base's lobes as `c` picks them with u.x (specular reflection, glass, Lambert through the
+// surface, Lambert), in xyz;
 // w = 0 when there is none (a specular sample below the surface: not a reflection, nor, with glass, a
 // transmission of this lobe).
 vec4 sample_base_direction(BsdfParams p, LobeChoice c, vec3 wo, vec3 u) {
@@ -406,6 +469,9 @@ vec4 sample_base_direction(BsdfParams p, LobeChoice c, vec3 wo, vec3 u) {
     } else if (u.x < c.specular + c.glass) {
         float u_glass = min((u.x - c.specular) / c.glass, 0.99999994f);  // reused: reflect or refract
         wi = sample_glass(p.glass, wo, vec3(u_glass, u.y, u.z));
+    } else if (u.x < c.specular + c.glass + c.through) {
+        wi = sample_cosine_hemisphere(vec2(u.y, u.z));
+        wi.z = -wi.z;
     } else {
         wi = sample_cosine_hemisphere(vec2(u.y, u.z));
     }

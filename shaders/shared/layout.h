@@ -83,12 +83,16 @@ FH_CONST uint EFFECT_CLEARCOAT_NORMAL_TEXTURE = 8192u;  // clearcoatNormalTextur
 FH_CONST uint EFFECT_UNLIT = 16384u;               // KHR_materials_unlit: base colour to camera rays, black otherwise
 FH_CONST uint EFFECT_SHEEN = 32768u;               // KHR_materials_sheen: the Charlie sheen lobe over the base
 FH_CONST uint EFFECT_SHEEN_TEXTURE = 65536u;       // sheenColorTexture, sheenRoughnessTexture
+FH_CONST uint EFFECT_DIFFUSE_TRANSMISSION = 131072u;          // KHR_materials_diffuse_transmission
+FH_CONST uint EFFECT_DIFFUSE_TRANSMISSION_TEXTURE = 262144u;  // its two textures
 FH_CONST uint EFFECT_ATTRIBUTES = EFFECT_BASE_COLOR_TEXTURE | EFFECT_METALLIC_ROUGHNESS_TEXTURE |
                                   EFFECT_NORMAL_TEXTURE | EFFECT_EMISSIVE_TEXTURE | EFFECT_VERTEX_COLORS |
                                   EFFECT_ALPHA | EFFECT_TRANSMISSION_TEXTURE | EFFECT_CLEARCOAT_TEXTURE |
-                                  EFFECT_CLEARCOAT_NORMAL_TEXTURE | EFFECT_SHEEN_TEXTURE;  // effects that read TriangleAttributes
+                                  EFFECT_CLEARCOAT_NORMAL_TEXTURE | EFFECT_SHEEN_TEXTURE |
+                                  EFFECT_DIFFUSE_TRANSMISSION_TEXTURE;  // effects that read TriangleAttributes
 FH_CONST uint EFFECT_MATERIAL = EFFECT_ATTRIBUTES | EFFECT_TRANSMISSION | EFFECT_VOLUME | EFFECT_ABSORPTION |
-                                EFFECT_CLEARCOAT | EFFECT_UNLIT | EFFECT_SHEEN;  // decided by the materials: --force-effect / --disable-effect
+                                EFFECT_CLEARCOAT | EFFECT_UNLIT | EFFECT_SHEEN |
+                                EFFECT_DIFFUSE_TRANSMISSION;  // decided by the materials: --force-effect / --disable-effect
 
 // ---- Robustness techniques (all on by default; `--disable-technique` turns one off to measure its cost and
 // to show what goes wrong without it). README "Numerical stability" has the table.
@@ -216,6 +220,8 @@ struct MaterialLayers {
     vec4 attenuation;              // KHR_materials_volume: rgb = absorption coefficient per scene unit,
                                    // -ln(attenuationColor) / attenuationDistance (0: none), a unused
     vec4 sheen;                    // KHR_materials_sheen: rgb = sheenColorFactor, a = sheenRoughnessFactor
+    vec4 diffuse_transmission;     // KHR_materials_diffuse_transmission: rgb = diffuseTransmissionColorFactor,
+                                   // a = diffuseTransmissionFactor
     float transmission;            // KHR_materials_transmission transmissionFactor
     uint transmission_texture;     // TextureSlot (R channel), or INVALID_INDEX
     uint flags;                    // LAYERS_VOLUME
@@ -226,8 +232,8 @@ struct MaterialLayers {
     uint clearcoat_normal_texture;     // TextureSlot (its scale in the slot), or INVALID_INDEX
     uint sheen_color_texture;          // TextureSlot (RGB, sRGB), or INVALID_INDEX
     uint sheen_roughness_texture;      // TextureSlot (A channel), or INVALID_INDEX
-    uint pad0;
-    uint pad1;
+    uint diffuse_transmission_texture;        // TextureSlot (A channel), or INVALID_INDEX
+    uint diffuse_transmission_color_texture;  // TextureSlot (RGB, sRGB), or INVALID_INDEX
 };
 
 // A material's use of a texture (glTF textureInfo): which image, how it is addressed, and

@@ -70,6 +70,23 @@ double integrate_hemisphere(vec3 wo, const D& density) {
     return sum(integrate_cells(grid, wo, density));
 }
 
+// sample_bsdf and eval_bsdf give the same bits for `a` and `b` (a layer of weight 0 is no layer at all), over n
+// random outgoing directions up to `max_degrees` and random numbers from `seed`.
+inline void expect_identical_bsdfs(const BsdfParams& a, const BsdfParams& b, uint32_t seed, float max_degrees, int n = 1000) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
+    for (int i = 0; i < n; ++i) {
+        const vec3 wo = outgoing(max_degrees * uniform(rng));
+        const vec3 u(uniform(rng), uniform(rng), uniform(rng));
+        const BsdfSample x = sample_bsdf(a, wo, u), y = sample_bsdf(b, wo, u);
+        ASSERT_EQ(x.valid, y.valid);
+        ASSERT_EQ(x.wi, y.wi);
+        ASSERT_EQ(x.pdf, y.pdf);
+        ASSERT_EQ(x.weight, y.weight);
+        ASSERT_EQ(eval_bsdf(a, wo, x.wi), eval_bsdf(b, wo, x.wi));
+    }
+}
+
 // The fraction of the energy from wo that `p` keeps: reflected + eta^2 x transmitted (the BTDF carries radiance's 1 / eta^2,
 // so eta^2 undoes it; thin walls do not bend light and are not scaled). Monte Carlo with n samples.
 struct Albedo {

@@ -50,6 +50,18 @@ GltfBuilder make_textured_triangle(const nlohmann::json& material) {
     return b;
 }
 
+// The scene of one textured triangle of `material`.
+Scene load_textured_triangle(const nlohmann::json& material) {
+    GltfBuilder b = make_textured_triangle(material);
+    b.set_scene({b.add_node({{"mesh", 0}})});
+    return fh::load_gltf(b.write_gltf(), WORLD_SPACE);
+}
+
+// The effect bits among `mask` that the analysis switches on for one triangle of `material`.
+uint32_t analysed_effects_of(const nlohmann::json& material, uint32_t mask) {
+    return fh::analyse_effects(load_textured_triangle(material), false).bits & mask;
+}
+
 TEST(GltfTextures, ReadsSlotsSamplersTransformsAndTheImage) {
     nlohmann::json transform = {{"offset", {0.5, 0.25}}, {"rotation", 0.5}, {"scale", {2, 3}}, {"texCoord", 1}};
     nlohmann::json material;
@@ -251,11 +263,7 @@ TEST(GltfTransmission, ReadsTransmissionAndVolume) {
 TEST(GltfTransmission, EffectsAreDecidedByValue) {
     const uint32_t glass = gpu::EFFECT_TRANSMISSION | gpu::EFFECT_TRANSMISSION_TEXTURE | gpu::EFFECT_VOLUME |
                            gpu::EFFECT_ABSORPTION;
-    auto effects_of = [&](const nlohmann::json& material) {
-        GltfBuilder b = make_textured_triangle(material);
-        b.set_scene({b.add_node({{"mesh", 0}})});
-        return fh::analyse_effects(fh::load_gltf(b.write_gltf(), WORLD_SPACE), false).bits & glass;
-    };
+    auto effects_of = [&](const nlohmann::json& material) { return analysed_effects_of(material, glass); };
     EXPECT_EQ(effects_of(glass_material(0.0, 1.0, {{"attenuationDistance", 1.0}})), 0u);
     EXPECT_EQ(effects_of(glass_material(1.0, 1.0, {{"attenuationDistance", 1.0}}, 1.0)), 0u);  // metal hides it
     EXPECT_EQ(effects_of(glass_material(1.0, 0.0, {{"attenuationDistance", 1.0}})),
@@ -321,11 +329,7 @@ TEST(GltfClearcoat, ReadsFactorsAndTextures) {
 // roughness factor of 0 is not a texture effect.
 TEST(GltfClearcoat, EffectsAreDecidedByValue) {
     const uint32_t coat = gpu::EFFECT_CLEARCOAT | gpu::EFFECT_CLEARCOAT_TEXTURE | gpu::EFFECT_CLEARCOAT_NORMAL_TEXTURE;
-    auto effects_of = [&](const nlohmann::json& material) {
-        GltfBuilder b = make_textured_triangle(material);
-        b.set_scene({b.add_node({{"mesh", 0}})});
-        return fh::analyse_effects(fh::load_gltf(b.write_gltf(), WORLD_SPACE), false).bits & coat;
-    };
+    auto effects_of = [&](const nlohmann::json& material) { return analysed_effects_of(material, coat); };
     EXPECT_EQ(effects_of(coat_material(0.0, 0.5)), 0u);
     nlohmann::json plain = coat_material(1.0, 0.0);
     plain["extensions"]["KHR_materials_clearcoat"].erase("clearcoatTexture");
@@ -378,9 +382,7 @@ nlohmann::json sheen_material(nlohmann::json color, double roughness, bool textu
 
 // The factors land in MaterialLayers.sheen; the colour texture is sRGB (a colour), the roughness one is data.
 TEST(GltfSheen, ReadsFactorsAndTextures) {
-    GltfBuilder b = make_textured_triangle(sheen_material({1.0, 0.5, 0.25}, 0.8, true));
-    b.set_scene({b.add_node({{"mesh", 0}})});
-    const Scene s = fh::load_gltf(b.write_gltf(), WORLD_SPACE);
+    const Scene s = load_textured_triangle(sheen_material({1.0, 0.5, 0.25}, 0.8, true));
     ASSERT_EQ(s.material_layers.size(), 1u);
     const gpu::MaterialLayers& l = s.material_layers[0];
     EXPECT_FLOAT_EQ(l.sheen.x, 1.0f);
@@ -398,13 +400,50 @@ TEST(GltfSheen, ReadsFactorsAndTextures) {
 // By value: a black sheenColorFactor switches nothing on, whatever textures it names.
 TEST(GltfSheen, EffectsAreDecidedByValue) {
     const uint32_t sheen = gpu::EFFECT_SHEEN | gpu::EFFECT_SHEEN_TEXTURE;
-    auto effects_of = [&](const nlohmann::json& material) {
-        GltfBuilder b = make_textured_triangle(material);
-        b.set_scene({b.add_node({{"mesh", 0}})});
-        return fh::analyse_effects(fh::load_gltf(b.write_gltf(), WORLD_SPACE), false).bits & sheen;
-    };
+    auto effects_of = [&](const nlohmann::json& material) { return analysed_effects_of(material, sheen); };
     EXPECT_EQ(effects_of(sheen_material({0.0, 0.0, 0.0}, 0.5, true)), 0u);
     EXPECT_EQ(effects_of(sheen_material({0.0, 0.1, 0.0}, 0.5, false)), gpu::EFFECT_SHEEN);
+}
+
+}  // namespace
+
+// ---- KHR_materials_diffuse_transmission ---------------------------------------------------------------------
+namespace {
+
+nlohmann::json diffuse_material(double factor, bool textured, double metallic = 0.0) {
+    nlohmann::json ext = {{"diffuseTransmissionFactor", factor}, {"diffuseTransmissionColorFactor", {0.5, 0.25, 1.0}}};
+    if (textured) {
+        ext["diffuseTransmissionTexture"] = {{"index", 0}};
+        ext["diffuseTransmissionColorTexture"] = {{"index", 0}};
+    }
+    return {{"pbrMetallicRoughness", {{"metallicFactor", metallic}}},
+            {"extensions", {{"KHR_materials_diffuse_transmission", ext}}}};
+}
+
+// The factor and colour land in MaterialLayers.diffuse_transmission; the colour texture is sRGB, the factor's data.
+TEST(GltfDiffuseTransmission, ReadsFactorsAndTextures) {
+    const Scene s = load_textured_triangle(diffuse_material(0.75, true));
+    ASSERT_EQ(s.material_layers.size(), 1u);
+    const gpu::MaterialLayers& l = s.material_layers[0];
+    EXPECT_FLOAT_EQ(l.diffuse_transmission.w, 0.75f);
+    EXPECT_FLOAT_EQ(l.diffuse_transmission.x, 0.5f);
+    EXPECT_FLOAT_EQ(l.diffuse_transmission.y, 0.25f);
+    EXPECT_FLOAT_EQ(l.diffuse_transmission.z, 1.0f);
+    ASSERT_LT(l.diffuse_transmission_texture, s.texture_slots.size());
+    ASSERT_LT(l.diffuse_transmission_color_texture, s.texture_slots.size());
+    EXPECT_EQ(s.texture_slots[l.diffuse_transmission_texture].addressing & gpu::SAMPLER_SRGB, 0u);
+    EXPECT_EQ(s.texture_slots[l.diffuse_transmission_color_texture].addressing & gpu::SAMPLER_SRGB, gpu::SAMPLER_SRGB);
+    const uint32_t bits = gpu::EFFECT_DIFFUSE_TRANSMISSION | gpu::EFFECT_DIFFUSE_TRANSMISSION_TEXTURE;
+    EXPECT_EQ(fh::analyse_effects(s, false).bits & bits, bits);
+}
+
+// By value: a factor of 0, or metal (which has no diffuse lobe), switches nothing on.
+TEST(GltfDiffuseTransmission, EffectsAreDecidedByValue) {
+    const uint32_t bits = gpu::EFFECT_DIFFUSE_TRANSMISSION | gpu::EFFECT_DIFFUSE_TRANSMISSION_TEXTURE;
+    auto effects_of = [&](const nlohmann::json& material) { return analysed_effects_of(material, bits); };
+    EXPECT_EQ(effects_of(diffuse_material(0.0, true)), 0u);
+    EXPECT_EQ(effects_of(diffuse_material(1.0, false, 1.0)), 0u);
+    EXPECT_EQ(effects_of(diffuse_material(1.0, false)), gpu::EFFECT_DIFFUSE_TRANSMISSION);
 }
 
 }  // namespace

@@ -1,11 +1,11 @@
 #!/usr/bin/env python3
 """Writes the render-test scenes for the KHR material extensions other than glass: KHR_materials_clearcoat,
-KHR_materials_sheen and KHR_materials_unlit (standard library only).
+KHR_materials_sheen, KHR_materials_diffuse_transmission and KHR_materials_unlit (standard library only).
 
 usage: make_material_scenes.py OUT_DIR
 
-Rendered under a white environment of radiance 1 (--background 1,1,1); each has an analytic criterion, stated
-beside its test in tests/render/CMakeLists.txt:
+Rendered under a white environment of radiance 1 (--background 1,1,1) unless said otherwise; each has an analytic
+criterion, stated beside its test in tests/render/CMakeLists.txt:
   coat_black_quad.gltf  a smooth clear coat (clearcoatFactor 1, roughness 0) over a black base without specular,
                         seen head-on by an orthographic camera: only the coat reflects, its Fresnel at normal
                         incidence ((1.5 - 1) / (1.5 + 1))^2 = 0.04.
@@ -15,6 +15,10 @@ beside its test in tests/render/CMakeLists.txt:
   sheen_black_quad.gltf a white sheen of roughness 1 over a black base without specular (specularFactor 0), seen
                         head-on: only the sheen reflects, its directional albedo at normal incidence, 0.1638 (the
                         Charlie lobe integrated in double precision: tests/unit/sheen_albedo_reference.h).
+  diffuse_sheet.gltf    a sheet that transmits all of its diffuse lobe (diffuseTransmissionFactor 1, colour 0.6;
+                        black base, no specular) seen head-on, over a large emitter of radiance 1 facing it, no
+                        environment: the camera sees only light sent through, 0.6 x the emitter's share of the
+                        cosine-weighted hemisphere below (0.99992 for a square 200 wide at distance 1).
   unlit_quad.gltf       an unlit quad of base colour 0.5 (with an emissiveFactor of 1, which unlit ignores), seen
                         head-on: every camera ray sees exactly its base colour, 0.5, whatever lights the scene.
 """
@@ -49,6 +53,22 @@ def sheened(base, sheen_color, sheen_roughness, specular=1.0):
                                                    "sheenRoughnessFactor": sheen_roughness}}}
 
 
+def diffuse_sheet():
+    g = Gltf()
+    g.doc["extensionsUsed"] += ["KHR_materials_diffuse_transmission", "KHR_materials_specular"]
+    g.doc["materials"].append({"pbrMetallicRoughness": {"baseColorFactor": [0.0, 0.0, 0.0, 1.0], "metallicFactor": 0.0},
+                               "extensions": {"KHR_materials_specular": {"specularFactor": 0.0},
+                                              "KHR_materials_diffuse_transmission": {
+                                                  "diffuseTransmissionFactor": 1.0,
+                                                  "diffuseTransmissionColorFactor": [0.6, 0.6, 0.6]}}})
+    g.doc["materials"].append({"pbrMetallicRoughness": {"baseColorFactor": [0.0, 0.0, 0.0, 1.0]},
+                               "emissiveFactor": [1.0, 1.0, 1.0]})
+    g.add_node({"mesh": g.add_mesh(quad(-10, -10, 10, 10, 0.0), 0)})
+    g.add_node({"mesh": g.add_mesh(quad(-100, -100, 100, 100, -1.0), 1)})
+    g.add_orthographic_camera({"translation": [0.0, 0.0, 3.0]}, 1.0)
+    return g
+
+
 def unlit_quad():
     g = Gltf()
     g.doc["extensionsUsed"] += ["KHR_materials_unlit"]
@@ -71,6 +91,7 @@ def main():
         "sheen_black_quad": scene(sheened((0.0, 0.0, 0.0), (1.0, 1.0, 1.0), 1.0, specular=0.0),
                                   quad(-10, -10, 10, 10, 0.0),
                                   lambda g: g.add_orthographic_camera({"translation": [0.0, 0.0, 3.0]}, 1.0)),
+        "diffuse_sheet": diffuse_sheet(),
         "unlit_quad": unlit_quad(),
     }
     for name, g in scenes.items():

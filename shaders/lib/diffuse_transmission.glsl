@@ -1,0 +1,33 @@
+// A material's KHR_materials_diffuse_transmission at a surface point: the share of the diffuse lobe sent through
+// the surface and its colour (factors times textures). Compiled only for the effects the scene has
+// (EFFECT_DIFFUSE_TRANSMISSION, EFFECT_DIFFUSE_TRANSMISSION_TEXTURE); the lobe is in bsdf.glsl.
+#ifndef FH_DIFFUSE_TRANSMISSION_GLSL
+#define FH_DIFFUSE_TRANSMISSION_GLSL
+#include "effects.glsl"
+#include "material.glsl"
+
+struct DiffuseTransmission {
+    float factor;  // diffuseTransmissionFactor x A of diffuseTransmissionTexture
+    vec3 color;    // diffuseTransmissionColorFactor x RGB of diffuseTransmissionColorTexture (sRGB-decoded)
+};
+
+DiffuseTransmission eval_diffuse_transmission(uint material, uint triangle, float b1, float b2) {
+    DiffuseTransmission d;
+    d.factor = 0.0f;
+    d.color = vec3(1.0f);
+    if (!effect_on(EFFECT_DIFFUSE_TRANSMISSION)) return d;
+    vec4 factors = material_layers[material].diffuse_transmission;
+    d.factor = factors.w;
+    d.color = vec3(factors);
+    if (effect_on(EFFECT_DIFFUSE_TRANSMISSION_TEXTURE) && d.factor > 0.0f) {
+        uint factor_slot = material_layers[material].diffuse_transmission_texture;
+        uint color_slot = material_layers[material].diffuse_transmission_color_texture;
+        if (factor_slot != INVALID_INDEX || color_slot != INVALID_INDEX) {
+            Texcoords tc = interpolate_texcoords(triangle, b1, b2);
+            if (factor_slot != INVALID_INDEX) d.factor *= sample_texture(factor_slot, tc).w;
+            if (color_slot != INVALID_INDEX) d.color *= vec3(sample_texture(color_slot, tc));
+        }
+    }
+    return d;
+}
+#endif
