@@ -2,7 +2,8 @@
 """Measures the directional albedo of one Principled BSDF layer in Blender Cycles, to explain differences between
 Fredholm and Cycles by cause: a large quad of that material under a white environment of radiance 1, seen
 orthographically at a given angle, with nothing else in the scene, so each pixel is the albedo for that view
-direction. The base is black and has no specular (Specular IOR Level 0), so only the layer reflects.
+direction. The base has no specular (Specular IOR Level 0) and is black, so only the layer reflects, or with
+--white-base a white Lambert, to see what the layer takes from the base (1 - the result is what is lost).
 
   /opt/refbench/cycles-venv/bin/python tests/bench/cycles_layer_albedo.py --layer sheen --roughness 0.8 --degrees 0
 
@@ -21,7 +22,8 @@ import numpy as np
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--layer", choices=["sheen"], default="sheen")
+    ap.add_argument("--layer", choices=["sheen", "coat"], default="sheen")
+    ap.add_argument("--white-base", action="store_true", help="a white Lambert base instead of black")
     ap.add_argument("--roughness", type=float, action="append", required=True)
     ap.add_argument("--degrees", type=float, action="append", required=True, help="view angle from the normal")
     ap.add_argument("--spp", type=int, default=1024)
@@ -49,11 +51,17 @@ def main():
             material = bpy.data.materials.new("layer")
             material.use_nodes = True
             bsdf = material.node_tree.nodes["Principled BSDF"]
-            bsdf.inputs["Base Color"].default_value = (0, 0, 0, 1)
+            base = 1.0 if args.white_base else 0.0
+            bsdf.inputs["Base Color"].default_value = (base, base, base, 1)
             bsdf.inputs["Specular IOR Level"].default_value = 0.0
-            bsdf.inputs["Sheen Weight"].default_value = 1.0
-            bsdf.inputs["Sheen Tint"].default_value = (1, 1, 1, 1)
-            bsdf.inputs["Sheen Roughness"].default_value = roughness
+            if args.layer == "sheen":
+                bsdf.inputs["Sheen Weight"].default_value = 1.0
+                bsdf.inputs["Sheen Tint"].default_value = (1, 1, 1, 1)
+                bsdf.inputs["Sheen Roughness"].default_value = roughness
+            else:  # as Blender's glTF importer sets a clearcoat: weight, roughness, IOR 1.5, no tint
+                bsdf.inputs["Coat Weight"].default_value = 1.0
+                bsdf.inputs["Coat Roughness"].default_value = roughness
+                bsdf.inputs["Coat IOR"].default_value = 1.5
             plane.data.materials.append(material)
             t = math.radians(degrees)
             camera = bpy.data.cameras.new("camera")
@@ -72,7 +80,8 @@ def main():
                     channels = f.channels()
                     rgba = channels["RGBA"].pixels if "RGBA" in channels else channels["RGB"].pixels
             mean = float(np.asarray(rgba)[..., :3].mean())
-            print(f"cycles {args.layer} roughness {roughness:.2f} at {degrees:4.1f} deg: albedo {mean:.4f}", flush=True)
+            print(f"cycles {args.layer} roughness {roughness:.2f} over {'white' if args.white_base else 'black'} at "
+                  f"{degrees:4.1f} deg: albedo {mean:.4f}", flush=True)
 
 
 if __name__ == "__main__":
