@@ -2,6 +2,7 @@
 #include "scene/effects.h"
 
 #include <algorithm>
+#include <initializer_list>
 #include <set>
 #include <stdexcept>
 
@@ -92,19 +93,25 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
         colors_alpha = colors_alpha || c.a != 1.0f;
     }
     auto slot_valid = [&](uint32_t slot) { return slot != gpu::INVALID_INDEX && slot < scene.texture_slots.size(); };
+    // Whether the texture of a valid slot is 0 everywhere in each of `channels` (0 = R ... 3 = A).
+    auto slot_zero = [&](uint32_t slot, std::initializer_list<int> channels) {
+        const SceneImage& image = scene.images[scene.texture_slots[slot].image];
+        return std::all_of(channels.begin(), channels.end(), [&](int c) { return is_zero_channel(image, c); });
+    };
 
     std::set<uint32_t> base, metal_rough, normal, emissive, alpha, glass, glass_texture, volume, absorbing;
     std::set<uint32_t> coat, coat_texture, coat_normal, unlit, sheen, sheen_texture, diffuse, diffuse_texture;
     for (uint32_t m : used) {
         const gpu::Material& mat = scene.materials[m];
-        if (m < scene.material_layers.size()) {
-            // Glass shows where transmission > 0 and the material is not all metal (metal hides the dielectric).
+        // An unlit material shows its base colour only: none of its layers is ever evaluated.
+        if (m < scene.material_layers.size() && !(mat.flags & gpu::MATERIAL_UNLIT)) {
+            // The dielectric's lobes (glass, diffuse transmission) show unless the material is all metal.
+            const bool dielectric = mat.metallic < 1.0f || slot_valid(mat.metallic_roughness_texture);
+            // Glass shows where transmission > 0 on a dielectric.
             const gpu::MaterialLayers& layers = scene.material_layers[m];
             const bool has_texture = slot_valid(layers.transmission_texture);
-            const bool visible = layers.transmission > 0.0f &&
-                                 (mat.metallic < 1.0f || slot_valid(mat.metallic_roughness_texture)) &&
-                                 !(has_texture && is_zero_channel(
-                                                      scene.images[scene.texture_slots[layers.transmission_texture].image], 0));
+            const bool visible = layers.transmission > 0.0f && dielectric &&
+                                 !(has_texture && slot_zero(layers.transmission_texture, {0}));
             if (visible) {
                 glass.insert(m);
                 if (has_texture) glass_texture.insert(m);
@@ -115,9 +122,7 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
             }
             // A coat shows where clearcoatFactor > 0 and its texture (if any) is not black; it covers metal too.
             const bool coat_textured = slot_valid(layers.clearcoat_texture);
-            if (layers.clearcoat > 0.0f &&
-                !(coat_textured &&
-                  is_zero_channel(scene.images[scene.texture_slots[layers.clearcoat_texture].image], 0))) {
+            if (layers.clearcoat > 0.0f && !(coat_textured && slot_zero(layers.clearcoat_texture, {0}))) {
                 coat.insert(m);
                 if (coat_textured || (slot_valid(layers.clearcoat_roughness_texture) && layers.clearcoat_roughness > 0.0f))
                     coat_texture.insert(m);
@@ -127,22 +132,16 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
             }
             // A sheen shows where sheenColorFactor is not black and its colour texture (if any) is not black.
             const bool sheen_textured = slot_valid(layers.sheen_color_texture);
-            auto black_texture = [&](uint32_t slot) {
-                const SceneImage& image = scene.images[scene.texture_slots[slot].image];
-                return is_zero_channel(image, 0) && is_zero_channel(image, 1) && is_zero_channel(image, 2);
-            };
             if (std::max({layers.sheen.x, layers.sheen.y, layers.sheen.z}) > 0.0f &&
-                !(sheen_textured && black_texture(layers.sheen_color_texture))) {
+                !(sheen_textured && slot_zero(layers.sheen_color_texture, {0, 1, 2}))) {
                 sheen.insert(m);
                 if (sheen_textured || (slot_valid(layers.sheen_roughness_texture) && layers.sheen.w > 0.0f))
                     sheen_texture.insert(m);
             }
             // Diffuse transmission shows where its factor > 0 on a dielectric and its texture's alpha is not 0.
             const bool diffuse_textured = slot_valid(layers.diffuse_transmission_texture);
-            if (layers.diffuse_transmission.w > 0.0f &&
-                (mat.metallic < 1.0f || slot_valid(mat.metallic_roughness_texture)) &&
-                !(diffuse_textured &&
-                  is_zero_channel(scene.images[scene.texture_slots[layers.diffuse_transmission_texture].image], 3))) {
+            if (layers.diffuse_transmission.w > 0.0f && dielectric &&
+                !(diffuse_textured && slot_zero(layers.diffuse_transmission_texture, {3}))) {
                 diffuse.insert(m);
                 if (diffuse_textured || slot_valid(layers.diffuse_transmission_color_texture)) diffuse_texture.insert(m);
             }

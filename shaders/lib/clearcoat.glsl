@@ -19,13 +19,10 @@ ClearcoatLayer eval_clearcoat_layer(uint material, uint triangle, float b1, floa
     c.weight = material_layers[material].clearcoat;
     c.roughness = material_layers[material].clearcoat_roughness;
     if (effect_on(EFFECT_CLEARCOAT_TEXTURE) && c.weight > 0.0f) {
-        uint weight_slot = material_layers[material].clearcoat_texture;
-        uint roughness_slot = material_layers[material].clearcoat_roughness_texture;
-        if (weight_slot != INVALID_INDEX || roughness_slot != INVALID_INDEX) {
-            Texcoords tc = interpolate_texcoords(triangle, b1, b2);
-            if (weight_slot != INVALID_INDEX) c.weight *= sample_texture(weight_slot, tc).x;
-            if (roughness_slot != INVALID_INDEX) c.roughness *= sample_texture(roughness_slot, tc).y;
-        }
+        LayerTexels t = sample_layer_textures(material_layers[material].clearcoat_texture,
+                                              material_layers[material].clearcoat_roughness_texture, triangle, b1, b2);
+        c.weight *= t.first.x;
+        c.roughness *= t.second.y;
     }
     return c;
 }

@@ -20,13 +20,11 @@ DiffuseTransmission eval_diffuse_transmission(uint material, uint triangle, floa
     d.factor = factors.w;
     d.color = vec3(factors);
     if (effect_on(EFFECT_DIFFUSE_TRANSMISSION_TEXTURE) && d.factor > 0.0f) {
-        uint factor_slot = material_layers[material].diffuse_transmission_texture;
-        uint color_slot = material_layers[material].diffuse_transmission_color_texture;
-        if (factor_slot != INVALID_INDEX || color_slot != INVALID_INDEX) {
-            Texcoords tc = interpolate_texcoords(triangle, b1, b2);
-            if (factor_slot != INVALID_INDEX) d.factor *= sample_texture(factor_slot, tc).w;
-            if (color_slot != INVALID_INDEX) d.color *= vec3(sample_texture(color_slot, tc));
-        }
+        LayerTexels t = sample_layer_textures(material_layers[material].diffuse_transmission_texture,
+                                              material_layers[material].diffuse_transmission_color_texture, triangle,
+                                              b1, b2);
+        d.factor *= t.first.w;
+        d.color *= vec3(t.second);
     }
     return d;
 }

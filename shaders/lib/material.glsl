@@ -52,6 +52,26 @@ bool is_surface_present(uint triangle, float b1, float b2, uint ray_seed) {
     return float(h >> 8u) * (1.0f / 16777216.0f) < coverage;
 }
 
+// A layer's two optional textures at the hit (KHR material extensions: a weight or colour and a roughness or
+// factor): each slot's texel, or vec4(1) where the slot is INVALID_INDEX (multiplying by it changes no bit). The
+// texture coordinates are interpolated only when there is a slot to read.
+struct LayerTexels {
+    vec4 first;
+    vec4 second;
+};
+
+LayerTexels sample_layer_textures(uint first_slot, uint second_slot, uint triangle, float b1, float b2) {
+    LayerTexels t;
+    t.first = vec4(1.0f);
+    t.second = vec4(1.0f);
+    if (first_slot != INVALID_INDEX || second_slot != INVALID_INDEX) {
+        Texcoords tc = interpolate_texcoords(triangle, b1, b2);
+        if (first_slot != INVALID_INDEX) t.first = sample_texture(first_slot, tc);
+        if (second_slot != INVALID_INDEX) t.second = sample_texture(second_slot, tc);
+    }
+    return t;
+}
+
 // `ns` (the interpolated normal, on the geometric normal's side) with the tangent-space normal texture of
 // TextureSlot `slot_index` applied (spec 3.9.3), on the same side. Tangents come from TANGENT or, without it,
 // from the triangle's texture-coordinate derivatives (README "Textures": per-triangle, not MikkTSpace's

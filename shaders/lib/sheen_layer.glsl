@@ -20,13 +20,10 @@ SheenLayer eval_sheen_layer(uint material, uint triangle, float b1, float b2) {
     s.color = vec3(factors);
     s.roughness = factors.w;
     if (effect_on(EFFECT_SHEEN_TEXTURE) && max_value(s.color) > 0.0f) {
-        uint color_slot = material_layers[material].sheen_color_texture;
-        uint roughness_slot = material_layers[material].sheen_roughness_texture;
-        if (color_slot != INVALID_INDEX || roughness_slot != INVALID_INDEX) {
-            Texcoords tc = interpolate_texcoords(triangle, b1, b2);
-            if (color_slot != INVALID_INDEX) s.color *= vec3(sample_texture(color_slot, tc));
-            if (roughness_slot != INVALID_INDEX) s.roughness *= sample_texture(roughness_slot, tc).w;
-        }
+        LayerTexels t = sample_layer_textures(material_layers[material].sheen_color_texture,
+                                              material_layers[material].sheen_roughness_texture, triangle, b1, b2);
+        s.color *= vec3(t.first);
+        s.roughness *= t.second.w;
     }
     return s;
 }

@@ -366,6 +366,18 @@ TEST(GltfUnlit, FlagsTheMaterialAndDropsItsEmission) {
     EXPECT_EQ(bits & gpu::EFFECT_EMISSIVE_TEXTURE, 0u);
 }
 
+// An unlit material's layers are never evaluated, so they switch nothing on.
+TEST(GltfUnlit, LayersOfAnUnlitMaterialSwitchNothingOn) {
+    const uint32_t layers = gpu::EFFECT_CLEARCOAT | gpu::EFFECT_SHEEN | gpu::EFFECT_TRANSMISSION;
+    const nlohmann::json extensions = {{"KHR_materials_clearcoat", {{"clearcoatFactor", 1.0}}},
+                                       {"KHR_materials_sheen", {{"sheenColorFactor", {1.0, 1.0, 1.0}}}},
+                                       {"KHR_materials_transmission", {{"transmissionFactor", 1.0}}}};
+    nlohmann::json lit = {{"pbrMetallicRoughness", {{"metallicFactor", 0.0}}}, {"extensions", extensions}};
+    EXPECT_EQ(analysed_effects_of(lit, layers), layers);
+    lit["extensions"]["KHR_materials_unlit"] = nlohmann::json::object();
+    EXPECT_EQ(analysed_effects_of(lit, layers), 0u);
+}
+
 }  // namespace
 
 // ---- KHR_materials_sheen ------------------------------------------------------------------------------------
