@@ -1,6 +1,6 @@
 // Stage "shade": one path vertex per queued ray. Adds emission seen by the ray, or the environment's radiance
 // when it escaped (both MIS-weighted against light sampling), resolves the material (textures, vertex colours,
-// normal map, glass, diffuse transmission, sheen, clear coat, unlit: only the effects the scene has are compiled in), samples a light and pushes a shadow ray (next-event estimation), samples the BSDF, applies
+// normal map, anisotropy, glass, diffuse transmission, sheen, clear coat, unlit: only the effects the scene has are compiled in), samples a light and pushes a shadow ray (next-event estimation), samples the BSDF, applies
 // Russian roulette and pushes the continuation ray.
 // Reads: rays[queue depth & 1], hits, paths, triangles, materials, emitters, textures, environment, and for
 // glass, sheens and clear coats the material layers, and path media. Writes: paths, path media, rays[queue (depth + 1) & 1], shadow_rays, counters.ray_count / shadow_count.
@@ -15,10 +15,12 @@
 #define BSDF_HAS_CLEARCOAT effect_on(EFFECT_CLEARCOAT)
 #define BSDF_HAS_SHEEN effect_on(EFFECT_SHEEN)
 #define BSDF_HAS_DIFFUSE_TRANSMISSION effect_on(EFFECT_DIFFUSE_TRANSMISSION)
+#define BSDF_HAS_ANISOTROPY effect_on(EFFECT_ANISOTROPY)
 #include "lib/bsdf.glsl"
 #include "lib/clearcoat.glsl"
 #include "lib/sheen_layer.glsl"
 #include "lib/diffuse_transmission.glsl"
+#include "lib/anisotropy_layer.glsl"
 #include "lib/surface.glsl"
 #include "lib/lights.glsl"
 #include "lib/transmission.glsl"
@@ -82,6 +84,8 @@ void main() {
             if (inst.material != INVALID_INDEX) s.material = inst.material;
         }
         Material m = resolve_material(load_material(s.material), hit.triangle, hit.b1, hit.b2);
+        AnisotropyLayer anisotropy = eval_anisotropy_layer(s.material, hit.triangle, hit.b1, hit.b2, s.ns);
+        s.ta = anisotropy.direction;
         s.ns = apply_normal_texture(m, hit.triangle, hit.b1, hit.b2, s.ns);
         s.nc = apply_clearcoat_normal_texture(s.material, hit.triangle, hit.b1, hit.b2, s.nc);
         if (instanced) s = place_surface(s, inst);
@@ -133,6 +137,9 @@ void main() {
                 bsdf = with_transmission(bsdf, eval_transmission(s.material, hit.triangle, hit.b1, hit.b2), eta,
                                          volume ? 0u : 1u);
             }
+            // Anisotropy (KHR_materials_anisotropy): the specular lobes' roughness stretched along a tangent direction.
+            if (effect_on(EFFECT_ANISOTROPY) && anisotropy.strength > 0.0f)
+                bsdf = with_anisotropy(bsdf, anisotropy.strength, vec2(to_local(frame, s.ta)));
             // Diffuse transmission (KHR_materials_diffuse_transmission): part of the Lambert lobe goes through.
             if (effect_on(EFFECT_DIFFUSE_TRANSMISSION)) {
                 DiffuseTransmission through = eval_diffuse_transmission(s.material, hit.triangle, hit.b1, hit.b2);

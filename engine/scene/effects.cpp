@@ -59,6 +59,8 @@ const std::vector<EffectInfo>& list_effects() {
         {gpu::EFFECT_SHEEN_TEXTURE, "sheen-texture"},
         {gpu::EFFECT_DIFFUSE_TRANSMISSION, "diffuse-transmission"},
         {gpu::EFFECT_DIFFUSE_TRANSMISSION_TEXTURE, "diffuse-transmission-texture"},
+        {gpu::EFFECT_ANISOTROPY, "anisotropy"},
+        {gpu::EFFECT_ANISOTROPY_TEXTURE, "anisotropy-texture"},
     };
     return effects;
 }
@@ -101,6 +103,7 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
 
     std::set<uint32_t> base, metal_rough, normal, emissive, alpha, glass, glass_texture, volume, absorbing;
     std::set<uint32_t> coat, coat_texture, coat_normal, unlit, sheen, sheen_texture, diffuse, diffuse_texture;
+    std::set<uint32_t> anisotropic, anisotropy_texture;
     for (uint32_t m : used) {
         const gpu::Material& mat = scene.materials[m];
         // An unlit material shows its base colour only: none of its layers is ever evaluated.
@@ -144,6 +147,14 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
                 !(diffuse_textured && slot_zero(layers.diffuse_transmission_texture, {3}))) {
                 diffuse.insert(m);
                 if (diffuse_textured || slot_valid(layers.diffuse_transmission_color_texture)) diffuse_texture.insert(m);
+            }
+            // Anisotropy shows where its strength > 0, its texture's strength (B) is not 0 everywhere, and the
+            // roughness is below 1 (alpha 1 stretched towards 1 is still isotropic).
+            const bool anisotropy_textured = slot_valid(layers.anisotropy_texture);
+            if (layers.anisotropy_strength > 0.0f && (mat.roughness < 1.0f || slot_valid(mat.metallic_roughness_texture)) &&
+                !(anisotropy_textured && slot_zero(layers.anisotropy_texture, {2}))) {
+                anisotropic.insert(m);
+                if (anisotropy_textured) anisotropy_texture.insert(m);
             }
         }
         if (mat.flags & gpu::MATERIAL_UNLIT) unlit.insert(m);
@@ -206,6 +217,9 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
                  "no visible material has KHR_materials_diffuse_transmission > 0 on a dielectric");
     by_materials(gpu::EFFECT_DIFFUSE_TRANSMISSION_TEXTURE, diffuse_texture,
                  "no diffusely transmitting material has a diffuseTransmissionTexture or ...ColorTexture");
+    by_materials(gpu::EFFECT_ANISOTROPY, anisotropic,
+                 "no visible material has KHR_materials_anisotropy strength > 0 with roughness < 1");
+    by_materials(gpu::EFFECT_ANISOTROPY_TEXTURE, anisotropy_texture, "no anisotropic material has an anisotropyTexture");
     return effects;
 }
 

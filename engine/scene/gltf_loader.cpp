@@ -304,7 +304,11 @@ class Flattener {
 public:
     Flattener(const tinygltf::Model& model, Scene& scene, int variant)
         : model_(model), scene_(scene), variant_(variant), on_path_(model.nodes.size(), 0) {
+        // Textures read texture coordinates; KHR_materials_anisotropy reads the tangent frame (TANGENT, or texture
+        // coordinates to derive it from) even where it has no texture.
         keep_attributes_ = !model.textures.empty();
+        for (const tinygltf::Material& material : model.materials)
+            keep_attributes_ = keep_attributes_ || material.extensions.count("KHR_materials_anisotropy") != 0;
         for (const std::string& name : model.extensionsUsed) quantized_ = quantized_ || name == "KHR_mesh_quantization";
         for (const tinygltf::Mesh& mesh : model.meshes)
             for (const tinygltf::Primitive& prim : mesh.primitives)

@@ -1,5 +1,5 @@
 // Converts glTF materials (spec 3.9) and the KHR extensions emissive_strength, specular, ior, unlit,
-// transmission, volume, clearcoat, sheen and diffuse_transmission.
+// transmission, volume, clearcoat, sheen, diffuse_transmission and anisotropy.
 #include "scene/gltf_material.h"
 
 #include <algorithm>
@@ -22,6 +22,7 @@ constexpr const char* SUPPORTED_EXTENSIONS[] = {
     "KHR_materials_unlit",
     "KHR_materials_sheen",
     "KHR_materials_diffuse_transmission",
+    "KHR_materials_anisotropy",
     "KHR_lights_punctual",  // read by gltf_loader.cpp
     "KHR_texture_transform",  // gltf_texture.cpp
     "EXT_texture_webp",
@@ -165,6 +166,10 @@ gpu::MaterialLayers make_default_layers() {
     layers.diffuse_transmission = gpu::vec4(1.0f, 1.0f, 1.0f, 0.0f);
     layers.diffuse_transmission_texture = gpu::INVALID_INDEX;
     layers.diffuse_transmission_color_texture = gpu::INVALID_INDEX;
+    layers.anisotropy_strength = 0.0f;
+    layers.anisotropy_cos = 1.0f;
+    layers.anisotropy_sin = 0.0f;
+    layers.anisotropy_texture = gpu::INVALID_INDEX;
     return layers;
 }
 
@@ -209,6 +214,15 @@ gpu::MaterialLayers convert_material_layers(const tinygltf::Model& model, int in
                   float(std::clamp(read_number(diffuse, "diffuseTransmissionFactor", 0.0), 0.0, 1.0)));
     layers.diffuse_transmission_texture = extension_slot(diffuse, "diffuseTransmissionTexture");
     layers.diffuse_transmission_color_texture = extension_slot(diffuse, "diffuseTransmissionColorTexture", true);
+
+    // KHR_materials_anisotropy: strength, the rotation of the direction from the tangent, and the texture (RG: the
+    // direction in tangent space, B: the strength; linear).
+    const tinygltf::Value* anisotropy = find_extension(material, "KHR_materials_anisotropy");
+    const double rotation = read_number(anisotropy, "anisotropyRotation", 0.0);
+    layers.anisotropy_strength = float(std::clamp(read_number(anisotropy, "anisotropyStrength", 0.0), 0.0, 1.0));
+    layers.anisotropy_cos = std::isfinite(rotation) ? float(std::cos(rotation)) : 1.0f;
+    layers.anisotropy_sin = std::isfinite(rotation) ? float(std::sin(rotation)) : 0.0f;
+    layers.anisotropy_texture = extension_slot(anisotropy, "anisotropyTexture");
 
     // KHR_materials_volume: thicknessFactor > 0 makes the mesh the boundary of a volume; its value (and the
     // thickness texture) is a rasteriser's stand-in for the geometry a path tracer has, so only its sign is read.

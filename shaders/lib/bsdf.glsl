@@ -49,6 +49,19 @@
 // E_s = min(sheen_albedo, 1) >= the lobe's albedo (the table bounds it from above), so the albedo is at most
 // sheenColor E_s + (1 - max(sheenColor) E_s) albedo_base <= 1, and the whole stays reciprocal. Stages without
 // EFFECT_SHEEN define BSDF_HAS_SHEEN false.
+//
+// KHR_materials_anisotropy stretches the GGX of the base's specular lobes (dielectric and metal reflection, and
+// the glass lobe) along a direction in the tangent plane: alpha_t = mix(alpha, 1, strength^2) along it, alpha across
+// (ggx.glsl, GgxRoughness). The albedo scaling then needs the anisotropic lobe's albedo, which depends on the
+// azimuth and which no isotropic albedo bounds at grazing angles (light from a grazing viewer meets microfacets
+// tilted sideways at steeper angles: more Fresnel). We bound it with the isotropic table's terms at the two alphas
+// plus a margin m = ANISOTROPY_ALBEDO_MARGIN (1 - mu)^5 that grows as Schlick's weight does: A' = max(A(alpha),
+// A(alpha_t)) + m, B' = B(alpha(phi)) + m with the projected roughness of the light's azimuth phi (ggx.glsl,
+// projected_alpha), E' = f0 A' + f90 B', a function of the direction (so still reciprocal; linear in f0 <= f90, so
+// checking f0 = 0 and f0 = f90 = 1 checks every material: tests/unit/test_bsdf_anisotropy.cpp, over strengths,
+// roughnesses, angles to 89.5 deg and azimuths). The diffuse lobe stays under what the specular leaves, so nothing
+// gains energy; it loses what the bound overestimates (README "Anisotropy"). Stages without EFFECT_ANISOTROPY
+// define BSDF_HAS_ANISOTROPY false, leaving only the isotropic code.
 #ifndef FREDHOLM_LIB_BSDF_GLSL
 #define FREDHOLM_LIB_BSDF_GLSL
 
@@ -58,6 +71,10 @@ using fh::gpu::Material;  // C++: include shaders/shared/layout.h at global scop
 #include "../shared/layout.h"
 #endif
 #include "sampling.glsl"
+#ifndef BSDF_HAS_ANISOTROPY
+#define BSDF_HAS_ANISOTROPY true
+#endif
+#define GGX_HAS_ANISOTROPY BSDF_HAS_ANISOTROPY
 #include "ggx.glsl"
 #include "ggx_albedo.glsl"
 #include "dielectric.glsl"
@@ -90,6 +107,7 @@ struct BsdfParams {
     vec3 base_color;
     float metallic;
     float alpha;            // GGX alpha = roughness^2, at least BSDF_MIN_ALPHA
+    GgxRoughness roughness; // the specular lobes' GGX: alpha, stretched along a direction by KHR_materials_anisotropy
     vec3 f0_dielectric;     // dielectric Fresnel at normal incidence (includes specularFactor)
     float f90_dielectric;   // dielectric Fresnel at grazing incidence = specularFactor
     float diffuse_scale;    // 1 / (1 - E_avg) of the dielectric's specular layer (see the top of the file)
@@ -123,7 +141,8 @@ BsdfParams make_bsdf_params(Material m) {
     p.diffuse_scale = 1.0f / max(1.0f - e_average, BSDF_MIN_DIFFUSE_TRANSMITTANCE);
     p.transmission = 0.0f;
     p.glass.transmission_tint = p.base_color;
-    p.glass.alpha = p.alpha;
+    p.roughness = make_isotropic_roughness(p.alpha);
+    p.glass.roughness = p.roughness;
     p.glass.specular_color = max(vec3(m.specular_color), vec3(0.0f));
     p.glass.specular = specular;
     p.glass.eta = max(m.ior, 1.0e-4f);
@@ -135,6 +154,68 @@ BsdfParams make_bsdf_params(Material m) {
     p.sheen_roughness = SHEEN_MIN_ROUGHNESS;
     p.diffuse_transmission = 0.0f;
     p.diffuse_transmission_color = vec3(1.0f);
+    return p;
+}
+
+// Schlick 1994's weight (1 - cos)^5.
+float schlick_weight(float cos_theta) {
+    float m = clamp(1.0f - cos_theta, 0.0f, 1.0f);
+    float m2 = m * m;
+    return m2 * m2 * m;
+}
+
+// The margin of the anisotropic albedo bound (see the top of the file): at least the largest (B - B(alpha(phi))) /
+// (1 - mu)^5 and (A + B - max(A(alpha), A(alpha_t)) - B(alpha(phi))) / (2 (1 - mu)^5) that
+// tests/unit/test_bsdf_anisotropy.cpp measures, with room to spare.
+const float ANISOTROPY_ALBEDO_MARGIN = 0.1f;
+
+bool has_anisotropy(BsdfParams p) {
+    return is_anisotropic(p.roughness);
+}
+
+// The specular layer's albedo terms (A, B) = ggx_albedo for light from direction w (local frame; its z's sign is
+// ignored); anisotropic, their bound (see the top of the file). Isotropic: ggx_albedo's bits.
+vec2 specular_albedo(BsdfParams p, vec3 w) {
+    float mu = abs(w.z);
+    vec2 albedo = ggx_albedo(mu, p.alpha);
+    if (has_anisotropy(p)) {
+        albedo.x = max(albedo.x, ggx_albedo(mu, p.roughness.alpha_t).x);
+        albedo.y = ggx_albedo(mu, projected_alpha(p.roughness, w)).y;
+        albedo += vec2(ANISOTROPY_ALBEDO_MARGIN * schlick_weight(mu));
+    }
+    return albedo;
+}
+
+// `p` with its specular lobes stretched by KHR_materials_anisotropy of strength `strength` along `direction` (local
+// xy-plane; need not be unit length). Strength 0 (or no direction) leaves `p` as it is. The diffuse lobe's
+// normalisation 1 / (1 - E_avg) needs the bound's hemispherical average, f0 A'_avg + f90 B'_avg, from below (so that
+// the diffuse lobe can lose a little energy, never gain it): A'_avg >= max(A_avg(alpha), A_avg(alpha_t)) (the
+// average of a maximum is at least the maximum of the averages); B'_avg = the azimuths' mean of B_avg(alpha(phi));
+// both plus the margin's 2 int mu (1 - mu)^5 dmu = 1 / 21. The mean is taken as a lower sum over ANISOTROPY_AZIMUTH_STEPS steps
+// of [0, pi/2] (B_avg falls as alpha grows, and alpha(phi) falls as phi grows: each step's left end is its least).
+const int ANISOTROPY_AZIMUTH_STEPS = 4;
+
+BsdfParams with_anisotropy(BsdfParams p, float strength, vec2 direction) {
+    float s = clamp(strength, 0.0f, 1.0f);
+    float len = length(direction);
+    if (!(s > 0.0f && len > 0.0f) || isinf(len)) {
+        return p;
+    }
+    p.roughness.alpha_t = mix(p.alpha, 1.0f, s * s);
+    p.roughness.direction = direction / len;
+    p.glass.roughness = p.roughness;
+    if (has_anisotropy(p)) {
+        vec2 average = vec2(max(ggx_albedo_average(p.alpha).x, ggx_albedo_average(p.roughness.alpha_t).x), 0.0f);
+        for (int k = 0; k < ANISOTROPY_AZIMUTH_STEPS; ++k) {
+            float phi = 0.5f * PI * float(k) / float(ANISOTROPY_AZIMUTH_STEPS);
+            vec3 w = from_lobe_frame(p.roughness, vec3(cos(phi), sin(phi), 0.0f));  // phi from the direction
+            average.y += ggx_albedo_average(projected_alpha(p.roughness, w)).y;
+        }
+        average.y /= float(ANISOTROPY_AZIMUTH_STEPS);
+        average += vec2(ANISOTROPY_ALBEDO_MARGIN / 21.0f);
+        float e_average = max_value(p.f0_dielectric) * average.x + p.f90_dielectric * average.y;
+        p.diffuse_scale = 1.0f / max(1.0f - e_average, BSDF_MIN_DIFFUSE_TRANSMITTANCE);
+    }
     return p;
 }
 
@@ -208,13 +289,6 @@ float diffuse_transmittance(BsdfParams p, vec2 albedo) {
     return max(1.0f - (max_value(p.f0_dielectric) * albedo.x + p.f90_dielectric * albedo.y), 0.0f);
 }
 
-// Schlick 1994's weight (1 - cos)^5.
-float schlick_weight(float cos_theta) {
-    float m = clamp(1.0f - cos_theta, 0.0f, 1.0f);
-    float m2 = m * m;
-    return m2 * m2 * m;
-}
-
 // The opaque lobes' shares of the albedo for outgoing cos theta `cos_o` (luminances): the specular layers'
 // mix(opaque (f0 A + f90 B), base_color A + B, metallic) and the diffuse lobe's (1 - metallic) opaque base_color
 // (1 - E(cos_o)); `opaque` = 1 - transmission, the part of the dielectric that is not glass.
@@ -225,7 +299,7 @@ struct LobeAlbedos {
 };
 
 LobeAlbedos estimate_lobe_albedos(BsdfParams p, float cos_o, float opaque) {
-    vec2 albedo = ggx_albedo(cos_o, p.alpha);
+    vec2 albedo = ggx_albedo(cos_o, p.alpha);  // an estimate, to pick lobes by: isotropic will do
     LobeAlbedos a;
     a.diffuse = (1.0f - p.metallic) * opaque * diffuse_transmittance(p, albedo) * luminance(p.base_color);
     a.through = 0.0f;
@@ -262,8 +336,8 @@ vec3 eval_base_bsdf(BsdfParams p, vec3 wo, vec3 wi) {
         vec3 through = vec3(0.0f);
         if (wo.z > 0.0f && wi.z < 0.0f) {
             if (has_diffuse_transmission(p)) {
-                float transmittance = diffuse_transmittance(p, ggx_albedo(wo.z, p.alpha)) *
-                                      diffuse_transmittance(p, ggx_albedo(-wi.z, p.alpha)) * p.diffuse_scale;
+                float transmittance = diffuse_transmittance(p, specular_albedo(p, wo)) *
+                                      diffuse_transmittance(p, specular_albedo(p, wi)) * p.diffuse_scale;
                 through = p.diffuse_transmission_color *
                           (INV_PI * -wi.z * transmittance * p.diffuse_transmission * (1.0f - p.metallic) *
                            (has_glass(p) ? 1.0f - p.transmission : 1.0f));
@@ -276,9 +350,9 @@ vec3 eval_base_bsdf(BsdfParams p, vec3 wo, vec3 wi) {
     }
     vec3 h = normalize(wo + wi);  // |wo + wi| >= wo.z + wi.z > 0
     float w = schlick_weight(abs(dot(wo, h)));
-    float specular = ggx_d(h, p.alpha) * ggx_v_cos(wo.z, wi.z, p.alpha);
-    float transmittance = diffuse_transmittance(p, ggx_albedo(wo.z, p.alpha)) *
-                          diffuse_transmittance(p, ggx_albedo(wi.z, p.alpha)) * p.diffuse_scale;
+    float specular = ggx_d_lobe(p.roughness, h) * ggx_v_cos_lobe(p.roughness, wo, wi);
+    float transmittance = diffuse_transmittance(p, specular_albedo(p, wo)) *
+                          diffuse_transmittance(p, specular_albedo(p, wi)) * p.diffuse_scale;
     vec3 diffuse = p.base_color * (INV_PI * wi.z * transmittance);
     if (has_diffuse_transmission(p)) {
         diffuse *= 1.0f - p.diffuse_transmission;
@@ -360,7 +434,7 @@ float pdf_bsdf_lobes(BsdfParams p, LobeChoice c, vec3 wo, vec3 wi) {
         }
         return pdf;
     }
-    float pdf_specular = c.specular > 0.0f ? pdf_ggx_vndf_reflection(wo, normalize(wo + wi), p.alpha) : 0.0f;
+    float pdf_specular = c.specular > 0.0f ? pdf_ggx_vndf_reflection_lobe(p.roughness, wo, normalize(wo + wi)) : 0.0f;
     float pdf = c.specular * pdf_specular + (1.0f - c.specular - c.glass - c.through) * pdf_cosine_hemisphere(wi.z);
     if (c.glass > 0.0f) {
         pdf += c.glass * pdf_glass(p.glass, wo, wi);
@@ -461,7 +535,7 @@ float pdf_bsdf(BsdfParams p, vec3 wo, vec3 wi) {
 vec4 sample_base_direction(BsdfParams p, LobeChoice c, vec3 wo, vec3 u) {
     vec3 wi;
     if (u.x < c.specular) {
-        vec3 h = sample_ggx_vndf(wo, p.alpha, vec2(u.y, u.z));
+        vec3 h = sample_ggx_vndf_lobe(p.roughness, wo, vec2(u.y, u.z));
         wi = 2.0f * dot(wo, h) * h - wo;  // reflect wo about h; h = 0 (degenerate) gives -wo, rejected below
         if (!(wi.z > 0.0f)) {
             return vec4(0.0f);

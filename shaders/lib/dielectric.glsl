@@ -24,7 +24,7 @@ const float GLASS_MIN_ETA_OFFSET = 1.0e-3f;
 
 struct GlassParams {
     vec3 transmission_tint;  // base colour: what passes through is tinted by it
-    float alpha;             // GGX alpha (as the opaque lobes)
+    GgxRoughness roughness;  // GGX roughness (as the opaque specular lobe; anisotropic with it)
     vec3 specular_color;     // KHR_materials_specular specularColorFactor
     float specular;          // specularFactor
     float eta;               // n beyond the surface / n on wo's side; thin-walled: the ior
@@ -102,7 +102,7 @@ vec3 eval_glass(GlassParams g, vec3 wo, vec3 wi) {
     if (wi.z > 0.0f) {
         vec3 h = normalize(wo + wi);
         float f = fresnel_dielectric(dot(wo, h), g.eta);
-        return glass_reflectance(g, f) * (ggx_d(h, g.alpha) * ggx_v_cos(wo.z, wi.z, g.alpha));
+        return glass_reflectance(g, f) * (ggx_d_lobe(g.roughness, h) * ggx_v_cos_lobe(g.roughness, wo, wi));
     }
     if (!(wi.z < 0.0f)) {
         return vec3(0.0f);
@@ -111,7 +111,7 @@ vec3 eval_glass(GlassParams g, vec3 wo, vec3 wi) {
         vec3 mirrored = vec3(wi.x, wi.y, -wi.z);
         vec3 h = normalize(wo + mirrored);
         float f = fresnel_dielectric(dot(wo, h), g.eta);
-        return glass_transmittance(g, f) * (ggx_d(h, g.alpha) * ggx_v_cos(wo.z, mirrored.z, g.alpha));
+        return glass_transmittance(g, f) * (ggx_d_lobe(g.roughness, h) * ggx_v_cos_lobe(g.roughness, wo, mirrored));
     }
     RefractionHalf r = refraction_half_vector(wo, wi, g.eta);
     if (r.valid == 0u) {
@@ -119,7 +119,7 @@ vec3 eval_glass(GlassParams g, vec3 wo, vec3 wi) {
     }
     float f = fresnel_dielectric(dot(wo, r.h), g.eta);
     float jacobian = abs(dot(wi, r.h)) * dot(wo, r.h) / (r.denom * g.eta * g.eta);
-    return glass_transmittance(g, f) * (4.0f * ggx_d(r.h, g.alpha) * ggx_v_cos(wo.z, -wi.z, g.alpha) * jacobian);
+    return glass_transmittance(g, f) * (4.0f * ggx_d_lobe(g.roughness, r.h) * ggx_v_cos_lobe(g.roughness, wo, -wi) * jacobian);
 }
 
 // Solid-angle pdf of sample_glass: h from the visible normals, then reflection with probability F(wo.h).
@@ -129,28 +129,28 @@ float pdf_glass(GlassParams g, vec3 wo, vec3 wi) {
     }
     if (wi.z > 0.0f) {
         vec3 h = normalize(wo + wi);
-        return fresnel_dielectric(dot(wo, h), g.eta) * pdf_ggx_vndf_reflection(wo, h, g.alpha);
+        return fresnel_dielectric(dot(wo, h), g.eta) * pdf_ggx_vndf_reflection_lobe(g.roughness, wo, h);
     }
     if (!(wi.z < 0.0f)) {
         return 0.0f;
     }
     if (g.thin_walled != 0u) {
         vec3 h = normalize(wo + vec3(wi.x, wi.y, -wi.z));
-        return (1.0f - fresnel_dielectric(dot(wo, h), g.eta)) * pdf_ggx_vndf_reflection(wo, h, g.alpha);
+        return (1.0f - fresnel_dielectric(dot(wo, h), g.eta)) * pdf_ggx_vndf_reflection_lobe(g.roughness, wo, h);
     }
     RefractionHalf r = refraction_half_vector(wo, wi, g.eta);
     if (r.valid == 0u) {
         return 0.0f;
     }
     float reflect_to_refract = 4.0f * dot(wo, r.h) * abs(dot(wi, r.h)) / r.denom;  // D_wo(h) |wi.h| / denom
-    return (1.0f - fresnel_dielectric(dot(wo, r.h), g.eta)) * pdf_ggx_vndf_reflection(wo, r.h, g.alpha) *
+    return (1.0f - fresnel_dielectric(dot(wo, r.h), g.eta)) * pdf_ggx_vndf_reflection_lobe(g.roughness, wo, r.h) *
            reflect_to_refract;
 }
 
 // A direction of the glass lobe: u.yz pick a visible microfacet normal, u.x < F(wo.h) reflects about it, else
 // the light refracts (thin-walled: leaves mirrored). Returns vec3(0) when there is no direction.
 vec3 sample_glass(GlassParams g, vec3 wo, vec3 u) {
-    vec3 h = sample_ggx_vndf(wo, g.alpha, vec2(u.y, u.z));
+    vec3 h = sample_ggx_vndf_lobe(g.roughness, wo, vec2(u.y, u.z));
     float cos_o = dot(wo, h);
     if (!(cos_o > 0.0f)) {
         return vec3(0.0f);

@@ -72,19 +72,26 @@ LayerTexels sample_layer_textures(uint first_slot, uint second_slot, uint triang
     return t;
 }
 
-// `ns` (the interpolated normal, on the geometric normal's side) with the tangent-space normal texture of
-// TextureSlot `slot_index` applied (spec 3.9.3), on the same side. Tangents come from TANGENT or, without it,
-// from the triangle's texture-coordinate derivatives (README "Textures": per-triangle, not MikkTSpace's
-// per-vertex average).
-vec3 apply_normal_map(uint slot_index, uint triangle, float b1, float b2, vec3 ns) {
-    TextureSlot slot = texture_slots[slot_index];
-    Texcoords tc = interpolate_texcoords(triangle, b1, b2);
+// The mesh's tangent frame at a point with unit normal `ns`: the tangent t (unit, orthogonal to ns) and the
+// bitangent b = cross(ns, t) x sign, from TANGENT or, without it, from the triangle's derivatives of texture
+// coordinate set 1 (`set1`) or 0 (README "Textures": per-triangle, not MikkTSpace's per-vertex average). `valid`
+// is false where neither gives a frame.
+struct TangentFrame {
+    vec3 t;
+    vec3 b;
+    bool valid;
+};
+
+TangentFrame build_tangent_frame(bool set1, uint triangle, float b1, float b2, vec3 ns) {
+    TangentFrame f;
+    f.t = vec3(1.0f, 0.0f, 0.0f);
+    f.b = vec3(0.0f, 1.0f, 0.0f);
+    f.valid = false;
     vec4 tangent = interpolate_tangent(triangle, b1, b2);
     vec3 t = tangent.xyz;
     float sign = tangent.w;
     if (sign == 0.0f) {
         TriangleAttributes a = tri_attributes[triangle];
-        bool set1 = (slot.addressing & SAMPLER_TEXCOORD_1) != 0u;
         vec2 uv0 = set1 ? a.uv0_c2_uv1_c0.zw : a.uv0_c01.xy;
         vec2 uv1 = set1 ? a.uv1_c12.xy : a.uv0_c01.zw;
         vec2 uv2 = set1 ? a.uv1_c12.zw : a.uv0_c2_uv1_c0.xy;
@@ -93,21 +100,31 @@ vec3 apply_normal_map(uint slot_index, uint triangle, float b1, float b2, vec3 n
         vec2 duv1 = uv1 - uv0;
         vec2 duv2 = uv2 - uv0;
         float det = duv1.x * duv2.y - duv1.y * duv2.x;
-        if (!(abs(det) > 1e-20f)) return ns;  // no texture-space frame: leave the normal alone
-        // dp/du and dp/dv. glTF's v runs down the image while the normal texture's +Y points up it, so the
-        // bitangent is -dp/dv (what MikkTSpace gives for glTF's flipped texture coordinates).
+        if (!(abs(det) > 1e-20f)) return f;  // no texture-space frame
+        // dp/du and dp/dv. glTF's v runs down the image while tangent space's +Y points up it, so the bitangent
+        // is -dp/dv (what MikkTSpace gives for glTF's flipped texture coordinates).
         t = (dp1 * duv2.y - dp2 * duv1.y) / det;
         vec3 b = (dp2 * duv1.x - dp1 * duv2.x) / det;
         sign = dot(cross(ns, t), b) < 0.0f ? 1.0f : -1.0f;
     }
     t -= ns * dot(ns, t);
     float t_len = length(t);
-    if (!(t_len > 0.0f) || isinf(t_len)) return ns;
-    t /= t_len;
-    vec3 b = cross(ns, t) * sign;
-    vec3 n_ts = sample_texture(slot_index, tc).xyz * 2.0f - 1.0f;
+    if (!(t_len > 0.0f) || isinf(t_len)) return f;
+    f.t = t / t_len;
+    f.b = cross(ns, f.t) * sign;
+    f.valid = true;
+    return f;
+}
+
+// `ns` (the interpolated normal, on the geometric normal's side) with the tangent-space normal texture of
+// TextureSlot `slot_index` applied (spec 3.9.3), on the same side.
+vec3 apply_normal_map(uint slot_index, uint triangle, float b1, float b2, vec3 ns) {
+    TextureSlot slot = texture_slots[slot_index];
+    TangentFrame f = build_tangent_frame((slot.addressing & SAMPLER_TEXCOORD_1) != 0u, triangle, b1, b2, ns);
+    if (!f.valid) return ns;  // leave the normal alone
+    vec3 n_ts = sample_texture(slot_index, interpolate_texcoords(triangle, b1, b2)).xyz * 2.0f - 1.0f;
     n_ts.xy *= slot.scale;
-    vec3 n = t * n_ts.x + b * n_ts.y + ns * n_ts.z;
+    vec3 n = f.t * n_ts.x + f.b * n_ts.y + ns * n_ts.z;
     float n_len = length(n);
     return n_len > 0.0f && !isinf(n_len) ? n / n_len : ns;
 }

@@ -10,6 +10,7 @@ struct SurfaceHit {
     vec3 ng;         // unit geometric normal (winding order: (p1 - p0) x (p2 - p0))
     vec3 ns;         // unit shading normal, on the same side of the surface as ng
     vec3 nc;         // unit normal of a clear coat (KHR_materials_clearcoat): the interpolated normal, or its own map
+    vec3 ta;         // direction of KHR_materials_anisotropy (tangent plane; 0: none), set by the caller
     uint material;
     float light_pdf_area;
     float area;
@@ -47,6 +48,7 @@ SurfaceHit load_surface(uint triangle, float b1, float b2) {
         }
     }
     s.nc = s.ns;
+    s.ta = vec3(0.0f);
     s.material = ts.material;
     s.light_pdf_area = ts.light_pdf_area;
     return s;
@@ -80,6 +82,7 @@ SurfaceHit place_surface(SurfaceHit s, Instance inst) {
     if (ng_len > 0.0f && !isinf(ng_len)) s.ng = ng / ng_len;
     if (ns_len > 0.0f && !isinf(ns_len)) s.ns = ns / ns_len;
     if (nc_len > 0.0f && !isinf(nc_len)) s.nc = nc / nc_len;
+    s.ta = vec3(dot(m0, s.ta), dot(m1, s.ta), dot(m2, s.ta));  // a tangent: by the linear part itself
     return s;
 }
 #endif

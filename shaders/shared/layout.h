@@ -85,14 +85,18 @@ FH_CONST uint EFFECT_SHEEN = 32768u;               // KHR_materials_sheen: the C
 FH_CONST uint EFFECT_SHEEN_TEXTURE = 65536u;       // sheenColorTexture, sheenRoughnessTexture
 FH_CONST uint EFFECT_DIFFUSE_TRANSMISSION = 131072u;          // KHR_materials_diffuse_transmission
 FH_CONST uint EFFECT_DIFFUSE_TRANSMISSION_TEXTURE = 262144u;  // its two textures
+FH_CONST uint EFFECT_ANISOTROPY = 524288u;         // KHR_materials_anisotropy: anisotropic GGX for the base's specular
+FH_CONST uint EFFECT_ANISOTROPY_TEXTURE = 1048576u;  // anisotropyTexture
 FH_CONST uint EFFECT_ATTRIBUTES = EFFECT_BASE_COLOR_TEXTURE | EFFECT_METALLIC_ROUGHNESS_TEXTURE |
                                   EFFECT_NORMAL_TEXTURE | EFFECT_EMISSIVE_TEXTURE | EFFECT_VERTEX_COLORS |
                                   EFFECT_ALPHA | EFFECT_TRANSMISSION_TEXTURE | EFFECT_CLEARCOAT_TEXTURE |
                                   EFFECT_CLEARCOAT_NORMAL_TEXTURE | EFFECT_SHEEN_TEXTURE |
-                                  EFFECT_DIFFUSE_TRANSMISSION_TEXTURE;  // effects that read TriangleAttributes
+                                  EFFECT_DIFFUSE_TRANSMISSION_TEXTURE |
+                                  EFFECT_ANISOTROPY;  // effects that read TriangleAttributes (anisotropy: tangents)
 FH_CONST uint EFFECT_MATERIAL = EFFECT_ATTRIBUTES | EFFECT_TRANSMISSION | EFFECT_VOLUME | EFFECT_ABSORPTION |
                                 EFFECT_CLEARCOAT | EFFECT_UNLIT | EFFECT_SHEEN |
-                                EFFECT_DIFFUSE_TRANSMISSION;  // decided by the materials: --force-effect / --disable-effect
+                                EFFECT_DIFFUSE_TRANSMISSION | EFFECT_ANISOTROPY |
+                                EFFECT_ANISOTROPY_TEXTURE;  // decided by the materials: --force-effect / --disable-effect
 
 // ---- Robustness techniques (all on by default; `--disable-technique` turns one off to measure its cost and
 // to show what goes wrong without it). README "Numerical stability" has the table.
@@ -234,6 +238,10 @@ struct MaterialLayers {
     uint sheen_roughness_texture;      // TextureSlot (A channel), or INVALID_INDEX
     uint diffuse_transmission_texture;        // TextureSlot (A channel), or INVALID_INDEX
     uint diffuse_transmission_color_texture;  // TextureSlot (RGB, sRGB), or INVALID_INDEX
+    float anisotropy_strength;     // KHR_materials_anisotropy anisotropyStrength
+    float anisotropy_cos;          // cos and sin of anisotropyRotation (counter-clockwise from the tangent)
+    float anisotropy_sin;
+    uint anisotropy_texture;       // TextureSlot (RG: direction, B: strength; linear), or INVALID_INDEX
 };
 
 // A material's use of a texture (glTF textureInfo): which image, how it is addressed, and

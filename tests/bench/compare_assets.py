@@ -89,8 +89,10 @@ def use_single_scattering():
                 node.distribution = "GGX"
 
 
-# --without LAYER: the Principled BSDF input that switches a layer off in Cycles, beside Fredholm's --disable-effect.
-LAYER_WEIGHTS = {"sheen": "Sheen Weight", "clearcoat": "Coat Weight", "transmission": "Transmission Weight"}
+# --without LAYER: the Principled BSDF input that switches a layer off in Cycles (set to 0), beside Fredholm's
+# --disable-effect.
+LAYER_WEIGHTS = {"sheen": "Sheen Weight", "clearcoat": "Coat Weight", "transmission": "Transmission Weight",
+                 "anisotropy": "Anisotropic"}
 
 
 def remove_layer(layer):

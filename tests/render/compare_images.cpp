@@ -22,6 +22,7 @@ constexpr const char* USAGE = R"(usage:
   fh_compare TEST.exr --expect-constant VALUE [--tolerance 0.01] [--ignore-border 0] [--diff-out DIFF.exr]
   fh_compare TEST.exr --identical OTHER.exr [--diff-out DIFF.exr]
   fh_compare TEST.exr --finite [--diff-out DIFF.exr]
+  fh_compare TEST.exr --elongated-along x|y [--min-ratio 2]
   fh_compare T1.exr,T2.exr,... --same-distribution R1.exr,R2.exr,... [--alpha 0.01] [--diff-out DIFF.exr]
 Exit status: 0 pass; 1 fail (one line per failing criterion, difference image written to --diff-out,
 default TEST.diff.exr; --z-out adds each tile's z-score) or an unreadable image; 2 bad usage.
@@ -38,6 +39,7 @@ const std::map<std::string, std::vector<std::string>> MODE_OPTIONS = {
     {"--expect-constant", {"--tolerance", "--ignore-border", "--diff-out"}},
     {"--identical", {"--diff-out"}},
     {"--finite", {"--diff-out"}},
+    {"--elongated-along", {"--min-ratio"}},
     {"--same-distribution", {"--alpha", "--diff-out"}},
 };
 
@@ -46,6 +48,7 @@ const std::map<std::string, std::string> DIFFERENCE_CONTENT = {
     {"--expect-constant", "test minus expected constant"},
     {"--identical", "test minus other"},
     {"--finite", "1 where a value is NaN or infinite"},
+    {"--elongated-along", "none"},
     {"--same-distribution", "mean of test batches minus mean of reference batches"},
 };
 
@@ -102,7 +105,8 @@ Arguments parse_arguments(int argc, char** argv) {
     }
     if (args.test.empty()) throw UsageError("no test image given");
     if (args.mode.empty())
-        throw UsageError("choose one of --reference, --expect-constant, --identical, --finite, --same-distribution");
+        throw UsageError("choose one of --reference, --expect-constant, --identical, --finite, --same-distribution, "
+                         "--elongated-along");
     for (const auto& [name, value] : args.options) {
         if (name == args.mode) continue;
         bool known = false;
@@ -161,6 +165,13 @@ fh::CheckResult run_check(const Arguments& args) {
         if (!(tolerance >= 0)) throw UsageError("--tolerance must not be negative");
         return fh::check_constant(test, args.number("--expect-constant", 0), tolerance,
                                   args.integer("--ignore-border", 0, 0));
+    }
+    if (args.mode == "--elongated-along") {
+        const std::string axis = args.options.at("--elongated-along");
+        if (axis != "x" && axis != "y") throw UsageError("--elongated-along takes x or y");
+        const double min_ratio = args.number("--min-ratio", 2.0);
+        if (!(min_ratio > 0)) throw UsageError("--min-ratio must be positive");
+        return fh::check_elongation(test, axis[0], min_ratio);
     }
     if (args.mode == "--identical") return fh::check_identical(test, fh::read_exr(args.options.at("--identical")));
     return fh::check_finite(test);

@@ -112,4 +112,37 @@ CheckResult check_finite(const Image& test) {
     return result;
 }
 
+CheckResult check_elongation(const Image& test, char axis, double min_ratio) {
+    CheckResult result;
+    double weight = 0.0, mx = 0.0, my = 0.0, mxx = 0.0, myy = 0.0;
+    for (int y = 0; y < test.height; ++y)
+        for (int x = 0; x < test.width; ++x) {
+            const float* p = &test.rgb[(std::size_t(y) * test.width + x) * 3];
+            const double w = luminance(p[0], p[1], p[2]);
+            if (!(w > 0.0) || !std::isfinite(w)) continue;
+            weight += w;
+            mx += w * x;
+            my += w * y;
+            mxx += w * double(x) * x;
+            myy += w * double(y) * y;
+        }
+    if (!(weight > 0.0)) {
+        result.failures.push_back("elongation: the image is black");
+        result.summary = result.failures.back();
+        return result;
+    }
+    mx /= weight;
+    my /= weight;
+    const double var_x = mxx / weight - mx * mx, var_y = myy / weight - my * my;
+    const double along = axis == 'x' ? var_x : var_y, across = axis == 'x' ? var_y : var_x;
+    const double ratio = along / std::max(across, 1e-30);
+    if (!(ratio >= min_ratio))
+        result.failures.push_back(format_text("elongation: the light's spread along %c is %.3g times that across it "
+                                              "(variances %.4g and %.4g px^2), below %g",
+                                              axis, ratio, along, across, min_ratio));
+    result.summary = format_text("spread along %c / across: %.3g (variances %.4g and %.4g px^2; at least %g)", axis,
+                                 ratio, along, across, min_ratio);
+    return result;
+}
+
 }  // namespace fh

@@ -89,6 +89,11 @@ CheckResult check_identical(const Image& test, const Image& other);
 // Every value finite; `difference` is 1 where a channel is NaN or infinite, else 0.
 CheckResult check_finite(const Image& test);
 
+// The image's light is spread along image axis `axis` ('x': left-right, 'y': top-bottom) at least `min_ratio` times
+// as widely as across it: the luminance-weighted variance of the pixel coordinate along the axis over the one across
+// it (e.g. an anisotropic highlight, stretched along the rougher direction). No difference image.
+CheckResult check_elongation(const Image& test, char axis, double min_ratio);
+
 // ---- Same distribution, pixel by pixel -----------------------------------------------------------------
 //
 // test and reference are K >= 2 independent renders each (different seeds) of images that should have the

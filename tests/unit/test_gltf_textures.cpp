@@ -459,3 +459,38 @@ TEST(GltfDiffuseTransmission, EffectsAreDecidedByValue) {
 }
 
 }  // namespace
+
+// ---- KHR_materials_anisotropy -----------------------------------------------------------------------------
+namespace {
+
+nlohmann::json anisotropy_material(double strength, double rotation, bool textured, double roughness = 0.5) {
+    nlohmann::json ext = {{"anisotropyStrength", strength}, {"anisotropyRotation", rotation}};
+    if (textured) ext["anisotropyTexture"] = {{"index", 0}};
+    return {{"pbrMetallicRoughness", {{"roughnessFactor", roughness}}},
+            {"extensions", {{"KHR_materials_anisotropy", ext}}}};
+}
+
+// Strength and rotation (as its cosine and sine) land in MaterialLayers; the texture is data (linear).
+TEST(GltfAnisotropy, ReadsFactorsAndTexture) {
+    const Scene s = load_textured_triangle(anisotropy_material(0.6, 0.5, true));
+    ASSERT_EQ(s.material_layers.size(), 1u);
+    const gpu::MaterialLayers& l = s.material_layers[0];
+    EXPECT_FLOAT_EQ(l.anisotropy_strength, 0.6f);
+    EXPECT_FLOAT_EQ(l.anisotropy_cos, std::cos(0.5f));
+    EXPECT_FLOAT_EQ(l.anisotropy_sin, std::sin(0.5f));
+    ASSERT_LT(l.anisotropy_texture, s.texture_slots.size());
+    EXPECT_EQ(s.texture_slots[l.anisotropy_texture].addressing & gpu::SAMPLER_SRGB, 0u);
+    const uint32_t bits = gpu::EFFECT_ANISOTROPY | gpu::EFFECT_ANISOTROPY_TEXTURE;
+    EXPECT_EQ(fh::analyse_effects(s, false).bits & bits, bits);
+}
+
+// By value: strength 0, or roughness 1 (alpha 1 stretched towards 1 stays isotropic), switches nothing on.
+TEST(GltfAnisotropy, EffectsAreDecidedByValue) {
+    const uint32_t bits = gpu::EFFECT_ANISOTROPY | gpu::EFFECT_ANISOTROPY_TEXTURE;
+    auto effects_of = [&](const nlohmann::json& material) { return analysed_effects_of(material, bits); };
+    EXPECT_EQ(effects_of(anisotropy_material(0.0, 0.0, true)), 0u);
+    EXPECT_EQ(effects_of(anisotropy_material(1.0, 0.0, true, 1.0)), 0u);
+    EXPECT_EQ(effects_of(anisotropy_material(0.5, 1.0, false)), gpu::EFFECT_ANISOTROPY);
+}
+
+}  // namespace

@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Writes the render-test scenes for the KHR material extensions other than glass: KHR_materials_clearcoat,
-KHR_materials_sheen, KHR_materials_diffuse_transmission and KHR_materials_unlit (standard library only).
+KHR_materials_sheen, KHR_materials_diffuse_transmission, KHR_materials_anisotropy and KHR_materials_unlit (standard
+library only).
 
 usage: make_material_scenes.py OUT_DIR
 
@@ -19,14 +20,24 @@ criterion, stated beside its test in tests/render/CMakeLists.txt:
                         black base, no specular) seen head-on, over a large emitter of radiance 1 facing it, no
                         environment: the camera sees only light sent through, 0.6 x the emitter's share of the
                         cosine-weighted hemisphere below (0.99992 for a square 200 wide at distance 1).
+  anisotropy_0.gltf, anisotropy_90.gltf
+                        a white metal square (roughness 0.3) with anisotropyStrength 0.6 along its tangent (+x: the
+                        texture's u) turned by anisotropyRotation 0 or pi/2, seen from above by an orthographic camera
+                        under a point light 0.5 above its centre, no environment: the rougher direction
+                        (alpha_t = 0.09 + 0.91 x 0.36 = 0.42 against alpha = 0.09) stretches the highlight along +x,
+                        or along +y when turned.
+  isotropic_highlight.gltf
+                        the same without anisotropy: a round highlight.
   unlit_quad.gltf       an unlit quad of base colour 0.5 (with an emissiveFactor of 1, which unlit ignores), seen
                         head-on: every camera ray sees exactly its base colour, 0.5, whatever lights the scene.
 """
+import math
 import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "stability" / "render"))
 from make_stability_scenes import Gltf, icosphere, quad  # noqa: E402
+from make_asset_scenes import AssetGltf, quad_uv  # noqa: E402
 
 
 def coated(base, roughness, clearcoat, clearcoat_roughness, specular=1.0):
@@ -69,6 +80,21 @@ def diffuse_sheet():
     return g
 
 
+def highlight(strength, rotation):
+    g = AssetGltf()
+    g.doc["extensionsUsed"] += ["KHR_materials_anisotropy", "KHR_lights_punctual"]
+    material = {"pbrMetallicRoughness": {"baseColorFactor": [1.0, 1.0, 1.0, 1.0], "metallicFactor": 1.0,
+                                         "roughnessFactor": 0.3}}
+    if strength > 0.0:
+        material["extensions"] = {"KHR_materials_anisotropy": {"anisotropyStrength": strength,
+                                                               "anisotropyRotation": rotation}}
+    g.add_raw_material(material)
+    g.add_node({"mesh": g.add_uv_mesh(quad(-1, -1, 1, 1, 0.0), quad_uv(), 0)})
+    g.add_light({"type": "point", "intensity": 1.0}, {"translation": [0.0, 0.0, 0.5]})
+    g.add_orthographic_camera({"translation": [0.0, 0.0, 2.0]}, 1.0)
+    return g
+
+
 def unlit_quad():
     g = Gltf()
     g.doc["extensionsUsed"] += ["KHR_materials_unlit"]
@@ -92,6 +118,9 @@ def main():
                                   quad(-10, -10, 10, 10, 0.0),
                                   lambda g: g.add_orthographic_camera({"translation": [0.0, 0.0, 3.0]}, 1.0)),
         "diffuse_sheet": diffuse_sheet(),
+        "anisotropy_0": highlight(0.6, 0.0),
+        "anisotropy_90": highlight(0.6, math.pi / 2),
+        "isotropic_highlight": highlight(0.0, 0.0),
         "unlit_quad": unlit_quad(),
     }
     for name, g in scenes.items():
