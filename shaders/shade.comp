@@ -84,17 +84,25 @@ void main() {
             if (inst.material != INVALID_INDEX) s.material = inst.material;
         }
         Material m = resolve_material(load_material(s.material), hit.triangle, hit.b1, hit.b2);
-        AnisotropyLayer anisotropy = eval_anisotropy_layer(s.material, hit.triangle, hit.b1, hit.b2, s.ns);
-        s.ta = anisotropy.direction;
+        // KHR_materials_unlit: camera rays see the base colour (times its texture and COLOR_0); every other
+        // ray finds a black surface that ends the path (README "Unlit").
+        bool unlit = effect_on(EFFECT_UNLIT) && (m.flags & MATERIAL_UNLIT) != 0u;
+        bool may_extend = !unlit && (params.max_depth == 0u || segments < params.max_depth);
+        // The anisotropy's direction lies in the mesh's tangent frame (object space, before placing the instance);
+        // only a vertex that scatters reads it.
+        AnisotropyLayer anisotropy;
+        anisotropy.strength = 0.0f;
+        anisotropy.direction = vec3(0.0f);
+        if (effect_on(EFFECT_ANISOTROPY) && may_extend) {
+            anisotropy = eval_anisotropy_layer(s.material, hit.triangle, hit.b1, hit.b2, s.ns);
+            s.ta = anisotropy.direction;
+        }
         s.ns = apply_normal_texture(m, hit.triangle, hit.b1, hit.b2, s.ns);
         s.nc = apply_clearcoat_normal_texture(s.material, hit.triangle, hit.b1, hit.b2, s.nc);
         if (instanced) s = place_surface(s, inst);
         bool front = dot(s.ng, wo) > 0.0f;
         bool double_sided = (m.flags & MATERIAL_DOUBLE_SIDED) != 0u;
 
-        // KHR_materials_unlit: camera rays see the base colour (times its texture and COLOR_0); every other
-        // ray finds a black surface that ends the path (README "Unlit").
-        bool unlit = effect_on(EFFECT_UNLIT) && (m.flags & MATERIAL_UNLIT) != 0u;
         if (unlit && push.depth == 0u) radiance += beta * max(vec3(m.base_color), vec3(0.0f));
 
         // Emission. Paths that could also have sampled this light by NEE are weighted by the power
@@ -115,7 +123,6 @@ void main() {
             radiance += beta * emission * weight;
         }
 
-        bool may_extend = !unlit && (params.max_depth == 0u || segments < params.max_depth);
         if (may_extend) {
             // Both normals on the side the ray came from (z of the local frame).
             vec3 ng = front ? s.ng : -s.ng;

@@ -21,7 +21,7 @@ bool is_supported_extension(const std::string& name);
 gpu::Material convert_material(const tinygltf::Model& model, int index, Scene& scene);
 
 // What the KHR material extensions add to material `index` (layout.h MaterialLayers):
-// KHR_materials_transmission, _volume, _clearcoat, _sheen and _diffuse_transmission. Throws SceneError for an
+// KHR_materials_transmission, _volume, _clearcoat, _sheen, _diffuse_transmission and _anisotropy. Throws SceneError for an
 // attenuationDistance <= 0.
 gpu::MaterialLayers convert_material_layers(const tinygltf::Model& model, int index, Scene& scene);
 

@@ -207,9 +207,8 @@ BsdfParams with_anisotropy(BsdfParams p, float strength, vec2 direction) {
     if (has_anisotropy(p)) {
         vec2 average = vec2(max(ggx_albedo_average(p.alpha).x, ggx_albedo_average(p.roughness.alpha_t).x), 0.0f);
         for (int k = 0; k < ANISOTROPY_AZIMUTH_STEPS; ++k) {
-            float phi = 0.5f * PI * float(k) / float(ANISOTROPY_AZIMUTH_STEPS);
-            vec3 w = from_lobe_frame(p.roughness, vec3(cos(phi), sin(phi), 0.0f));  // phi from the direction
-            average.y += ggx_albedo_average(projected_alpha(p.roughness, w)).y;
+            float cos_phi = cos(0.5f * PI * float(k) / float(ANISOTROPY_AZIMUTH_STEPS));  // phi from the direction
+            average.y += ggx_albedo_average(projected_alpha_at(p.roughness, cos_phi * cos_phi)).y;
         }
         average.y /= float(ANISOTROPY_AZIMUTH_STEPS);
         average += vec2(ANISOTROPY_ALBEDO_MARGIN / 21.0f);

@@ -124,17 +124,20 @@ float ggx_lambda_term_lobe(GgxRoughness r, vec3 w) {
     return sqrt(m.z * m.z + x * x + y * y);
 }
 
+// alpha(phi) = sqrt(ax^2 cos^2 phi + ay^2 sin^2 phi) for the azimuth phi from the direction, given cos^2 phi.
+float projected_alpha_at(GgxRoughness r, float cos2_phi) {
+    return sqrt(r.alpha_t * r.alpha_t * cos2_phi + r.alpha * r.alpha * (1.0f - cos2_phi));
+}
+
 // The projected roughness alpha(phi) = sqrt(ax^2 cos^2 phi + ay^2 sin^2 phi) of w's azimuth phi (the isotropic alpha
 // that masks w as the lobe does); at the normal, where phi is undefined, the root mean square of the two.
 float projected_alpha(GgxRoughness r, vec3 w) {
     vec3 m = to_lobe_frame(r, w);
     float s2 = m.x * m.x + m.y * m.y;
-    float at2 = r.alpha_t * r.alpha_t;
-    float a2 = r.alpha * r.alpha;
     if (!(s2 > 0.0f)) {
-        return sqrt(0.5f * (at2 + a2));
+        return sqrt(0.5f * (r.alpha_t * r.alpha_t + r.alpha * r.alpha));
     }
-    return sqrt((at2 * m.x * m.x + a2 * m.y * m.y) / s2);
+    return projected_alpha_at(r, m.x * m.x / s2);
 }
 
 // V(wo, wi) cos(theta_i) as ggx_v_cos, for wo.z > 0 and wi.z > 0 (a transmitted wi: pass -wi).
