@@ -1,6 +1,6 @@
 // Stage "shade": one path vertex per queued ray. Adds emission seen by the ray, or the environment's radiance
 // when it escaped (both MIS-weighted against light sampling), resolves the material (textures, vertex colours,
-// normal map, anisotropy, glass, diffuse transmission, sheen, clear coat, unlit: only the effects the scene has are compiled in), samples a light and pushes a shadow ray (next-event estimation), samples the BSDF, applies
+// normal map, anisotropy, thin film, glass, diffuse transmission, sheen, clear coat, unlit: only the effects the scene has are compiled in), samples a light and pushes a shadow ray (next-event estimation), samples the BSDF, applies
 // Russian roulette and pushes the continuation ray.
 // Reads: rays[queue depth & 1], hits, paths, triangles, materials, emitters, textures, environment, and for
 // glass, sheens and clear coats the material layers, and path media. Writes: paths, path media, rays[queue (depth + 1) & 1], shadow_rays, counters.ray_count / shadow_count.
@@ -16,11 +16,13 @@
 #define BSDF_HAS_SHEEN effect_on(EFFECT_SHEEN)
 #define BSDF_HAS_DIFFUSE_TRANSMISSION effect_on(EFFECT_DIFFUSE_TRANSMISSION)
 #define BSDF_HAS_ANISOTROPY effect_on(EFFECT_ANISOTROPY)
+#define BSDF_HAS_IRIDESCENCE effect_on(EFFECT_IRIDESCENCE)
 #include "lib/bsdf.glsl"
 #include "lib/clearcoat.glsl"
 #include "lib/sheen_layer.glsl"
 #include "lib/diffuse_transmission.glsl"
 #include "lib/anisotropy_layer.glsl"
+#include "lib/iridescence_layer.glsl"
 #include "lib/surface.glsl"
 #include "lib/lights.glsl"
 #include "lib/transmission.glsl"
@@ -143,6 +145,11 @@ void main() {
                 float eta = volume && !front ? 1.0f / max(m.ior, 1.0e-4f) : m.ior;
                 bsdf = with_transmission(bsdf, eval_transmission(s.material, hit.triangle, hit.b1, hit.b2), eta,
                                          volume ? 0u : 1u);
+            }
+            // Thin film (KHR_materials_iridescence) on the specular lobes; before anisotropy, which renormalises.
+            if (effect_on(EFFECT_IRIDESCENCE)) {
+                IridescenceLayer film = eval_iridescence_layer(s.material, hit.triangle, hit.b1, hit.b2);
+                bsdf = with_iridescence(bsdf, film.weight, film.thickness, film.ior, film.albedo_bound);
             }
             // Anisotropy (KHR_materials_anisotropy): the specular lobes' roughness stretched along a tangent direction.
             if (effect_on(EFFECT_ANISOTROPY) && anisotropy.strength > 0.0f)

@@ -61,6 +61,8 @@ const std::vector<EffectInfo>& list_effects() {
         {gpu::EFFECT_DIFFUSE_TRANSMISSION_TEXTURE, "diffuse-transmission-texture"},
         {gpu::EFFECT_ANISOTROPY, "anisotropy"},
         {gpu::EFFECT_ANISOTROPY_TEXTURE, "anisotropy-texture"},
+        {gpu::EFFECT_IRIDESCENCE, "iridescence"},
+        {gpu::EFFECT_IRIDESCENCE_TEXTURE, "iridescence-texture"},
     };
     return effects;
 }
@@ -103,7 +105,7 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
 
     std::set<uint32_t> base, metal_rough, normal, emissive, alpha, glass, glass_texture, volume, absorbing;
     std::set<uint32_t> coat, coat_texture, coat_normal, unlit, sheen, sheen_texture, diffuse, diffuse_texture;
-    std::set<uint32_t> anisotropic, anisotropy_texture;
+    std::set<uint32_t> anisotropic, anisotropy_texture, film, film_texture;
     for (uint32_t m : used) {
         const gpu::Material& mat = scene.materials[m];
         // An unlit material shows its base colour only: none of its layers is ever evaluated.
@@ -155,6 +157,16 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
                 !(anisotropy_textured && slot_zero(layers.anisotropy_texture, {2}))) {
                 anisotropic.insert(m);
                 if (anisotropy_textured) anisotropy_texture.insert(m);
+            }
+            // A thin film shows where iridescenceFactor > 0, its texture's R is not 0 everywhere, and it has a
+            // thickness (the maximum, or with a thickness texture either end of the range).
+            const bool film_textured = slot_valid(layers.iridescence_texture);
+            const bool thickness_textured = slot_valid(layers.iridescence_thickness_texture);
+            const bool thick = layers.iridescence_thickness_max > 0.0f ||
+                               (thickness_textured && layers.iridescence_thickness_min > 0.0f);
+            if (layers.iridescence > 0.0f && thick && !(film_textured && slot_zero(layers.iridescence_texture, {0}))) {
+                film.insert(m);
+                if (film_textured || thickness_textured) film_texture.insert(m);
             }
         }
         if (mat.flags & gpu::MATERIAL_UNLIT) unlit.insert(m);
@@ -220,6 +232,10 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
     by_materials(gpu::EFFECT_ANISOTROPY, anisotropic,
                  "no visible material has KHR_materials_anisotropy strength > 0 with roughness < 1");
     by_materials(gpu::EFFECT_ANISOTROPY_TEXTURE, anisotropy_texture, "no anisotropic material has an anisotropyTexture");
+    by_materials(gpu::EFFECT_IRIDESCENCE, film,
+                 "no visible material has KHR_materials_iridescence > 0 with a film thicker than 0 nm");
+    by_materials(gpu::EFFECT_IRIDESCENCE_TEXTURE, film_texture,
+                 "no iridescent material has an iridescenceTexture or an iridescenceThicknessTexture");
     return effects;
 }
 

@@ -25,6 +25,7 @@
 
 #include "scene/gltf_accessor.h"
 #include "scene/gltf_material.h"
+#include "scene/thin_film_bound.h"
 #include "scene/gltf_draco.h"
 #include "scene/gltf_meshopt.h"
 #include "scene/gltf_texture.h"
@@ -990,6 +991,9 @@ Scene load_unprefixed(const std::filesystem::path& file, const LoadOptions& opti
     for (size_t m = 0; m < model.materials.size(); ++m) {
         scene.materials.push_back(gltf::convert_material(model, int(m), scene));
         scene.material_layers.push_back(gltf::convert_material_layers(model, int(m), scene));
+        const FilmFresnelBound bound = bound_thin_film_fresnel(scene.materials.back(), scene.material_layers.back());
+        scene.material_layers.back().iridescence_albedo_f0 = bound.a;
+        scene.material_layers.back().iridescence_albedo_f90 = bound.b;
     }
 
     warn_about_shared_nodes(model, scene.warnings);

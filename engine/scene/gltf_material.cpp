@@ -1,5 +1,5 @@
 // Converts glTF materials (spec 3.9) and the KHR extensions emissive_strength, specular, ior, unlit,
-// transmission, volume, clearcoat, sheen, diffuse_transmission and anisotropy.
+// transmission, volume, clearcoat, sheen, diffuse_transmission, anisotropy and iridescence.
 #include "scene/gltf_material.h"
 
 #include <algorithm>
@@ -23,6 +23,7 @@ constexpr const char* SUPPORTED_EXTENSIONS[] = {
     "KHR_materials_sheen",
     "KHR_materials_diffuse_transmission",
     "KHR_materials_anisotropy",
+    "KHR_materials_iridescence",
     "KHR_lights_punctual",  // read by gltf_loader.cpp
     "KHR_texture_transform",  // gltf_texture.cpp
     "EXT_texture_webp",
@@ -170,6 +171,14 @@ gpu::MaterialLayers make_default_layers() {
     layers.anisotropy_cos = 1.0f;
     layers.anisotropy_sin = 0.0f;
     layers.anisotropy_texture = gpu::INVALID_INDEX;
+    layers.iridescence = 0.0f;
+    layers.iridescence_ior = 1.3f;
+    layers.iridescence_thickness_min = 100.0f;
+    layers.iridescence_thickness_max = 400.0f;
+    layers.iridescence_texture = gpu::INVALID_INDEX;
+    layers.iridescence_thickness_texture = gpu::INVALID_INDEX;
+    layers.iridescence_albedo_f0 = 0.0f;
+    layers.iridescence_albedo_f90 = 0.0f;
     return layers;
 }
 
@@ -223,6 +232,27 @@ gpu::MaterialLayers convert_material_layers(const tinygltf::Model& model, int in
     layers.anisotropy_cos = std::isfinite(rotation) ? float(std::cos(rotation)) : 1.0f;
     layers.anisotropy_sin = std::isfinite(rotation) ? float(std::sin(rotation)) : 0.0f;
     layers.anisotropy_texture = extension_slot(anisotropy, "anisotropyTexture");
+
+    // KHR_materials_iridescence: the film's weight (R of its texture), index, and thickness in nm (G of the thickness
+    // texture between the minimum and the maximum; the maximum without it). Its Fresnel bound is set by the loader
+    // (bound_thin_film_albedo_f0), which also knows the base's f0.
+    const tinygltf::Value* film = find_extension(material, "KHR_materials_iridescence");
+    const double film_ior = read_number(film, "iridescenceIor", 1.3);
+    const double thinnest = read_number(film, "iridescenceThicknessMinimum", 100.0);
+    const double thickest = read_number(film, "iridescenceThicknessMaximum", 400.0);
+    if (!(film_ior >= 1.0) || !std::isfinite(film_ior))
+        throw SceneError(where + " has KHR_materials_iridescence iridescenceIor " + std::to_string(film_ior) +
+                         " (must be >= 1)");
+    for (double nm : {thinnest, thickest})
+        if (!(nm >= 0.0) || !std::isfinite(nm))
+            throw SceneError(where + " has a KHR_materials_iridescence thickness of " + std::to_string(nm) +
+                             " nm (must be >= 0)");
+    layers.iridescence = float(std::clamp(read_number(film, "iridescenceFactor", 0.0), 0.0, 1.0));
+    layers.iridescence_ior = float(film_ior);
+    layers.iridescence_thickness_min = float(thinnest);
+    layers.iridescence_thickness_max = float(thickest);
+    layers.iridescence_texture = extension_slot(film, "iridescenceTexture");
+    layers.iridescence_thickness_texture = extension_slot(film, "iridescenceThicknessTexture");
 
     // KHR_materials_volume: thicknessFactor > 0 makes the mesh the boundary of a volume; its value (and the
     // thickness texture) is a rasteriser's stand-in for the geometry a path tracer has, so only its sign is read.

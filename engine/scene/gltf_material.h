@@ -21,8 +21,9 @@ bool is_supported_extension(const std::string& name);
 gpu::Material convert_material(const tinygltf::Model& model, int index, Scene& scene);
 
 // What the KHR material extensions add to material `index` (layout.h MaterialLayers):
-// KHR_materials_transmission, _volume, _clearcoat, _sheen, _diffuse_transmission and _anisotropy. Throws SceneError for an
-// attenuationDistance <= 0.
+// KHR_materials_transmission, _volume, _clearcoat, _sheen, _diffuse_transmission, _anisotropy and _iridescence (its
+// Fresnel bound left 0: thin_film_bound.h). Throws SceneError for an attenuationDistance <= 0, an iridescenceIor < 1
+// or a negative film thickness.
 gpu::MaterialLayers convert_material_layers(const tinygltf::Model& model, int index, Scene& scene);
 
 // The material of primitives that name none: every property at its glTF default (spec 3.9.6).

@@ -180,7 +180,8 @@ uint32_t texcoord_sets_read(const gpu::Material& material, const gpu::MaterialLa
                            material.emissive_texture, layers.transmission_texture, layers.clearcoat_texture,
                            layers.clearcoat_roughness_texture, layers.clearcoat_normal_texture, layers.sheen_color_texture,
                            layers.sheen_roughness_texture, layers.diffuse_transmission_texture,
-                           layers.diffuse_transmission_color_texture, layers.anisotropy_texture})
+                           layers.diffuse_transmission_color_texture, layers.anisotropy_texture,
+                           layers.iridescence_texture, layers.iridescence_thickness_texture})
         if (index != gpu::INVALID_INDEX && index < slots.size())
             sets |= (slots[index].addressing & gpu::SAMPLER_TEXCOORD_1) ? 2u : 1u;
     return sets;

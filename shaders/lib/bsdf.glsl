@@ -62,6 +62,21 @@
 // roughnesses, angles to 89.5 deg and azimuths). The diffuse lobe stays under what the specular leaves, so nothing
 // gains energy; it loses what the bound overestimates (README "Anisotropy"). Stages without EFFECT_ANISOTROPY
 // define BSDF_HAS_ANISOTROPY false, leaving only the isotropic code.
+//
+// KHR_materials_iridescence puts a thin film (thin_film.glsl) on the base's specular lobes: their Fresnel term
+// becomes mix(F, F_film(|v.h|), iridescence), F_film from the dielectric's f0 (the extension's
+// iridescent_dielectric_layer with KHR_materials_specular) or from base_color (iridescent_conductor_layer), and the
+// glass lobe's reflectance likewise (dielectric.glsl). The diffuse lobe's albedo scaling needs the film's albedo,
+// bounded from a Schlick-shaped envelope of its Fresnel: F_film(c) <= a (1 - w) + b w, w = (1 - c)^5, for every
+// angle and every thickness the material can have, (a, b) computed on the host (engine/scene/thin_film_bound.cpp,
+// checked off its grid by tests/unit/test_bsdf_iridescence.cpp). Its albedo is then at most a A + b B, and E mixes
+// the two: E = mix(max(f0) A + f90 B, a A + b B, iridescence), a function of the direction alone (reciprocal).
+// With b > 1 (the film's interference persists to grazing angles, where its F leaves Schlick's curve, and b > 1
+// lets a stay near the film's reflectance at normal incidence) E can pass 1 at grazing angles, where
+// diffuse_transmittance clamps 1 - E at 0; the normalisation 1 / (1 - E_avg) then takes E_avg from below, with b
+// replaced by 1 (a A + B <= A + B <= 1 needs no clamp): min(E, 1) >= mix(..., a A + B, ...), so the diffuse lobe
+// keeps at most 1 - min(E(mu_o), 1) and nothing gains energy (README "Iridescence"). Stages without
+// EFFECT_IRIDESCENCE define BSDF_HAS_IRIDESCENCE false.
 #ifndef FREDHOLM_LIB_BSDF_GLSL
 #define FREDHOLM_LIB_BSDF_GLSL
 
@@ -75,6 +90,10 @@ using fh::gpu::Material;  // C++: include shaders/shared/layout.h at global scop
 #define BSDF_HAS_ANISOTROPY true
 #endif
 #define GGX_HAS_ANISOTROPY BSDF_HAS_ANISOTROPY
+#ifndef BSDF_HAS_IRIDESCENCE
+#define BSDF_HAS_IRIDESCENCE true
+#endif
+#define GLASS_HAS_IRIDESCENCE BSDF_HAS_IRIDESCENCE
 #include "ggx.glsl"
 #include "ggx_albedo.glsl"
 #include "dielectric.glsl"
@@ -120,6 +139,10 @@ struct BsdfParams {
     float sheen_roughness;  // perceptual, at least SHEEN_MIN_ROUGHNESS
     float diffuse_transmission;       // KHR_materials_diffuse_transmission: the diffuse lobe's share sent through
     vec3 diffuse_transmission_color;  // the colour it takes on the way
+    float iridescence;      // KHR_materials_iridescence: the film's weight (0: no film)
+    float film_thickness;   // nm
+    float film_ior;
+    vec2 film_albedo_bound; // (a, b) of the film's Fresnel envelope a (1 - w) + b w (see the top of the file)
 };
 
 // Floor of 1 - E_avg (approached only by f0 = f90 = 1 at small alpha): loses energy, never adds it.
@@ -154,6 +177,13 @@ BsdfParams make_bsdf_params(Material m) {
     p.sheen_roughness = SHEEN_MIN_ROUGHNESS;
     p.diffuse_transmission = 0.0f;
     p.diffuse_transmission_color = vec3(1.0f);
+    p.iridescence = 0.0f;
+    p.film_thickness = 0.0f;
+    p.film_ior = 1.0f;
+    p.film_albedo_bound = vec2(0.0f);
+    p.glass.iridescence = 0.0f;
+    p.glass.film_thickness = 0.0f;
+    p.glass.film_ior = 1.0f;
     return p;
 }
 
@@ -171,6 +201,30 @@ const float ANISOTROPY_ALBEDO_MARGIN = 0.1f;
 
 bool has_anisotropy(BsdfParams p) {
     return is_anisotropic(p.roughness);
+}
+
+bool has_iridescence(BsdfParams p) {
+    return BSDF_HAS_IRIDESCENCE && p.iridescence > 0.0f;
+}
+
+// The weights (of A, of B) of the dielectric's specular albedo E = max(f0) A + f90 B; under a film, mixed with the
+// film's envelope (a, b) (see the top of the file).
+vec2 specular_albedo_weights(BsdfParams p) {
+    vec2 weights = vec2(max_value(p.f0_dielectric), p.f90_dielectric);
+    if (has_iridescence(p)) {
+        weights = mix(weights, p.film_albedo_bound, p.iridescence);
+    }
+    return weights;
+}
+
+// The weights of E_avg's lower bound for the diffuse lobe's normalisation: as specular_albedo_weights, with the
+// film's b replaced by 1 (see the top of the file).
+vec2 specular_average_weights(BsdfParams p) {
+    vec2 weights = vec2(max_value(p.f0_dielectric), p.f90_dielectric);
+    if (has_iridescence(p)) {
+        weights = mix(weights, vec2(p.film_albedo_bound.x, 1.0f), p.iridescence);
+    }
+    return weights;
 }
 
 // The specular layer's albedo terms (A, B) = ggx_albedo for light from direction w (local frame; its z's sign is
@@ -212,7 +266,34 @@ BsdfParams with_anisotropy(BsdfParams p, float strength, vec2 direction) {
         }
         average.y /= float(ANISOTROPY_AZIMUTH_STEPS);
         average += vec2(ANISOTROPY_ALBEDO_MARGIN / 21.0f);
-        float e_average = max_value(p.f0_dielectric) * average.x + p.f90_dielectric * average.y;
+        vec2 weights = specular_average_weights(p);
+        float e_average = weights.x * average.x + weights.y * average.y;
+        p.diffuse_scale = 1.0f / max(1.0f - e_average, BSDF_MIN_DIFFUSE_TRANSMITTANCE);
+    }
+    return p;
+}
+
+// `p` under a thin film (KHR_materials_iridescence) of weight `iridescence`, `thickness` nm and index `ior`, whose
+// Fresnel envelope is a (1 - w) + b w with (a, b) = `albedo_bound` (MaterialLayers.iridescence_albedo_f0, _f90). A
+// film of weight 0 or thickness 0 is no film: `p` as it is (the extension's film would fade into Schlick's curve of
+// the air | film interface, not into the base's Fresnel). Call before with_anisotropy, which renormalises the diffuse
+// lobe with the anisotropic averages.
+BsdfParams with_iridescence(BsdfParams p, float iridescence, float thickness, float ior, vec2 albedo_bound) {
+    float weight = clamp(iridescence, 0.0f, 1.0f);
+    if (!(weight > 0.0f && thickness > 0.0f)) {
+        return p;
+    }
+    p.iridescence = weight;
+    p.film_thickness = thickness;
+    p.film_ior = ior;
+    p.film_albedo_bound = max(albedo_bound, vec2(0.0f));
+    p.glass.iridescence = weight;
+    p.glass.film_thickness = thickness;
+    p.glass.film_ior = ior;
+    if (has_iridescence(p)) {
+        vec2 average = ggx_albedo_average(p.alpha);
+        vec2 weights = specular_average_weights(p);
+        float e_average = weights.x * average.x + weights.y * average.y;
         p.diffuse_scale = 1.0f / max(1.0f - e_average, BSDF_MIN_DIFFUSE_TRANSMITTANCE);
     }
     return p;
@@ -283,9 +364,10 @@ float estimate_sheen_albedo(BsdfParams p, float cos_o) {
 }
 
 // Fraction of the light from cos theta = mu that the dielectric's specular layer lets through to the
-// diffuse base: 1 - E(mu), E = max_value(f0) A + f90 B, given ggx_albedo(mu, alpha) = (A, B).
+// diffuse base: 1 - E(mu), E = max_value(f0) A + f90 B (specular_albedo_weights), given ggx_albedo(mu, alpha) = (A, B).
 float diffuse_transmittance(BsdfParams p, vec2 albedo) {
-    return max(1.0f - (max_value(p.f0_dielectric) * albedo.x + p.f90_dielectric * albedo.y), 0.0f);
+    vec2 weights = specular_albedo_weights(p);
+    return max(1.0f - (weights.x * albedo.x + weights.y * albedo.y), 0.0f);
 }
 
 // The opaque lobes' shares of the albedo for outgoing cos theta `cos_o` (luminances): the specular layers'
@@ -357,11 +439,23 @@ vec3 eval_base_bsdf(BsdfParams p, vec3 wo, vec3 wi) {
         diffuse *= 1.0f - p.diffuse_transmission;
     }
     vec3 f_dielectric = p.f0_dielectric + (vec3(p.f90_dielectric) - p.f0_dielectric) * w;
+    vec3 f_metal = p.base_color + (vec3(1.0f) - p.base_color) * w;
+    if (has_iridescence(p)) {
+        float cos_h = abs(dot(wo, h));
+        if (p.metallic < 1.0f) {
+            vec3 film = eval_thin_film_fresnel(cos_h, p.film_thickness, p.film_ior, p.f0_dielectric);
+            f_dielectric = mix(f_dielectric, film, p.iridescence);
+        }
+        if (p.metallic > 0.0f) {
+            vec3 film = eval_thin_film_fresnel(cos_h, p.film_thickness, p.film_ior, p.base_color);
+            f_metal = mix(f_metal, film, p.iridescence);
+        }
+    }
     vec3 dielectric = diffuse + f_dielectric * specular;
     if (has_glass(p)) {
         dielectric = mix(dielectric, eval_glass(p.glass, wo, wi), p.transmission);
     }
-    vec3 metal = (p.base_color + (vec3(1.0f) - p.base_color) * w) * specular;
+    vec3 metal = f_metal * specular;
     return mix(dielectric, metal, p.metallic);
 }
 

@@ -12,11 +12,22 @@
 //   f cos_i = T D G2 |wi.h| (wo.h) / (cos_o (wi.h + wo.h / eta)^2 eta^2) = 4 T D V cos_i |wi.h| (wo.h) / (...)
 // Thin-walled: f(wo, wi) = T D V evaluated at the mirror image of wi (reciprocal, and the same energy as R).
 // Single scattering between microfacets only: rough glass loses a little energy, never gains it.
+// KHR_materials_iridescence: a thin film on the outside mixes its reflectance F_film(wo.h) (thin_film.glsl) into R,
+//   R = mix(R, F_film, iridescence), and T = base_color (1 - max(R)) as above (the extension's rgb_mix with the
+// BTDF as its base): per microfacet R + T <= 1 still. Seen from inside a volume (eta < 1) light meets the film at
+// the angle it refracts to outside: a lossless stack reflects the same from both sides (Stokes' relations). The
+// choice between reflection and refraction still follows the exact F (unbiased: f / pdf carries R and T).
+// Compiled out (GLASS_HAS_IRIDESCENCE false) in stages without EFFECT_IRIDESCENCE.
 #ifndef FREDHOLM_LIB_DIELECTRIC_GLSL
 #define FREDHOLM_LIB_DIELECTRIC_GLSL
 
 #include "sampling.glsl"
 #include "ggx.glsl"
+#include "thin_film.glsl"
+
+#ifndef GLASS_HAS_IRIDESCENCE
+#define GLASS_HAS_IRIDESCENCE true
+#endif
 
 // A refracting eta within this of 1 is moved to 1 +- this: at eta = 1 the interface is invisible and rough
 // refraction degenerates into a delta that no finite pdf describes. (Thin-walled glass has no such limit.)
@@ -29,6 +40,9 @@ struct GlassParams {
     float specular;          // specularFactor
     float eta;               // n beyond the surface / n on wo's side; thin-walled: the ior
     uint thin_walled;        // 1: no volume behind the surface
+    float iridescence;       // KHR_materials_iridescence: the film's weight (0: no film)
+    float film_thickness;    // nm
+    float film_ior;
 };
 
 // Unpolarised Fresnel reflectance for cos_i (incident direction against the normal on its side) and
@@ -54,12 +68,24 @@ float refraction_eta(float ratio) {
     return eta;
 }
 
-vec3 glass_reflectance(GlassParams g, float fresnel) {
-    return g.specular * min(fresnel * g.specular_color, vec3(1.0f));
+// R for a microfacet seen at cos theta = cos_o (wo.h) whose exact Fresnel reflectance is `fresnel`.
+vec3 glass_reflectance(GlassParams g, float cos_o, float fresnel) {
+    vec3 r = g.specular * min(fresnel * g.specular_color, vec3(1.0f));
+    if (GLASS_HAS_IRIDESCENCE && g.iridescence > 0.0f && fresnel < 1.0f) {
+        float c = cos_o;
+        if (g.thin_walled == 0u && g.eta < 1.0f) {
+            c = sqrt(max(1.0f - (1.0f - cos_o * cos_o) / (g.eta * g.eta), 0.0f));  // fresnel < 1: no TIR
+        }
+        float n = (g.eta - 1.0f) / (g.eta + 1.0f);  // the same for eta and 1 / eta
+        vec3 base_f0 = min(vec3(n * n) * g.specular_color, vec3(1.0f)) * g.specular;
+        r = mix(r, eval_thin_film_fresnel(c, g.film_thickness, g.film_ior, base_f0), g.iridescence);
+    }
+    return r;
 }
 
-vec3 glass_transmittance(GlassParams g, float fresnel) {
-    return g.transmission_tint * (1.0f - max_value(glass_reflectance(g, fresnel)));
+// T for a microfacet of reflectance `reflectance` (glass_reflectance).
+vec3 glass_transmittance(GlassParams g, vec3 reflectance) {
+    return g.transmission_tint * (1.0f - max_value(reflectance));
 }
 
 // The microfacet normal that refracts wo into wi (Walter eq. 16: h ~ wo + eta wi, turned to +z), with the
@@ -102,7 +128,7 @@ vec3 eval_glass(GlassParams g, vec3 wo, vec3 wi) {
     if (wi.z > 0.0f) {
         vec3 h = normalize(wo + wi);
         float f = fresnel_dielectric(dot(wo, h), g.eta);
-        return glass_reflectance(g, f) * (ggx_d_lobe(g.roughness, h) * ggx_v_cos_lobe(g.roughness, wo, wi));
+        return glass_reflectance(g, dot(wo, h), f) * (ggx_d_lobe(g.roughness, h) * ggx_v_cos_lobe(g.roughness, wo, wi));
     }
     if (!(wi.z < 0.0f)) {
         return vec3(0.0f);
@@ -111,7 +137,7 @@ vec3 eval_glass(GlassParams g, vec3 wo, vec3 wi) {
         vec3 mirrored = vec3(wi.x, wi.y, -wi.z);
         vec3 h = normalize(wo + mirrored);
         float f = fresnel_dielectric(dot(wo, h), g.eta);
-        return glass_transmittance(g, f) * (ggx_d_lobe(g.roughness, h) * ggx_v_cos_lobe(g.roughness, wo, mirrored));
+        return glass_transmittance(g, glass_reflectance(g, dot(wo, h), f)) * (ggx_d_lobe(g.roughness, h) * ggx_v_cos_lobe(g.roughness, wo, mirrored));
     }
     RefractionHalf r = refraction_half_vector(wo, wi, g.eta);
     if (r.valid == 0u) {
@@ -119,7 +145,7 @@ vec3 eval_glass(GlassParams g, vec3 wo, vec3 wi) {
     }
     float f = fresnel_dielectric(dot(wo, r.h), g.eta);
     float jacobian = abs(dot(wi, r.h)) * dot(wo, r.h) / (r.denom * g.eta * g.eta);
-    return glass_transmittance(g, f) * (4.0f * ggx_d_lobe(g.roughness, r.h) * ggx_v_cos_lobe(g.roughness, wo, -wi) * jacobian);
+    return glass_transmittance(g, glass_reflectance(g, dot(wo, r.h), f)) * (4.0f * ggx_d_lobe(g.roughness, r.h) * ggx_v_cos_lobe(g.roughness, wo, -wi) * jacobian);
 }
 
 // Solid-angle pdf of sample_glass: h from the visible normals, then reflection with probability F(wo.h).

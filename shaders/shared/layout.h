@@ -87,16 +87,19 @@ FH_CONST uint EFFECT_DIFFUSE_TRANSMISSION = 131072u;          // KHR_materials_d
 FH_CONST uint EFFECT_DIFFUSE_TRANSMISSION_TEXTURE = 262144u;  // its two textures
 FH_CONST uint EFFECT_ANISOTROPY = 524288u;         // KHR_materials_anisotropy: anisotropic GGX for the base's specular
 FH_CONST uint EFFECT_ANISOTROPY_TEXTURE = 1048576u;  // anisotropyTexture
+FH_CONST uint EFFECT_IRIDESCENCE = 2097152u;       // KHR_materials_iridescence: a thin film's Fresnel on the specular
+FH_CONST uint EFFECT_IRIDESCENCE_TEXTURE = 4194304u;  // iridescenceTexture, iridescenceThicknessTexture
 FH_CONST uint EFFECT_ATTRIBUTES = EFFECT_BASE_COLOR_TEXTURE | EFFECT_METALLIC_ROUGHNESS_TEXTURE |
                                   EFFECT_NORMAL_TEXTURE | EFFECT_EMISSIVE_TEXTURE | EFFECT_VERTEX_COLORS |
                                   EFFECT_ALPHA | EFFECT_TRANSMISSION_TEXTURE | EFFECT_CLEARCOAT_TEXTURE |
                                   EFFECT_CLEARCOAT_NORMAL_TEXTURE | EFFECT_SHEEN_TEXTURE |
-                                  EFFECT_DIFFUSE_TRANSMISSION_TEXTURE |
+                                  EFFECT_DIFFUSE_TRANSMISSION_TEXTURE | EFFECT_IRIDESCENCE_TEXTURE |
                                   EFFECT_ANISOTROPY;  // effects that read TriangleAttributes (anisotropy: tangents)
 FH_CONST uint EFFECT_MATERIAL = EFFECT_ATTRIBUTES | EFFECT_TRANSMISSION | EFFECT_VOLUME | EFFECT_ABSORPTION |
                                 EFFECT_CLEARCOAT | EFFECT_UNLIT | EFFECT_SHEEN |
                                 EFFECT_DIFFUSE_TRANSMISSION | EFFECT_ANISOTROPY |
-                                EFFECT_ANISOTROPY_TEXTURE;  // decided by the materials: --force-effect / --disable-effect
+                                EFFECT_ANISOTROPY_TEXTURE | EFFECT_IRIDESCENCE |
+                                EFFECT_IRIDESCENCE_TEXTURE;  // decided by the materials: --force-effect / --disable-effect
 
 // ---- Robustness techniques (all on by default; `--disable-technique` turns one off to measure its cost and
 // to show what goes wrong without it). README "Numerical stability" has the table.
@@ -242,6 +245,14 @@ struct MaterialLayers {
     float anisotropy_cos;          // cos and sin of anisotropyRotation (counter-clockwise from the tangent)
     float anisotropy_sin;
     uint anisotropy_texture;       // TextureSlot (RG: direction, B: strength; linear), or INVALID_INDEX
+    float iridescence;             // KHR_materials_iridescence iridescenceFactor (0 also where the film is 0 nm thick)
+    float iridescence_ior;         // iridescenceIor: the film's index of refraction
+    float iridescence_thickness_min;  // iridescenceThicknessMinimum, nm (thickness texture G = 0)
+    float iridescence_thickness_max;  // iridescenceThicknessMaximum, nm (G = 1, or no texture)
+    uint iridescence_texture;      // TextureSlot (R channel: strength), or INVALID_INDEX
+    uint iridescence_thickness_texture;  // TextureSlot (G channel: thickness), or INVALID_INDEX
+    float iridescence_albedo_f0;   // the film's Fresnel bound F <= a (1 - (1 - cos)^5) + b (1 - cos)^5: a,
+    float iridescence_albedo_f90;  // and b (scene/thin_film_bound.h)
 };
 
 // A material's use of a texture (glTF textureInfo): which image, how it is addressed, and

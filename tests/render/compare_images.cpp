@@ -19,7 +19,7 @@ namespace {
 constexpr const char* USAGE = R"(usage:
   fh_compare TEST.exr --reference REF.exr [--block 16] [--max-block-rel 0.05] [--max-mean-rel 0.005]
                       [--alpha 0.01] [--diff-out DIFF.exr] [--z-out Z.exr]
-  fh_compare TEST.exr --expect-constant VALUE [--tolerance 0.01] [--ignore-border 0] [--diff-out DIFF.exr]
+  fh_compare TEST.exr --expect-constant VALUE|R,G,B [--tolerance 0.01] [--ignore-border 0] [--diff-out DIFF.exr]
   fh_compare TEST.exr --identical OTHER.exr [--diff-out DIFF.exr]
   fh_compare TEST.exr --finite [--diff-out DIFF.exr]
   fh_compare TEST.exr --elongated-along x|y [--min-ratio 2]
@@ -163,6 +163,25 @@ fh::CheckResult run_check(const Arguments& args) {
     if (args.mode == "--expect-constant") {
         const double tolerance = args.number("--tolerance", 0.01);
         if (!(tolerance >= 0)) throw UsageError("--tolerance must not be negative");
+        const std::string text = args.options.at("--expect-constant");
+        if (std::count(text.begin(), text.end(), ',') == 2) {
+            std::array<double, 3> rgb{};
+            std::size_t start = 0;
+            for (int c = 0; c < 3; ++c) {
+                const std::size_t end = c < 2 ? text.find(',', start) : text.size();
+                const std::string part = text.substr(start, end - start);
+                std::size_t used = 0;
+                try {
+                    rgb[c] = std::stod(part, &used);
+                } catch (const std::exception&) {
+                    used = 0;
+                }
+                if (used == 0 || used != part.size() || !std::isfinite(rgb[c]))
+                    throw UsageError("--expect-constant expects a number or R,G,B, got \"" + text + "\"");
+                start = end + 1;
+            }
+            return fh::check_constant(test, rgb, tolerance, args.integer("--ignore-border", 0, 0));
+        }
         return fh::check_constant(test, args.number("--expect-constant", 0), tolerance,
                                   args.integer("--ignore-border", 0, 0));
     }

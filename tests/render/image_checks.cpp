@@ -19,8 +19,15 @@ std::string size_mismatch(const Image& a, const Image& b) {
 }  // namespace
 
 CheckResult check_constant(const Image& test, double value, double tolerance, int ignore_border) {
+    return check_constant(test, std::array<double, 3>{value, value, value}, tolerance, ignore_border);
+}
+
+CheckResult check_constant(const Image& test, const std::array<double, 3>& value, double tolerance, int ignore_border) {
     CheckResult result;
-    const double scale = value != 0 ? std::abs(value) : 1.0;  // relative tolerance, absolute around zero
+    // Relative tolerance, absolute around zero; a grey constant is printed as one number.
+    auto scale_of = [&](int c) { return value[c] != 0 ? std::abs(value[c]) : 1.0; };
+    const bool grey = value[0] == value[1] && value[1] == value[2];
+    const std::string expected = grey ? format_text("%g", value[0]) : format_text("%g,%g,%g", value[0], value[1], value[2]);
     const int x0 = ignore_border, x1 = test.width - ignore_border;
     const int y0 = ignore_border, y1 = test.height - ignore_border;
     if (x0 < 0 || x1 <= x0 || y1 <= y0) {
@@ -36,36 +43,36 @@ CheckResult check_constant(const Image& test, double value, double tolerance, in
         for (int x = x0; x < x1; ++x)
             for (int c = 0; c < 3; ++c) {
                 const double v = test.rgb[(std::size_t(y) * test.width + x) * 3 + c];
-                const double deviation = std::abs(v - value) / scale;
+                const double deviation = std::abs(v - value[c]) / scale_of(c);
                 sum[c] += v;
                 bad += !(deviation <= tolerance);
                 if (!(deviation <= worst)) worst = deviation, worst_x = x, worst_y = y, worst_c = c;
             }
     const std::size_t at_worst = (std::size_t(worst_y) * test.width + worst_x) * 3 + worst_c;
-    const char* sense = value != 0 ? "relative" : "absolute";
+    const char* sense = value[0] != 0 || value[1] != 0 || value[2] != 0 ? "relative" : "absolute";
     if (bad)
-        result.failures.push_back(format_text("pixels: %zu values deviate from %g by more than %g (%s); worst at (%d,%d) "
+        result.failures.push_back(format_text("pixels: %zu values deviate from %s by more than %g (%s); worst at (%d,%d) "
                                               "%s = %.6g (off by %.3g)",
-                                              bad, value, tolerance, sense, worst_x, worst_y, CHANNEL_NAMES[worst_c],
+                                              bad, expected.c_str(), tolerance, sense, worst_x, worst_y, CHANNEL_NAMES[worst_c],
                                               double(test.rgb[at_worst]), worst));
 
     const double pixels = double(x1 - x0) * double(y1 - y0);
     std::string mean_text, mean_failures;
     for (int c = 0; c < 3; ++c) {
-        const double mean = sum[c] / pixels, deviation = std::abs(mean - value) / scale;
+        const double mean = sum[c] / pixels, deviation = std::abs(mean - value[c]) / scale_of(c);
         mean_text += format_text(" %s %.6g", CHANNEL_NAMES[c], mean);
         if (!(deviation <= tolerance / 10))
             mean_failures += format_text(" %s %.6g (off by %.3g)", CHANNEL_NAMES[c], mean, deviation);
     }
     if (!mean_failures.empty())
-        result.failures.push_back(format_text("mean: deviates from %g by more than %g (%s):", value, tolerance / 10,
+        result.failures.push_back(format_text("mean: deviates from %s by more than %g (%s):", expected.c_str(), tolerance / 10,
                                               sense) + mean_failures);
 
     result.difference = Image{test.width, test.height, std::vector<float>(test.rgb.size())};
-    for (std::size_t i = 0; i < test.rgb.size(); ++i) result.difference.rgb[i] = float(test.rgb[i] - value);
-    result.summary = format_text("%s: constant %g over %d x %d pixels: %zu values off by more than %.3g, worst %.3g "
+    for (std::size_t i = 0; i < test.rgb.size(); ++i) result.difference.rgb[i] = float(test.rgb[i] - value[i % 3]);
+    result.summary = format_text("%s: constant %s over %d x %d pixels: %zu values off by more than %.3g, worst %.3g "
                                  "at (%d,%d) %s; means",
-                                 result.passed() ? "PASS" : "FAIL", value, x1 - x0, y1 - y0, bad, tolerance, worst,
+                                 result.passed() ? "PASS" : "FAIL", expected.c_str(), x1 - x0, y1 - y0, bad, tolerance, worst,
                                  worst_x, worst_y, CHANNEL_NAMES[worst_c]) +
                      mean_text;
     return result;

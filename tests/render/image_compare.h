@@ -80,8 +80,11 @@ ReferenceResult compare_to_reference(const Image& test, const Image& reference, 
 
 // Furnace test: every channel of every pixel (minus `ignore_border` pixels on each side) must satisfy
 // |v - value| <= tolerance * |value| (absolute tolerance when value is 0), and each channel's mean over those
-// pixels must be within tolerance / 10 in the same sense. `difference` = test - value.
+// pixels must be within tolerance / 10 in the same sense. `difference` = test - value. The second form expects a
+// colour: channel c against value[c].
 CheckResult check_constant(const Image& test, double value, double tolerance = 0.01, int ignore_border = 0);
+CheckResult check_constant(const Image& test, const std::array<double, 3>& value, double tolerance = 0.01,
+                           int ignore_border = 0);
 
 // Bit-identical pixel data (NaNs compare by bit pattern); reports the first differing pixel.
 CheckResult check_identical(const Image& test, const Image& other);

@@ -494,3 +494,52 @@ TEST(GltfAnisotropy, EffectsAreDecidedByValue) {
 }
 
 }  // namespace
+
+// ---- KHR_materials_iridescence --------------------------------------------------------------------------------
+namespace {
+
+nlohmann::json film_material(double factor, double thickest, bool textured, double thinnest = 100.0) {
+    nlohmann::json ext = {{"iridescenceFactor", factor}, {"iridescenceIor", 1.7},
+                          {"iridescenceThicknessMinimum", thinnest}, {"iridescenceThicknessMaximum", thickest}};
+    if (textured) ext["iridescenceThicknessTexture"] = {{"index", 0}};
+    return {{"extensions", {{"KHR_materials_iridescence", ext}}}};
+}
+
+// Factor, index, thicknesses and the texture land in MaterialLayers, with the host's bound of the film's Fresnel.
+TEST(GltfIridescence, ReadsFactorsTextureAndBound) {
+    const Scene s = load_textured_triangle(film_material(0.8, 450.0, true));
+    ASSERT_EQ(s.material_layers.size(), 1u);
+    const gpu::MaterialLayers& l = s.material_layers[0];
+    EXPECT_FLOAT_EQ(l.iridescence, 0.8f);
+    EXPECT_FLOAT_EQ(l.iridescence_ior, 1.7f);
+    EXPECT_FLOAT_EQ(l.iridescence_thickness_min, 100.0f);
+    EXPECT_FLOAT_EQ(l.iridescence_thickness_max, 450.0f);
+    EXPECT_EQ(l.iridescence_texture, gpu::INVALID_INDEX);
+    ASSERT_LT(l.iridescence_thickness_texture, s.texture_slots.size());
+    EXPECT_EQ(s.texture_slots[l.iridescence_thickness_texture].addressing & gpu::SAMPLER_SRGB, 0u);
+    EXPECT_GT(l.iridescence_albedo_f0, 0.0f);
+    EXPECT_GE(l.iridescence_albedo_f90, 1.0f);
+    const uint32_t bits = gpu::EFFECT_IRIDESCENCE | gpu::EFFECT_IRIDESCENCE_TEXTURE;
+    EXPECT_EQ(fh::analyse_effects(s, false).bits & bits, bits);
+}
+
+// By value: factor 0, or a film of no thickness, switches nothing on.
+TEST(GltfIridescence, EffectsAreDecidedByValue) {
+    const uint32_t bits = gpu::EFFECT_IRIDESCENCE | gpu::EFFECT_IRIDESCENCE_TEXTURE;
+    auto effects_of = [&](const nlohmann::json& material) { return analysed_effects_of(material, bits); };
+    EXPECT_EQ(effects_of(film_material(0.0, 400.0, true)), 0u);
+    EXPECT_EQ(effects_of(film_material(1.0, 0.0, false)), 0u);
+    EXPECT_EQ(effects_of(film_material(1.0, 0.0, true, 0.0)), 0u);
+    EXPECT_EQ(effects_of(film_material(1.0, 400.0, false)), gpu::EFFECT_IRIDESCENCE);
+    EXPECT_EQ(effects_of(film_material(1.0, 0.0, true, 100.0)), bits);  // thin where the texture is 1, not where 0
+}
+
+// An index below 1 or a negative thickness is an error naming the material.
+TEST(GltfIridescence, RejectsImpossibleFilms) {
+    nlohmann::json bad_ior = film_material(1.0, 400.0, false);
+    bad_ior["extensions"]["KHR_materials_iridescence"]["iridescenceIor"] = 0.5;
+    EXPECT_THROW(load_textured_triangle(bad_ior), fh::SceneError);
+    EXPECT_THROW(load_textured_triangle(film_material(1.0, -5.0, false)), fh::SceneError);
+}
+
+}  // namespace

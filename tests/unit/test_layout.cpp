@@ -199,7 +199,7 @@ TEST(Layout, SizesMatchTheGpuStructs) {
     EXPECT_EQ(sizeof(TrianglePositions), 48u);
     EXPECT_EQ(sizeof(TriangleShading), 48u);
     EXPECT_EQ(sizeof(Material), 96u);
-    EXPECT_EQ(sizeof(MaterialLayers), 112u);
+    EXPECT_EQ(sizeof(MaterialLayers), 144u);
     EXPECT_EQ(sizeof(TextureSlot), 48u);
     EXPECT_EQ(sizeof(TriangleAttributes), 96u);
     EXPECT_EQ(sizeof(Emitter), 16u);

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Writes the render-test scenes for the KHR material extensions other than glass: KHR_materials_clearcoat,
-KHR_materials_sheen, KHR_materials_diffuse_transmission, KHR_materials_anisotropy and KHR_materials_unlit (standard
-library only).
+KHR_materials_sheen, KHR_materials_diffuse_transmission, KHR_materials_anisotropy, KHR_materials_iridescence and
+KHR_materials_unlit (standard library only).
 
 usage: make_material_scenes.py OUT_DIR
 
@@ -28,6 +28,10 @@ criterion, stated beside its test in tests/render/CMakeLists.txt:
                         or along +y when turned.
   isotropic_highlight.gltf
                         the same without anisotropy: a round highlight.
+  film_black_quad.gltf  a smooth black dielectric (ior 1.5, f0 0.04, no diffuse) under a thin film of index 1.8,
+                        300 nm thick (KHR_materials_iridescence, factor 1), seen head-on: the film's reflectance at
+                        normal incidence, coloured by interference, (0.0949, 0.0432, 0.1217) in linear Rec.709 (the
+                        extension's formula in double precision), where the bare base reflects a grey 0.04.
   unlit_quad.gltf       an unlit quad of base colour 0.5 (with an emissiveFactor of 1, which unlit ignores), seen
                         head-on: every camera ray sees exactly its base colour, 0.5, whatever lights the scene.
 """
@@ -95,6 +99,19 @@ def highlight(strength, rotation):
     return g
 
 
+def film_black_quad():
+    g = Gltf()
+    g.doc["extensionsUsed"] += ["KHR_materials_iridescence"]
+    g.doc["materials"].append({"pbrMetallicRoughness": {"baseColorFactor": [0.0, 0.0, 0.0, 1.0], "metallicFactor": 0.0,
+                                                        "roughnessFactor": 0.0},
+                               "extensions": {"KHR_materials_iridescence": {
+                                   "iridescenceFactor": 1.0, "iridescenceIor": 1.8,
+                                   "iridescenceThicknessMaximum": 300.0}}})
+    g.add_node({"mesh": g.add_mesh(quad(-10, -10, 10, 10, 0.0), 0)})
+    g.add_orthographic_camera({"translation": [0.0, 0.0, 3.0]}, 1.0)
+    return g
+
+
 def unlit_quad():
     g = Gltf()
     g.doc["extensionsUsed"] += ["KHR_materials_unlit"]
@@ -121,6 +138,7 @@ def main():
         "anisotropy_0": highlight(0.6, 0.0),
         "anisotropy_90": highlight(0.6, math.pi / 2),
         "isotropic_highlight": highlight(0.0, 0.0),
+        "film_black_quad": film_black_quad(),
         "unlit_quad": unlit_quad(),
     }
     for name, g in scenes.items():
