@@ -7,10 +7,10 @@
 
 #include "lib/cpp_compat.h"
 #pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wunused-function"  // the parts of sampling.glsl this file does not call
+#pragma GCC diagnostic ignored "-Wunused-function"  // the parts of the BSDF this file does not call
 namespace fh::glsl {
 namespace {  // internal linkage: test executables link this beside their own copy of the shared libraries
-#include "lib/thin_film.glsl"
+#include "lib/bsdf.glsl"
 }  // namespace
 }  // namespace fh::glsl
 #pragma GCC diagnostic pop
@@ -30,16 +30,10 @@ constexpr double OPD_CUTOFF = 10000.0;
 constexpr double B_LARGEST = 4.0;
 constexpr int B_STEPS = 300;
 
-glm::vec3 dielectric_f0(const gpu::Material& m) {
-    const float r = (m.ior - 1.0f) / std::max(m.ior + 1.0f, 1.0e-6f);
-    const float specular = std::clamp(m.specular_color.w, 0.0f, 1.0f);
-    return glm::min(glm::vec3(r * r) * glm::vec3(m.specular_color), glm::vec3(1.0f)) * specular;
-}
-
 // Calls visit(k, c, F_film(c, d)) over the grid of angles and thicknesses, `refine` times finer than the bound's.
 template <class Visit>
 void visit_film(const gpu::Material& material, const gpu::MaterialLayers& layers, int refine, Visit visit) {
-    const glm::vec3 f0 = dielectric_f0(material);
+    const glm::vec3 f0 = glsl::make_bsdf_params(material).f0_dielectric;  // the film's base, as the shader's
     const float ior = layers.iridescence_ior;
     const bool textured = layers.iridescence_thickness_texture != gpu::INVALID_INDEX;
     const double thickest = layers.iridescence_thickness_max;

@@ -139,14 +139,37 @@ struct BsdfParams {
     float sheen_roughness;  // perceptual, at least SHEEN_MIN_ROUGHNESS
     float diffuse_transmission;       // KHR_materials_diffuse_transmission: the diffuse lobe's share sent through
     vec3 diffuse_transmission_color;  // the colour it takes on the way
-    float iridescence;      // KHR_materials_iridescence: the film's weight (0: no film)
-    float film_thickness;   // nm
-    float film_ior;
-    vec2 film_albedo_bound; // (a, b) of the film's Fresnel envelope a (1 - w) + b w (see the top of the file)
+    // KHR_materials_iridescence: the film is glass.film (the glass lobe's and the opaque lobes' alike), and
+    vec2 film_albedo_bound; // (a, b) of its Fresnel envelope a (1 - w) + b w (see the top of the file)
 };
 
 // Floor of 1 - E_avg (approached only by f0 = f90 = 1 at small alpha): loses energy, never adds it.
 const float BSDF_MIN_DIFFUSE_TRANSMITTANCE = 1.0e-4f;
+
+bool has_iridescence(BsdfParams p) {
+    return BSDF_HAS_IRIDESCENCE && p.glass.film.weight > 0.0f;
+}
+
+// The weights (of A, of B) of the dielectric's specular albedo E = max(f0) A + f90 B; under a film, mixed with the
+// film's envelope (a, b). For E_avg's lower bound, the diffuse lobe's normalisation (`for_average`), the film's b
+// is replaced by 1 (see the top of the file).
+vec2 specular_albedo_weights(BsdfParams p, bool for_average) {
+    vec2 weights = vec2(max_value(p.f0_dielectric), p.f90_dielectric);
+    if (has_iridescence(p)) {
+        vec2 film = for_average ? vec2(p.film_albedo_bound.x, 1.0f) : p.film_albedo_bound;
+        weights = mix(weights, film, p.glass.film.weight);
+    }
+    return weights;
+}
+
+// Sets the diffuse lobe's normalisation 1 / (1 - E_avg) from the specular layer's hemispherical averages (A_avg,
+// B_avg) = `average` (see the top of the file).
+BsdfParams normalise_diffuse(BsdfParams p, vec2 average) {
+    vec2 weights = specular_albedo_weights(p, true);
+    float e_average = weights.x * average.x + weights.y * average.y;
+    p.diffuse_scale = 1.0f / max(1.0f - e_average, BSDF_MIN_DIFFUSE_TRANSMITTANCE);
+    return p;
+}
 
 BsdfParams make_bsdf_params(Material m) {
     BsdfParams p;
@@ -159,9 +182,6 @@ BsdfParams make_bsdf_params(Material m) {
     float specular = clamp(m.specular_color.w, 0.0f, 1.0f);
     p.f0_dielectric = min(vec3(r * r) * vec3(m.specular_color), vec3(1.0f)) * specular;
     p.f90_dielectric = specular;
-    vec2 average = ggx_albedo_average(p.alpha);
-    float e_average = max_value(p.f0_dielectric) * average.x + p.f90_dielectric * average.y;
-    p.diffuse_scale = 1.0f / max(1.0f - e_average, BSDF_MIN_DIFFUSE_TRANSMITTANCE);
     p.transmission = 0.0f;
     p.glass.transmission_tint = p.base_color;
     p.roughness = make_isotropic_roughness(p.alpha);
@@ -177,14 +197,9 @@ BsdfParams make_bsdf_params(Material m) {
     p.sheen_roughness = SHEEN_MIN_ROUGHNESS;
     p.diffuse_transmission = 0.0f;
     p.diffuse_transmission_color = vec3(1.0f);
-    p.iridescence = 0.0f;
-    p.film_thickness = 0.0f;
-    p.film_ior = 1.0f;
     p.film_albedo_bound = vec2(0.0f);
-    p.glass.iridescence = 0.0f;
-    p.glass.film_thickness = 0.0f;
-    p.glass.film_ior = 1.0f;
-    return p;
+    p.glass.film = make_no_film();
+    return normalise_diffuse(p, ggx_albedo_average(p.alpha));
 }
 
 // Schlick 1994's weight (1 - cos)^5.
@@ -201,30 +216,6 @@ const float ANISOTROPY_ALBEDO_MARGIN = 0.1f;
 
 bool has_anisotropy(BsdfParams p) {
     return is_anisotropic(p.roughness);
-}
-
-bool has_iridescence(BsdfParams p) {
-    return BSDF_HAS_IRIDESCENCE && p.iridescence > 0.0f;
-}
-
-// The weights (of A, of B) of the dielectric's specular albedo E = max(f0) A + f90 B; under a film, mixed with the
-// film's envelope (a, b) (see the top of the file).
-vec2 specular_albedo_weights(BsdfParams p) {
-    vec2 weights = vec2(max_value(p.f0_dielectric), p.f90_dielectric);
-    if (has_iridescence(p)) {
-        weights = mix(weights, p.film_albedo_bound, p.iridescence);
-    }
-    return weights;
-}
-
-// The weights of E_avg's lower bound for the diffuse lobe's normalisation: as specular_albedo_weights, with the
-// film's b replaced by 1 (see the top of the file).
-vec2 specular_average_weights(BsdfParams p) {
-    vec2 weights = vec2(max_value(p.f0_dielectric), p.f90_dielectric);
-    if (has_iridescence(p)) {
-        weights = mix(weights, vec2(p.film_albedo_bound.x, 1.0f), p.iridescence);
-    }
-    return weights;
 }
 
 // The specular layer's albedo terms (A, B) = ggx_albedo for light from direction w (local frame; its z's sign is
@@ -266,9 +257,7 @@ BsdfParams with_anisotropy(BsdfParams p, float strength, vec2 direction) {
         }
         average.y /= float(ANISOTROPY_AZIMUTH_STEPS);
         average += vec2(ANISOTROPY_ALBEDO_MARGIN / 21.0f);
-        vec2 weights = specular_average_weights(p);
-        float e_average = weights.x * average.x + weights.y * average.y;
-        p.diffuse_scale = 1.0f / max(1.0f - e_average, BSDF_MIN_DIFFUSE_TRANSMITTANCE);
+        p = normalise_diffuse(p, average);
     }
     return p;
 }
@@ -283,18 +272,12 @@ BsdfParams with_iridescence(BsdfParams p, float iridescence, float thickness, fl
     if (!(weight > 0.0f && thickness > 0.0f)) {
         return p;
     }
-    p.iridescence = weight;
-    p.film_thickness = thickness;
-    p.film_ior = ior;
+    p.glass.film.weight = weight;
+    p.glass.film.thickness = thickness;
+    p.glass.film.ior = ior;
     p.film_albedo_bound = max(albedo_bound, vec2(0.0f));
-    p.glass.iridescence = weight;
-    p.glass.film_thickness = thickness;
-    p.glass.film_ior = ior;
     if (has_iridescence(p)) {
-        vec2 average = ggx_albedo_average(p.alpha);
-        vec2 weights = specular_average_weights(p);
-        float e_average = weights.x * average.x + weights.y * average.y;
-        p.diffuse_scale = 1.0f / max(1.0f - e_average, BSDF_MIN_DIFFUSE_TRANSMITTANCE);
+        p = normalise_diffuse(p, ggx_albedo_average(p.alpha));
     }
     return p;
 }
@@ -366,7 +349,7 @@ float estimate_sheen_albedo(BsdfParams p, float cos_o) {
 // Fraction of the light from cos theta = mu that the dielectric's specular layer lets through to the
 // diffuse base: 1 - E(mu), E = max_value(f0) A + f90 B (specular_albedo_weights), given ggx_albedo(mu, alpha) = (A, B).
 float diffuse_transmittance(BsdfParams p, vec2 albedo) {
-    vec2 weights = specular_albedo_weights(p);
+    vec2 weights = specular_albedo_weights(p, false);
     return max(1.0f - (weights.x * albedo.x + weights.y * albedo.y), 0.0f);
 }
 
@@ -443,12 +426,10 @@ vec3 eval_base_bsdf(BsdfParams p, vec3 wo, vec3 wi) {
     if (has_iridescence(p)) {
         float cos_h = abs(dot(wo, h));
         if (p.metallic < 1.0f) {
-            vec3 film = eval_thin_film_fresnel(cos_h, p.film_thickness, p.film_ior, p.f0_dielectric);
-            f_dielectric = mix(f_dielectric, film, p.iridescence);
+            f_dielectric = mix_thin_film(f_dielectric, p.glass.film, cos_h, p.f0_dielectric);
         }
         if (p.metallic > 0.0f) {
-            vec3 film = eval_thin_film_fresnel(cos_h, p.film_thickness, p.film_ior, p.base_color);
-            f_metal = mix(f_metal, film, p.iridescence);
+            f_metal = mix_thin_film(f_metal, p.glass.film, cos_h, p.base_color);
         }
     }
     vec3 dielectric = diffuse + f_dielectric * specular;

@@ -40,9 +40,7 @@ struct GlassParams {
     float specular;          // specularFactor
     float eta;               // n beyond the surface / n on wo's side; thin-walled: the ior
     uint thin_walled;        // 1: no volume behind the surface
-    float iridescence;       // KHR_materials_iridescence: the film's weight (0: no film)
-    float film_thickness;    // nm
-    float film_ior;
+    ThinFilm film;           // KHR_materials_iridescence (weight 0: none); the opaque lobes of bsdf.glsl read it too
 };
 
 // Unpolarised Fresnel reflectance for cos_i (incident direction against the normal on its side) and
@@ -71,14 +69,14 @@ float refraction_eta(float ratio) {
 // R for a microfacet seen at cos theta = cos_o (wo.h) whose exact Fresnel reflectance is `fresnel`.
 vec3 glass_reflectance(GlassParams g, float cos_o, float fresnel) {
     vec3 r = g.specular * min(fresnel * g.specular_color, vec3(1.0f));
-    if (GLASS_HAS_IRIDESCENCE && g.iridescence > 0.0f && fresnel < 1.0f) {
+    if (GLASS_HAS_IRIDESCENCE && g.film.weight > 0.0f && fresnel < 1.0f) {
         float c = cos_o;
         if (g.thin_walled == 0u && g.eta < 1.0f) {
             c = sqrt(max(1.0f - (1.0f - cos_o * cos_o) / (g.eta * g.eta), 0.0f));  // fresnel < 1: no TIR
         }
         float n = (g.eta - 1.0f) / (g.eta + 1.0f);  // the same for eta and 1 / eta
         vec3 base_f0 = min(vec3(n * n) * g.specular_color, vec3(1.0f)) * g.specular;
-        r = mix(r, eval_thin_film_fresnel(c, g.film_thickness, g.film_ior, base_f0), g.iridescence);
+        r = mix_thin_film(r, g.film, c, base_f0);
     }
     return r;
 }

@@ -6,9 +6,9 @@
 // 2), then XYZ -> linear Rec.709. Shared GLSL/C++ subset.
 //
 // DEVIATION: the extension clamps the result below at 0 only. The XYZ -> RGB matrix takes some interference
-// colours out of gamut, above 1 in a channel (up to 1.27 over bases of f0 0.6 to 0.9, films of index 1.2 to 2.3,
-// 0 to 1200 nm: a grid search in README "Iridescence"), and a reflectance above 1 makes light; we clamp each
-// channel to [0, 1].
+// colours out of gamut, above 1 in a channel (1.26 over a base of f0 0.9 at worst, on a grid of films of index 1 to
+// 2.3 and 0 to 1200 nm: Iridescence.ClampKeepsTheFilmFromMakingLight prints it), and a reflectance above 1 makes light;
+// eval_thin_film_fresnel clamps each channel to [0, 1].
 #ifndef FREDHOLM_LIB_THIN_FILM_GLSL
 #define FREDHOLM_LIB_THIN_FILM_GLSL
 
@@ -49,10 +49,25 @@ vec3 integrate_film_phase(float opd, vec3 shift) {
     return XYZ_TO_LINEAR_REC709 * (xyz / 1.0685e-7f);
 }
 
-// Reflectance (linear Rec.709, each channel in [0, 1]) of a film of `thickness` nm and index `film_ior` between
+// A material's film: its weight (iridescenceFactor x texture; 0: no film), thickness in nm and index.
+struct ThinFilm {
+    float weight;
+    float thickness;
+    float ior;
+};
+
+ThinFilm make_no_film() {
+    ThinFilm f;
+    f.weight = 0.0f;
+    f.thickness = 0.0f;
+    f.ior = 1.0f;
+    return f;
+}
+
+// The extension's reflectance (linear Rec.709, unclamped) of a film of `thickness` nm and index `film_ior` between
 // air (index 1, where the light comes from at cos theta = `cos_theta` to the film's normal) and a base of
 // reflectance `base_f0` at normal incidence.
-vec3 eval_thin_film_fresnel(float cos_theta, float thickness, float film_ior, vec3 base_f0) {
+vec3 sum_thin_film_fresnel(float cos_theta, float thickness, float film_ior, vec3 base_f0) {
     const float outside_ior = 1.0f;
     float c1 = clamp(cos_theta, 0.0f, 1.0f);
     float eta = mix(outside_ior, film_ior, smoothstep(0.0f, THIN_FILM_FADE_THICKNESS, thickness));
@@ -84,7 +99,18 @@ vec3 eval_thin_film_fresnel(float cos_theta, float thickness, float film_ior, ve
         cm *= amplitude;
         reflectance += cm * (2.0f * integrate_film_phase(float(m) * opd, float(m) * phi));
     }
-    return clamp(reflectance, vec3(0.0f), vec3(1.0f));
+    return reflectance;
+}
+
+// The film's reflectance as Fredholm uses it: each channel clamped to [0, 1] (see the top of the file).
+vec3 eval_thin_film_fresnel(float cos_theta, float thickness, float film_ior, vec3 base_f0) {
+    return clamp(sum_thin_film_fresnel(cos_theta, thickness, film_ior, base_f0), vec3(0.0f), vec3(1.0f));
+}
+
+// Fresnel term `f` of a lobe over a base of reflectance `base_f0`, under `film` seen at cos theta = `cos_theta`:
+// mix(f, F_film, weight), the extension's iridescent layers.
+vec3 mix_thin_film(vec3 f, ThinFilm film, float cos_theta, vec3 base_f0) {
+    return mix(f, eval_thin_film_fresnel(cos_theta, film.thickness, film.ior, base_f0), film.weight);
 }
 
 #endif

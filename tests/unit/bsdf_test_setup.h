@@ -43,6 +43,30 @@ inline BsdfParams make_case(Kind kind, float roughness) {
     }
 }
 
+// The bases the layer tests (anisotropy, iridescence) put their layer on, roughness given.
+enum LayerBase { DIELECTRIC_BASE, METAL_BASE, THIN_GLASS_BASE, VOLUME_GLASS_BASE, COATED_BASE, HALF_METAL_BASE };
+inline const char* const LAYER_BASE_NAMES[] = {"dielectric", "metal", "thinglass", "volumeglass", "coated", "halfmetal"};
+
+inline BsdfParams make_layer_base(LayerBase base, float roughness) {
+    switch (base) {
+        case DIELECTRIC_BASE: return make_bsdf_params(make_material(vec3(0.7f, 0.5f, 0.3f), 0.0f, roughness));
+        case METAL_BASE: return make_bsdf_params(make_material(vec3(0.9f, 0.6f, 0.4f), 1.0f, roughness));
+        case THIN_GLASS_BASE:
+            return with_transmission(make_bsdf_params(make_material(vec3(0.9f), 0.0f, roughness)), 0.8f, 1.5f, 1u);
+        case VOLUME_GLASS_BASE:
+            return with_transmission(make_bsdf_params(make_material(vec3(0.9f), 0.0f, roughness)), 1.0f, 1.5f, 0u);
+        case COATED_BASE:
+            return with_clearcoat(make_bsdf_params(make_material(vec3(0.8f, 0.6f, 0.4f), 0.3f, roughness)), 0.6f, 0.1f,
+                                  vec3(0.0f, 0.0f, 1.0f));
+        default: return make_bsdf_params(make_material(vec3(0.5f, 0.8f, 0.6f), 0.5f, roughness));
+    }
+}
+
+// `w` turned by `angle` radians about the normal (z).
+inline vec3 turn_about_normal(vec3 w, float angle) {
+    return vec3(w.x * std::cos(angle) - w.y * std::sin(angle), w.x * std::sin(angle) + w.y * std::cos(angle), w.z);
+}
+
 // Outgoing direction at `degrees` from the normal, at an azimuth off the histogram's cell boundaries.
 inline vec3 outgoing(float degrees) {
     const float t = glm::radians(degrees), phi = 0.7f;
@@ -114,6 +138,20 @@ inline Albedo estimate_albedo(const BsdfParams& p, vec3 wo, int n, uint32_t seed
     a.standard_error = std::sqrt(std::max(sum2 / n - a.mean * a.mean, 0.0) / n);
     a.transmitted = through / n;
     return a;
+}
+
+// f(wo, wi) = f(wi, wo) (f = eval_bsdf / cos theta_i) for n random pairs of directions above the surface, from `seed`.
+inline void expect_reciprocal_reflection(const BsdfParams& p, uint32_t seed, int n, const char* what) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
+    for (int i = 0; i < n; ++i) {
+        const vec3 wo = outgoing(89.0f * uniform(rng));
+        const vec3 up = outgoing(89.0f * uniform(rng));
+        const vec3 wi = turn_about_normal(up, 6.2831853f * uniform(rng));
+        const vec3 a = eval_bsdf(p, wo, wi) / wi.z;
+        const vec3 b = eval_bsdf(p, wi, wo) / wo.z;
+        for (int c = 0; c < 3; ++c) ASSERT_NEAR(a[c], b[c], 1e-4f * std::max(a[c], 1.0f)) << what;
+    }
 }
 
 // Chi-square of sample_bsdf against pdf_bsdf over both hemispheres (a 32 x 64 grid each; n samples from `seed`),

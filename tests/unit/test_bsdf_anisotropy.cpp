@@ -12,36 +12,23 @@
 namespace {
 using namespace fh::test;
 
-enum AnisoKind { DIELECTRIC_ANISO, METAL_ANISO, THIN_GLASS, VOLUME_GLASS, COATED_ANISO, ANISO_KIND_COUNT };
-const char* const ANISO_KIND_NAMES[] = {"dielectric", "metal", "thinglass", "volumeglass", "coated"};
-
-BsdfParams make_base(AnisoKind kind, float roughness) {
-    switch (kind) {
-        case DIELECTRIC_ANISO: return make_bsdf_params(make_material(vec3(0.7f, 0.5f, 0.3f), 0.0f, roughness));
-        case METAL_ANISO: return make_bsdf_params(make_material(vec3(0.9f, 0.6f, 0.4f), 1.0f, roughness));
-        case THIN_GLASS:
-            return with_transmission(make_bsdf_params(make_material(vec3(0.9f), 0.0f, roughness)), 0.8f, 1.5f, 1u);
-        case VOLUME_GLASS:
-            return with_transmission(make_bsdf_params(make_material(vec3(0.9f), 0.0f, roughness)), 1.0f, 1.5f, 0u);
-        default:
-            return with_clearcoat(make_bsdf_params(make_material(vec3(0.8f, 0.6f, 0.4f), 0.3f, roughness)), 0.6f, 0.1f,
-                                  vec3(0.0f, 0.0f, 1.0f));
-    }
-}
+// Anisotropy is tested on the first five layer bases of bsdf_test_setup.h: dielectric, metal, glass (thin and
+// volume) and coated.
+const int ANISO_KIND_COUNT = COATED_BASE + 1;
 
 const vec2 DIRECTION(std::cos(0.4f), std::sin(0.4f));
 
 TEST(Anisotropy, ZeroStrengthOrFullRoughnessChangesNoBit) {
     for (int kind = 0; kind < ANISO_KIND_COUNT; ++kind) {
-        const BsdfParams p = make_base(AnisoKind(kind), 0.3f);
+        const BsdfParams p = make_layer_base(LayerBase(kind), 0.3f);
         expect_identical_bsdfs(p, with_anisotropy(p, 0.0f, DIRECTION), 3 + kind, 85.0f);
-        const BsdfParams rough = make_base(AnisoKind(kind), 1.0f);
+        const BsdfParams rough = make_layer_base(LayerBase(kind), 1.0f);
         expect_identical_bsdfs(rough, with_anisotropy(rough, 1.0f, DIRECTION), 13 + kind, 85.0f);
     }
 }
 
 TEST(Anisotropy, StretchesAlongTheDirectionAsTheExtensionSays) {
-    const BsdfParams p = with_anisotropy(make_base(METAL_ANISO, 0.4f), 0.5f, 3.0f * DIRECTION);
+    const BsdfParams p = with_anisotropy(make_layer_base(METAL_BASE, 0.4f), 0.5f, 3.0f * DIRECTION);
     EXPECT_FLOAT_EQ(p.roughness.alpha, 0.16f);
     EXPECT_FLOAT_EQ(p.roughness.alpha_t, 0.16f + (1.0f - 0.16f) * 0.25f);  // mix(alpha, 1, strength^2)
     EXPECT_NEAR(p.roughness.direction.x, DIRECTION.x, 1e-6f);
@@ -55,7 +42,7 @@ TEST(Anisotropy, StretchesAlongTheDirectionAsTheExtensionSays) {
 TEST(Anisotropy, DistributionAndVisibleNormalsAreNormalised) {
     for (float roughness : {0.2f, 0.5f})
         for (float strength : {0.5f, 1.0f}) {
-            const GgxRoughness r = with_anisotropy(make_base(METAL_ANISO, roughness), strength, DIRECTION).roughness;
+            const GgxRoughness r = with_anisotropy(make_layer_base(METAL_BASE, roughness), strength, DIRECTION).roughness;
             ASSERT_TRUE(is_anisotropic(r));
             const double area = integrate_hemisphere(vec3(0.0f, 0.0f, 1.0f), [&](vec3 h) { return ggx_d_lobe(r, h) * h.z; });
             EXPECT_NEAR(area, 1.0, 2e-3) << "roughness " << roughness << " strength " << strength;
@@ -74,12 +61,10 @@ TEST(Anisotropy, DistributionAndVisibleNormalsAreNormalised) {
 TEST(Anisotropy, TurnsWithItsDirection) {
     std::mt19937 rng(7);
     std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
-    const BsdfParams base = make_base(COATED_ANISO, 0.3f);
+    const BsdfParams base = make_layer_base(COATED_BASE, 0.3f);
     for (int i = 0; i < 500; ++i) {
         const float turn = 6.2831853f * uniform(rng);
-        auto rotate = [&](vec3 w) {
-            return vec3(w.x * std::cos(turn) - w.y * std::sin(turn), w.x * std::sin(turn) + w.y * std::cos(turn), w.z);
-        };
+        auto rotate = [&](vec3 w) { return turn_about_normal(w, turn); };
         const vec3 wo = outgoing(85.0f * uniform(rng)), wi = rotate(outgoing(85.0f * uniform(rng)));
         const BsdfParams a = with_anisotropy(base, 0.8f, DIRECTION);
         const vec3 d = rotate(vec3(DIRECTION, 0.0f));
@@ -89,7 +74,7 @@ TEST(Anisotropy, TurnsWithItsDirection) {
         ASSERT_NEAR(pdf_bsdf(a, wo, wi), pdf_bsdf(b, rotate(wo), rotate(wi)), 2e-4f * std::max(pdf_bsdf(a, wo, wi), 1.0f));
     }
     // And the lobe is anisotropic: turning only the light changes the value.
-    const BsdfParams a = with_anisotropy(make_base(METAL_ANISO, 0.2f), 1.0f, vec2(1.0f, 0.0f));
+    const BsdfParams a = with_anisotropy(make_layer_base(METAL_BASE, 0.2f), 1.0f, vec2(1.0f, 0.0f));
     const vec3 wo = vec3(0.5f, 0.0f, 0.8660254f);
     EXPECT_GT(eval_bsdf(a, wo, vec3(-0.6f, 0.0f, 0.8f)).x, 1.5f * eval_bsdf(a, wo, vec3(-0.5f, -0.3316625f, 0.8f)).x);
 }
@@ -152,23 +137,13 @@ TEST(Anisotropy, WhiteDielectricNeverGainsEnergy) {
 }
 
 TEST(Anisotropy, ReflectionIsReciprocal) {
-    std::mt19937 rng(5);
-    std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
-    const BsdfParams p = with_anisotropy(make_base(DIELECTRIC_ANISO, 0.3f), 0.9f, DIRECTION);
-    for (int i = 0; i < 2000; ++i) {
-        const vec3 wo = outgoing(89.0f * uniform(rng));
-        const vec3 up = outgoing(89.0f * uniform(rng));
-        const float turn = 6.2831853f * uniform(rng);
-        const vec3 wi(up.x * std::cos(turn) - up.y * std::sin(turn), up.x * std::sin(turn) + up.y * std::cos(turn), up.z);
-        const vec3 a = eval_bsdf(p, wo, wi) / wi.z;
-        const vec3 b = eval_bsdf(p, wi, wo) / wo.z;
-        for (int c = 0; c < 3; ++c) ASSERT_NEAR(a[c], b[c], 1e-4f * std::max(a[c], 1.0f));
-    }
+    expect_reciprocal_reflection(with_anisotropy(make_layer_base(DIELECTRIC_BASE, 0.3f), 0.9f, DIRECTION), 5, 2000,
+                                 "anisotropic dielectric");
 }
 
 // ---- Chi-square over both hemispheres ------------------------------------------------------------------
 struct AnisoCase {
-    AnisoKind kind;
+    LayerBase kind;
     float degrees;
     float azimuth;  // of wo, from the direction
 };
@@ -177,24 +152,24 @@ class AnisotropyChiSquare : public ::testing::TestWithParam<AnisoCase> {};
 
 TEST_P(AnisotropyChiSquare, SamplesFollowPdf) {
     const AnisoCase c = GetParam();
-    const BsdfParams p = with_anisotropy(make_base(c.kind, 0.35f), 0.8f, vec2(1.0f, 0.0f));
+    const BsdfParams p = with_anisotropy(make_layer_base(c.kind, 0.35f), 0.8f, vec2(1.0f, 0.0f));
     const float t = glm::radians(c.degrees);
     const vec3 wo(std::sin(t) * std::cos(c.azimuth), std::sin(t) * std::sin(c.azimuth), std::cos(t));
     vec3 peak(-wo.x, -wo.y, wo.z);
-    if (c.kind == VOLUME_GLASS) {
+    if (c.kind == VOLUME_GLASS_BASE) {
         const float sin2_t = (1.0f - wo.z * wo.z) / (p.glass.eta * p.glass.eta);
         peak = vec3(-wo.x / p.glass.eta, -wo.y / p.glass.eta, std::sqrt(1.0f - sin2_t));
     }
     const TwoSidedChiSquare r = check_sampling_both_hemispheres(
         p, wo, peak, 500000, 3001 + 1000 * int(c.kind) + int(c.degrees) + int(10.0f * c.azimuth));
     std::printf("[chi2] anisotropic %-11s at %2.0f deg, azimuth %.2f: chi2 %8.1f dof %5d p %.4f, int pdf %.6f\n",
-                ANISO_KIND_NAMES[c.kind], c.degrees, c.azimuth, r.result.statistic, r.result.dof, r.result.p_value,
+                LAYER_BASE_NAMES[c.kind], c.degrees, c.azimuth, r.result.statistic, r.result.dof, r.result.p_value,
                 r.pdf_integral);
 }
 
 std::vector<AnisoCase> aniso_cases() {
     std::vector<AnisoCase> cases;
-    for (AnisoKind k : {DIELECTRIC_ANISO, METAL_ANISO, THIN_GLASS, VOLUME_GLASS, COATED_ANISO})
+    for (LayerBase k : {DIELECTRIC_BASE, METAL_BASE, THIN_GLASS_BASE, VOLUME_GLASS_BASE, COATED_BASE})
         for (float d : {0.0f, 60.0f})
             for (float azimuth : {0.3f, 1.2f}) {
                 if (d == 0.0f && azimuth != 0.3f) continue;  // at normal incidence the azimuth does not matter
@@ -205,7 +180,7 @@ std::vector<AnisoCase> aniso_cases() {
 
 INSTANTIATE_TEST_SUITE_P(Cases, AnisotropyChiSquare, ::testing::ValuesIn(aniso_cases()),
                          [](const ::testing::TestParamInfo<AnisoCase>& info) {
-                             return std::string(ANISO_KIND_NAMES[info.param.kind]) + "_deg" +
+                             return std::string(LAYER_BASE_NAMES[info.param.kind]) + "_deg" +
                                     std::to_string(int(info.param.degrees)) + "_az" +
                                     std::to_string(int(10.0f * info.param.azimuth));
                          });

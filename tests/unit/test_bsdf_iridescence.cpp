@@ -15,20 +15,8 @@
 namespace {
 using namespace fh::test;
 
-enum FilmKind { DIELECTRIC_FILM, METAL_FILM, HALF_METAL_FILM, THIN_GLASS_FILM, VOLUME_GLASS_FILM, FILM_KIND_COUNT };
-const char* const FILM_KIND_NAMES[] = {"dielectric", "metal", "halfmetal", "thinglass", "volumeglass"};
-
-BsdfParams make_base(FilmKind kind, float roughness) {
-    switch (kind) {
-        case DIELECTRIC_FILM: return make_bsdf_params(make_material(vec3(0.7f, 0.5f, 0.3f), 0.0f, roughness));
-        case METAL_FILM: return make_bsdf_params(make_material(vec3(0.9f, 0.6f, 0.4f), 1.0f, roughness));
-        case HALF_METAL_FILM: return make_bsdf_params(make_material(vec3(0.5f, 0.8f, 0.6f), 0.5f, roughness));
-        case THIN_GLASS_FILM:
-            return with_transmission(make_bsdf_params(make_material(vec3(0.9f), 0.0f, roughness)), 0.8f, 1.5f, 1u);
-        default:
-            return with_transmission(make_bsdf_params(make_material(vec3(0.9f), 0.0f, roughness)), 1.0f, 1.5f, 0u);
-    }
-}
+// The layer bases of bsdf_test_setup.h a film is tested on (all but the coated one: the extension ignores the coat).
+const LayerBase FILM_BASES[] = {DIELECTRIC_BASE, METAL_BASE, HALF_METAL_BASE, THIN_GLASS_BASE, VOLUME_GLASS_BASE};
 
 // A dielectric material of `ior` under a film of index `film_ior`, `thickest` nm (and, with a thickness texture,
 // down to `thinnest`), as the host sees it.
@@ -60,8 +48,8 @@ BsdfParams with_film(BsdfParams p, float weight, float thickness, float film_ior
 }
 
 TEST(Iridescence, ZeroWeightOrThicknessChangesNoBit) {
-    for (int kind = 0; kind < FILM_KIND_COUNT; ++kind) {
-        const BsdfParams p = make_base(FilmKind(kind), 0.3f);
+    for (int kind = 0; kind < 5; ++kind) {
+        const BsdfParams p = make_layer_base(FILM_BASES[kind], 0.3f);
         expect_identical_bsdfs(p, with_iridescence(p, 0.0f, 400.0f, 1.3f, vec2(0.3f, 1.2f)), 3 + kind, 85.0f);
         expect_identical_bsdfs(p, with_iridescence(p, 1.0f, 0.0f, 1.3f, vec2(0.3f, 1.2f)), 13 + kind, 85.0f);
     }
@@ -83,15 +71,28 @@ glm::dvec3 cie_1931(double lambda) {
 
 double schlick(double f0, double c) { return f0 + (1.0 - f0) * std::pow(1.0 - c, 5.0); }
 
+// The film's two interfaces as the extension models them: Schlick reflectances at the angle of incidence (air |
+// film) and of refraction (film | base), the base's index from its f0.
+struct Interfaces {
+    double c2, n_base, r12, r23;
+};
+
+Interfaces find_interfaces(double c1, double n_film, double f0) {
+    Interfaces i;
+    i.c2 = std::sqrt(1.0 - (1.0 - c1 * c1) / (n_film * n_film));
+    i.n_base = (1.0 + std::sqrt(f0)) / (1.0 - std::sqrt(f0));
+    i.r12 = schlick(std::pow((n_film - 1.0) / (n_film + 1.0), 2.0), c1);
+    i.r23 = schlick(std::pow((i.n_base - n_film) / (i.n_base + n_film), 2.0), i.c2);
+    return i;
+}
+
 // The film's reflectance at one wavelength: the amplitudes of every bounce between its two interfaces summed (Airy),
-// with the extension's interface reflectances (Schlick), phases (0 or pi) and base index (from f0).
+// with the extension's interface reflectances, phases (0 or pi) and base index.
 double airy_reflectance(double lambda, double c1, double d, double n_film, double f0) {
-    const double c2 = std::sqrt(1.0 - (1.0 - c1 * c1) / (n_film * n_film));
-    const double n_base = (1.0 + std::sqrt(f0)) / (1.0 - std::sqrt(f0));
-    const double r12 = schlick(std::pow((n_film - 1.0) / (n_film + 1.0), 2.0), c1);
-    const double r23 = schlick(std::pow((n_base - n_film) / (n_base + n_film), 2.0), c2);
-    const double phi12 = n_film < 1.0 ? M_PI : 0.0, phi21 = M_PI - phi12, phi23 = n_base < n_film ? M_PI : 0.0;
-    const double delta = 2.0 * M_PI * 2.0 * n_film * d * c2 / lambda;
+    const Interfaces i = find_interfaces(c1, n_film, f0);
+    const double r12 = i.r12, r23 = i.r23;
+    const double phi12 = n_film < 1.0 ? M_PI : 0.0, phi21 = M_PI - phi12, phi23 = i.n_base < n_film ? M_PI : 0.0;
+    const double delta = 2.0 * M_PI * 2.0 * n_film * d * i.c2 / lambda;
     using C = std::complex<double>;
     const C top = std::polar(std::sqrt(r12), phi12);
     const C down_up = (1.0 - r12) * std::polar(std::sqrt(r23), phi23 + delta);
@@ -103,12 +104,9 @@ double airy_reflectance(double lambda, double c1, double d, double n_film, doubl
 // interference colours are XYZ -> linear Rec.709 of the rest, XYZ normalised by the integral of y-bar.
 vec3 reference_film_fresnel(double c1, double d, double n_film, double f0) {
     glm::dvec3 xyz(0.0);
-    double y_norm = 0.0, mean = 0.0;
-    const double r12 = schlick(std::pow((n_film - 1.0) / (n_film + 1.0), 2.0), c1);
-    const double c2 = std::sqrt(1.0 - (1.0 - c1 * c1) / (n_film * n_film));
-    const double n_base = (1.0 + std::sqrt(f0)) / (1.0 - std::sqrt(f0));
-    const double r23 = schlick(std::pow((n_base - n_film) / (n_base + n_film), 2.0), c2);
-    mean = r12 + (1.0 - r12) * (1.0 - r12) * r23 / (1.0 - r12 * r23);
+    double y_norm = 0.0;
+    const Interfaces i = find_interfaces(c1, n_film, f0);
+    const double mean = i.r12 + (1.0 - i.r12) * (1.0 - i.r12) * i.r23 / (1.0 - i.r12 * i.r23);
     for (double lambda = 360.0; lambda <= 830.0; lambda += 0.25) {
         const glm::dvec3 cmf = cie_1931(lambda);
         xyz += (airy_reflectance(lambda, c1, d, n_film, f0) - mean) * cmf;
@@ -187,8 +185,40 @@ TEST(Iridescence, EnvelopeBoundsTheFilmOffItsGrid) {
         EXPECT_LE(bound.a, 1.0f);
         EXPECT_GE(bound.b, 1.0f);  // F(0) = 1
     }
+    // Without b > 1 the extension's default film on glass would need a much larger a: the least a with b = 1
+    // (bisection on the same grid).
+    const FilmMaterial film = make_film_material(1.5f, 1.3f, 400.0f);
+    fh::FilmFresnelBound b1{0.0f, 1.0f}, high{1.0f, 1.0f};
+    for (int step = 0; step < 24; ++step) {
+        const fh::FilmFresnelBound mid{0.5f * (b1.a + high.a), 1.0f};
+        (fh::measure_thin_film_excess(film.material, film.layers, mid, 1) > 0.0f ? b1 : high) = mid;
+    }
+    const fh::FilmFresnelBound used = fh::bound_thin_film_fresnel(film.material, film.layers);
+    std::printf("[envelope] default film on glass with b = 1 needs a = %.4f; with b = %.3f, a = %.4f\n", high.a, used.b,
+                used.a);
+    EXPECT_LT(used.a, high.a);
     fh::gpu::MaterialLayers none = fh::gltf::make_default_layers();
     EXPECT_EQ(fh::bound_thin_film_fresnel(make_material(vec3(1.0f), 0.0f, 0.5f), none).a, 0.0f);
+}
+
+// The extension's RGB reflectance passes 1 over bright bases (out-of-gamut interference colours); Fredholm's is
+// clamped, so no film makes light. Grid over bases of f0 0 to 0.99, films of index 1 to 2.3, 0 to 1200 nm.
+TEST(Iridescence, ClampKeepsTheFilmFromMakingLight) {
+    float largest = 0.0f, largest_f0 = 0.0f;
+    for (float f0 : {0.0f, 0.04f, 0.1f, 0.3f, 0.6f, 0.9f, 0.99f})
+        for (float n_film : {1.0f, 1.2f, 1.33f, 1.5f, 1.8f, 2.0f, 2.3f})
+            for (int d = 0; d <= 1200; d += 5)
+                for (int k = 1; k <= 100; ++k) {
+                    const float c = float(k) / 100.0f;
+                    const vec3 sum = sum_thin_film_fresnel(c, float(d), n_film, vec3(f0));
+                    const vec3 clamped = eval_thin_film_fresnel(c, float(d), n_film, vec3(f0));
+                    ASSERT_LE(max_value(clamped), 1.0f);
+                    ASSERT_GE(std::min({clamped.x, clamped.y, clamped.z}), 0.0f);
+                    if (max_value(sum) > largest) largest = max_value(sum), largest_f0 = f0;
+                }
+    std::printf("[clamp] the extension's film reflectance reaches %.3f (base f0 %.2f); clamped to 1\n", largest,
+                largest_f0);
+    EXPECT_GT(largest, 1.0f);  // the clamp is needed
 }
 
 // Every material under a film keeps at most what it receives (white base colours, glass counted with eta^2),
@@ -221,26 +251,14 @@ TEST(Iridescence, WhiteMaterialsUnderAFilmNeverGainEnergy) {
 }
 
 TEST(Iridescence, ReflectionIsReciprocal) {
-    std::mt19937 rng(5);
-    std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
-    for (FilmKind kind : {DIELECTRIC_FILM, METAL_FILM, HALF_METAL_FILM, THIN_GLASS_FILM}) {
-        const BsdfParams p = with_film(make_base(kind, 0.3f), 0.8f, 350.0f, 1.6f);
-        for (int i = 0; i < 1000; ++i) {
-            const vec3 wo = outgoing(89.0f * uniform(rng));
-            const vec3 up = outgoing(89.0f * uniform(rng));
-            const float turn = 6.2831853f * uniform(rng);
-            const vec3 wi(up.x * std::cos(turn) - up.y * std::sin(turn), up.x * std::sin(turn) + up.y * std::cos(turn),
-                          up.z);
-            const vec3 a = eval_bsdf(p, wo, wi) / wi.z;
-            const vec3 b = eval_bsdf(p, wi, wo) / wo.z;
-            for (int c = 0; c < 3; ++c) ASSERT_NEAR(a[c], b[c], 1e-4f * std::max(a[c], 1.0f)) << FILM_KIND_NAMES[kind];
-        }
-    }
+    for (LayerBase kind : {DIELECTRIC_BASE, METAL_BASE, HALF_METAL_BASE, THIN_GLASS_BASE})
+        expect_reciprocal_reflection(with_film(make_layer_base(kind, 0.3f), 0.8f, 350.0f, 1.6f), 5 + kind, 1000,
+                                     LAYER_BASE_NAMES[kind]);
 }
 
 // ---- Chi-square over both hemispheres ---------------------------------------------------------------------------
 struct FilmCase {
-    FilmKind kind;
+    LayerBase kind;
     float degrees;
 };
 
@@ -248,29 +266,29 @@ class IridescenceChiSquare : public ::testing::TestWithParam<FilmCase> {};
 
 TEST_P(IridescenceChiSquare, SamplesFollowPdf) {
     const FilmCase c = GetParam();
-    const BsdfParams p = with_film(make_base(c.kind, 0.35f), 0.9f, 450.0f, 1.8f);
+    const BsdfParams p = with_film(make_layer_base(c.kind, 0.35f), 0.9f, 450.0f, 1.8f);
     const vec3 wo = outgoing(c.degrees);
     vec3 peak(-wo.x, -wo.y, wo.z);
-    if (c.kind == VOLUME_GLASS_FILM) {
+    if (c.kind == VOLUME_GLASS_BASE) {
         const float sin2_t = (1.0f - wo.z * wo.z) / (p.glass.eta * p.glass.eta);
         peak = vec3(-wo.x / p.glass.eta, -wo.y / p.glass.eta, std::sqrt(1.0f - sin2_t));
     }
     const TwoSidedChiSquare r =
         check_sampling_both_hemispheres(p, wo, peak, 500000, 5001 + 1000 * int(c.kind) + int(c.degrees));
-    std::printf("[chi2] film on %-11s at %2.0f deg: chi2 %8.1f dof %5d p %.4f, int pdf %.6f\n", FILM_KIND_NAMES[c.kind],
+    std::printf("[chi2] film on %-11s at %2.0f deg: chi2 %8.1f dof %5d p %.4f, int pdf %.6f\n", LAYER_BASE_NAMES[c.kind],
                 c.degrees, r.result.statistic, r.result.dof, r.result.p_value, r.pdf_integral);
 }
 
 std::vector<FilmCase> film_cases() {
     std::vector<FilmCase> cases;
-    for (int k = 0; k < FILM_KIND_COUNT; ++k)
-        for (float d : {0.0f, 60.0f}) cases.push_back({FilmKind(k), d});
+    for (LayerBase k : FILM_BASES)
+        for (float d : {0.0f, 60.0f}) cases.push_back({k, d});
     return cases;
 }
 
 INSTANTIATE_TEST_SUITE_P(Cases, IridescenceChiSquare, ::testing::ValuesIn(film_cases()),
                          [](const ::testing::TestParamInfo<FilmCase>& info) {
-                             return std::string(FILM_KIND_NAMES[info.param.kind]) + "_deg" +
+                             return std::string(LAYER_BASE_NAMES[info.param.kind]) + "_deg" +
                                     std::to_string(int(info.param.degrees));
                          });
 
