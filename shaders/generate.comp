@@ -1,6 +1,6 @@
 // Stage "generate": starts one path per (pixel, sample) of the wave.
 // Reads: params, push (wave's pixel and sample ranges). Writes: rays[queue 0], paths, path media (cameras
-// start outside every volume), counters (queue 0 length, indirect size of the first extend/shade).
+// start outside every volume), path spectra (a spectral render's wavelengths, EFFECT_SPECTRAL), counters (queue 0 length, indirect size of the first extend/shade).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "lib/bindings.glsl"
@@ -63,4 +63,13 @@ void main() {
     state.rng = rng;
     paths[i] = state;
     if (effect_on(EFFECT_VOLUME) || effect_on(EFFECT_ABSORPTION)) path_media[i] = INVALID_INDEX;
+    if (effect_on(EFFECT_SPECTRAL)) {
+        PathSpectrum spectrum;
+        spectrum.wavelength_u = next_float(rng);
+        spectrum.throughput_3 = 1.0f;
+        spectrum.flags = 0u;
+        spectrum.pad = 0.0f;
+        path_spectra[i] = spectrum;
+        paths[i].rng = rng;
+    }
 }

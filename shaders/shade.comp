@@ -1,9 +1,12 @@
 // Stage "shade": one path vertex per queued ray. Adds emission seen by the ray, or the environment's radiance
 // when it escaped (both MIS-weighted against light sampling), resolves the material (textures, vertex colours,
-// normal map, anisotropy, thin film, glass, diffuse transmission, sheen, clear coat, unlit: only the effects the scene has are compiled in), samples a light and pushes a shadow ray (next-event estimation), samples the BSDF, applies
-// Russian roulette and pushes the continuation ray.
+// normal map, anisotropy, thin film, glass, dispersion, diffuse transmission, sheen, clear coat, unlit: only the
+// effects the scene has are compiled in), samples a light and pushes a shadow ray (next-event estimation), samples the
+// BSDF, applies Russian roulette and pushes the continuation ray. A spectral render (EFFECT_SPECTRAL) carries four
+// wavelengths per path and hands the film RGB (lib/path_color.glsl).
 // Reads: rays[queue depth & 1], hits, paths, triangles, materials, emitters, textures, environment, and for
-// glass, sheens and clear coats the material layers, and path media. Writes: paths, path media, rays[queue (depth + 1) & 1], shadow_rays, counters.ray_count / shadow_count.
+// glass, sheens and clear coats the material layers, path media and path spectra. Writes: paths, path media, path
+// spectra, rays[queue (depth + 1) & 1], shadow_rays, counters.ray_count / shadow_count.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "lib/bindings.glsl"
@@ -26,6 +29,7 @@
 #include "lib/surface.glsl"
 #include "lib/lights.glsl"
 #include "lib/transmission.glsl"
+#include "lib/path_color.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE) in;
 
@@ -46,15 +50,25 @@ void main() {
     HitItem hit = hits[i];
     uint path = ray.path;
     PathState state = paths[path];
-    vec3 beta = vec3(state.throughput_r, state.throughput_g, state.throughput_b);
+    vec4 beta = vec4(state.throughput_r, state.throughput_g, state.throughput_b, 0.0f);
     vec3 radiance = vec3(state.radiance_r, state.radiance_g, state.radiance_b);
     uint rng = state.rng;
+    // A spectral path's wavelengths and fourth throughput (layout.h PathSpectrum).
+    PathSpectrum spectrum;
+    SpectralFrame spectral;
+    if (effect_on(EFFECT_SPECTRAL)) {
+        spectrum = path_spectra[path];
+        beta.w = spectrum.throughput_3;
+        spectral = make_spectral_frame(spectrum.wavelength_u);
+    }
+    uint flags_before = effect_on(EFFECT_SPECTRAL) ? spectrum.flags : 0u;
     uint segments = push.depth + 1u;  // segments of this path including the ray just traced
     // Beer-Lambert along the segment just traced when the path is inside an absorbing volume.
     uint medium = tracks_media() ? path_media[path] : INVALID_INDEX;
     uint medium_before = medium;
     if (effect_on(EFFECT_ABSORPTION))
-        beta *= eval_medium_transmittance(medium, hit.triangle == INVALID_INDEX ? uintBitsToFloat(0x7f800000u) : hit.t);
+        beta *= eval_path_medium_transmittance(spectral, medium,
+                                               hit.triangle == INVALID_INDEX ? uintBitsToFloat(0x7f800000u) : hit.t);
 
     bool push_shadow = false;
     bool push_ray = false;
@@ -73,7 +87,7 @@ void main() {
             weight = (params.flags & RENDER_MIS) != 0u
                          ? power_heuristic(state.bsdf_pdf, params.env_pick_pdf * pdf_environment(dir))
                          : 0.0f;
-        radiance += beta * eval_environment(dir) * weight;
+        radiance += film_color(spectral, beta * lift_color(spectral, eval_environment(dir))) * weight;
     }
     if (hit.triangle != INVALID_INDEX) {
         vec3 dir = vec3(ray.dir_x, ray.dir_y, ray.dir_z);
@@ -105,7 +119,8 @@ void main() {
         bool front = dot(s.ng, wo) > 0.0f;
         bool double_sided = (m.flags & MATERIAL_DOUBLE_SIDED) != 0u;
 
-        if (unlit && push.depth == 0u) radiance += beta * max(vec3(m.base_color), vec3(0.0f));
+        if (unlit && push.depth == 0u)
+            radiance += film_color(spectral, beta * lift_color(spectral, max(vec3(m.base_color), vec3(0.0f))));
 
         // Emission. Paths that could also have sampled this light by NEE are weighted by the power
         // heuristic (Veach 1997, eq. 9.13); with NEE on and MIS off, only NEE counts light from surfaces.
@@ -122,7 +137,7 @@ void main() {
                     weight = 0.0f;
                 }
             }
-            radiance += beta * emission * weight;
+            radiance += film_color(spectral, beta * lift_color(spectral, emission)) * weight;
         }
 
         if (may_extend) {
@@ -137,14 +152,29 @@ void main() {
                 ns = keep_reflection_above_surface(ns, ng, wo);
             Frame frame = make_frame(ns);
             vec3 wo_local = to_local(frame, wo);
-            BsdfParams bsdf = make_bsdf_params(m);
             // Glass (KHR_materials_transmission): thin-walled, or the surface of a volume, entered from the front.
             bool volume = false;
+            float transmission = 0.0f;
             if (effect_on(EFFECT_TRANSMISSION)) {
                 volume = encloses_volume(s.material);
+                transmission = eval_transmission(s.material, hit.triangle, hit.b1, hit.b2);
+            }
+            // Dispersion (KHR_materials_dispersion) where light refracts into a volume: the whole BSDF takes the hero
+            // wavelength's index, and the other wavelengths stop here (their directions would differ).
+            if (effect_on(EFFECT_SPECTRAL) && volume && transmission > 0.0f) {
+                float dispersion = material_layers[s.material].dispersion;
+                if (dispersion > 0.0f) {
+                    m.ior = eval_dispersive_ior(m.ior, dispersion, spectral.lambda.x);
+                    if ((spectrum.flags & PATH_SECONDARIES_TERMINATED) == 0u) {
+                        beta = terminate_secondary_wavelengths(beta);
+                        spectrum.flags |= PATH_SECONDARIES_TERMINATED;
+                    }
+                }
+            }
+            BsdfParams bsdf = make_bsdf_params(m);
+            if (effect_on(EFFECT_TRANSMISSION)) {
                 float eta = volume && !front ? 1.0f / max(m.ior, 1.0e-4f) : m.ior;
-                bsdf = with_transmission(bsdf, eval_transmission(s.material, hit.triangle, hit.b1, hit.b2), eta,
-                                         volume ? 0u : 1u);
+                bsdf = with_transmission(bsdf, transmission, eta, volume ? 0u : 1u);
             }
             // Thin film (KHR_materials_iridescence) on the specular lobes; before anisotropy, which renormalises.
             if (effect_on(EFFECT_IRIDESCENCE)) {
@@ -189,8 +219,8 @@ void main() {
                     float weight = (params.flags & RENDER_MIS) != 0u && light.delta == 0u
                                        ? power_heuristic(light.pdf, pdf_bsdf(bsdf, wo_local, wi_local))
                                        : 1.0f;
-                    vec3 contrib = beta * f * light.radiance_over_pdf * weight;
-                    if (max_component(contrib) > 0.0f) {
+                    vec4 contrib = beta * lift_color(spectral, f) * lift_color(spectral, light.radiance_over_pdf) * weight;
+                    if (max_path_component(contrib) > 0.0f) {
                         vec3 origin = offset_ray_origin(s.p, s.p_error, ng, wi);
                         vec3 d = wi;
                         float t_max = 3.0e38f;  // directional light: nothing beyond the scene can block it
@@ -201,8 +231,10 @@ void main() {
                             t_max = len * (1.0f - 1e-4f);  // pbrt's ShadowEpsilon
                         }
                         if (effect_on(EFFECT_ABSORPTION))
-                            contrib *= eval_medium_transmittance(dot(wi, ng) < 0.0f ? medium_beyond : medium,
-                                                                 light.at_infinity != 0u ? uintBitsToFloat(0x7f800000u) : t_max);
+                            contrib *= eval_path_medium_transmittance(
+                                spectral, dot(wi, ng) < 0.0f ? medium_beyond : medium,
+                                light.at_infinity != 0u ? uintBitsToFloat(0x7f800000u) : t_max);
+                        vec3 contrib_rgb = film_color(spectral, contrib);
                         shadow.origin_x = origin.x;
                         shadow.origin_y = origin.y;
                         shadow.origin_z = origin.z;
@@ -210,9 +242,9 @@ void main() {
                         shadow.dir_y = d.y;
                         shadow.dir_z = d.z;
                         shadow.t_max = t_max;
-                        shadow.contrib_r = contrib.x;
-                        shadow.contrib_g = contrib.y;
-                        shadow.contrib_b = contrib.z;
+                        shadow.contrib_r = contrib_rgb.x;
+                        shadow.contrib_g = contrib_rgb.y;
+                        shadow.contrib_b = contrib_rgb.z;
                         push_shadow = t_max > 0.0f;
                     }
                 }
@@ -223,16 +255,16 @@ void main() {
             BsdfSample bs = sample_bsdf(bsdf, wo_local, u_bsdf);
             vec3 wi = to_world(frame, bs.wi);
             if (bs.valid != 0u && (transmits ? is_on_consistent_side(wi, ng, bs.wi) : dot(wi, ng) > 0.0f)) {
-                beta *= bs.weight;
+                beta *= lift_color(spectral, bs.weight);
                 if (dot(wi, ng) < 0.0f) medium = medium_beyond;
                 bool survive = true;
                 // Russian roulette (unbiased: survivors are divided by the survival probability).
                 if ((params.flags & RENDER_RR) != 0u && segments >= params.rr_start_depth) {
-                    float q = min(max_component(beta) * roulette_scale(medium), 0.95f);
+                    float q = min(max_path_component(beta) * roulette_scale(medium), 0.95f);
                     survive = u_rr < q;
                     beta /= q;
                 }
-                if (survive && max_component(beta) > 0.0f) {
+                if (survive && max_path_component(beta) > 0.0f) {
                     vec3 origin = offset_ray_origin(s.p, s.p_error, ng, wi);
                     next.origin_x = origin.x;
                     next.origin_y = origin.y;
@@ -255,6 +287,10 @@ void main() {
     state.radiance_b = radiance.z;
     state.rng = rng;
     paths[path] = state;
+    if (effect_on(EFFECT_SPECTRAL)) {
+        path_spectra[path].throughput_3 = beta.w;
+        if (spectrum.flags != flags_before) path_spectra[path].flags = spectrum.flags;
+    }
     if (tracks_media() && medium != medium_before) path_media[path] = medium;
 
     uint slot;

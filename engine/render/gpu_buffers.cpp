@@ -13,17 +13,19 @@ namespace fh {
 namespace tables {
 #include "lib/ggx_albedo_table.glsl"
 #include "lib/sheen_albedo_table.glsl"
+#include "lib/spectral_table.glsl"
 }  // namespace tables
 namespace {
 
-// The GGX albedo table in the order shaders/lib/ggx_albedo_table.glsl documents, then the sheen lobe's
-// (bindings.glsl reads both from one uniform buffer).
+// The GGX albedo table in the order shaders/lib/ggx_albedo_table.glsl documents, then the sheen lobe's, then the
+// spectral path's (bindings.glsl reads all three from one uniform buffer).
 std::vector<float> flatten_albedo_tables() {
     std::vector<float> words;
-    words.reserve(tables::GGX_ALBEDO_TABLE_SIZE + tables::SHEEN_ALBEDO_TABLE_SIZE);
+    words.reserve(tables::GGX_ALBEDO_TABLE_SIZE + tables::SHEEN_ALBEDO_TABLE_SIZE + tables::SPECTRAL_TABLE_SIZE);
     for (const auto& part : {std::span<const float>(tables::GGX_ALBEDO_A), std::span<const float>(tables::GGX_ALBEDO_B),
                              std::span<const float>(tables::GGX_ALBEDO_AVERAGE_A),
-                             std::span<const float>(tables::GGX_ALBEDO_AVERAGE_B), std::span<const float>(tables::SHEEN_ALBEDO)})
+                             std::span<const float>(tables::GGX_ALBEDO_AVERAGE_B), std::span<const float>(tables::SHEEN_ALBEDO),
+                             std::span<const float>(tables::SPECTRAL_TABLE)})
         words.insert(words.end(), part.begin(), part.end());
     return words;
 }
@@ -86,12 +88,14 @@ GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& sce
     b.instances = make_filled_buffer(context, scene.instances);
     b.material_layers = make_filled_buffer(context, scene.material_layers);
     b.path_media = make_state_buffer(context, path_media_bytes(frame.wave_capacity, effects));
+    b.path_spectra = make_state_buffer(context, path_spectra_bytes(frame.wave_capacity, effects));
     // The limits check before rendering relies on the estimate: keep it exact.
     uint64_t allocated = 0;
     for (const vk::Buffer* buffer : {&b.params, &b.nodes, &b.tri_positions, &b.tri_shading, &b.materials, &b.emitters,
                                      &b.punctual_lights, &b.ggx_albedo, &b.counters, &b.counters_readback, &b.paths, &b.rays, &b.hits,
                                      &b.shadow_rays, &b.film, &b.tri_attributes, &b.texture_slots, &b.texture_images,
-                                     &b.texels, &b.env_radiance, &b.env_cdf, &b.instances, &b.material_layers, &b.path_media})
+                                     &b.texels, &b.env_radiance, &b.env_cdf, &b.instances, &b.material_layers, &b.path_media,
+                                     &b.path_spectra})
         allocated += buffer->size();
     if (allocated != estimate_render_memory(scene, frame.width, frame.height, frame.wave_capacity, effects).device_bytes())
         throw std::logic_error("create_gpu_buffers: allocated sizes differ from estimate_render_memory");
@@ -127,6 +131,7 @@ void bind_gpu_buffers(vk::BindingTable& table, const GpuBuffers& b) {
     table.bind_buffer(gpu::BINDING_INSTANCES, b.instances);
     table.bind_buffer(gpu::BINDING_MATERIAL_LAYERS, b.material_layers);
     table.bind_buffer(gpu::BINDING_PATH_MEDIA, b.path_media);
+    table.bind_buffer(gpu::BINDING_PATH_SPECTRA, b.path_spectra);
 }
 
 }  // namespace fh

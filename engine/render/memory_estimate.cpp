@@ -11,6 +11,7 @@ namespace fh {
 namespace tables {
 #include "lib/ggx_albedo_table.glsl"
 #include "lib/sheen_albedo_table.glsl"
+#include "lib/spectral_table.glsl"
 }  // namespace tables
 namespace {
 
@@ -37,6 +38,10 @@ uint64_t path_media_bytes(uint32_t wave_capacity, uint32_t effects) {
     return (effects & (gpu::EFFECT_VOLUME | gpu::EFFECT_ABSORPTION)) ? uint64_t(wave_capacity) * sizeof(uint32_t) : sizeof(uint32_t);
 }
 
+uint64_t path_spectra_bytes(uint32_t wave_capacity, uint32_t effects) {
+    return uint64_t((effects & gpu::EFFECT_SPECTRAL) ? wave_capacity : 1u) * sizeof(gpu::PathSpectrum);
+}
+
 MemoryEstimate estimate_render_memory(const PackedScene& scene, uint32_t width, uint32_t height,
                                       uint32_t wave_capacity, uint32_t effects) {
     const uint64_t capacity = wave_capacity;
@@ -50,7 +55,7 @@ MemoryEstimate estimate_render_memory(const PackedScene& scene, uint32_t width, 
         {"materials", array_bytes(scene.materials), true},
         {"emitters", array_bytes(scene.emitters), true},
         {"punctual_lights", array_bytes(scene.punctual_lights), true},
-        {"albedo_tables", uint64_t(tables::GGX_ALBEDO_TABLE_SIZE + tables::SHEEN_ALBEDO_TABLE_SIZE) * sizeof(float), false},
+        {"albedo_tables", uint64_t(tables::GGX_ALBEDO_TABLE_SIZE + tables::SHEEN_ALBEDO_TABLE_SIZE + tables::SPECTRAL_TABLE_SIZE) * sizeof(float), false},
         {"counters", sizeof(gpu::QueueCounters), true},
         {"counters_readback", sizeof(gpu::QueueCounters), true},
         {"paths", capacity * sizeof(gpu::PathState), true},
@@ -67,6 +72,7 @@ MemoryEstimate estimate_render_memory(const PackedScene& scene, uint32_t width, 
         {"instances", array_bytes(scene.instances), true},
         {"material_layers", array_bytes(scene.material_layers), true},
         {"path_media", path_media_bytes(wave_capacity, effects), true},
+        {"path_spectra", path_spectra_bytes(wave_capacity, effects), true},
     };
     e.film_readback_bytes = film;
     return e;

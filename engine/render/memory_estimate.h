@@ -36,9 +36,10 @@ struct DeviceMemoryLimits {
 // that it allocates exactly this much, so the two cannot drift apart.
 // `effects`: the EFFECT_* set the stages are compiled with (scene/effects.h select_effects).
 // Bytes of the tri_attributes buffer: the scene's, or defaults for every triangle when `effects` read
-// attributes the scene has none of (--force-effect); and of the path media buffer.
+// attributes the scene has none of (--force-effect); and of the path media and path spectra buffers.
 uint64_t attribute_bytes(const PackedScene& scene, uint32_t effects);
 uint64_t path_media_bytes(uint32_t wave_capacity, uint32_t effects);
+uint64_t path_spectra_bytes(uint32_t wave_capacity, uint32_t effects);
 
 MemoryEstimate estimate_render_memory(const PackedScene& scene, uint32_t width, uint32_t height,
                                       uint32_t wave_capacity, uint32_t effects);

@@ -63,6 +63,7 @@ const std::vector<EffectInfo>& list_effects() {
         {gpu::EFFECT_ANISOTROPY_TEXTURE, "anisotropy-texture"},
         {gpu::EFFECT_IRIDESCENCE, "iridescence"},
         {gpu::EFFECT_IRIDESCENCE_TEXTURE, "iridescence-texture"},
+        {gpu::EFFECT_SPECTRAL, "spectral"},
     };
     return effects;
 }
@@ -105,7 +106,7 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
 
     std::set<uint32_t> base, metal_rough, normal, emissive, alpha, glass, glass_texture, volume, absorbing;
     std::set<uint32_t> coat, coat_texture, coat_normal, unlit, sheen, sheen_texture, diffuse, diffuse_texture;
-    std::set<uint32_t> anisotropic, anisotropy_texture, film, film_texture;
+    std::set<uint32_t> anisotropic, anisotropy_texture, film, film_texture, dispersive;
     for (uint32_t m : used) {
         const gpu::Material& mat = scene.materials[m];
         // An unlit material shows its base colour only: none of its layers is ever evaluated.
@@ -121,6 +122,8 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
                 glass.insert(m);
                 if (has_texture) glass_texture.insert(m);
                 if (layers.flags & gpu::LAYERS_VOLUME) volume.insert(m);
+                // Dispersion bends light by wavelength where it refracts into a volume (thin walls do not bend it).
+                if ((layers.flags & gpu::LAYERS_VOLUME) && layers.dispersion > 0.0f) dispersive.insert(m);
                 if ((layers.flags & gpu::LAYERS_VOLUME) &&
                     (layers.attenuation.x > 0.0f || layers.attenuation.y > 0.0f || layers.attenuation.z > 0.0f))
                     absorbing.insert(m);
@@ -236,6 +239,8 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
                  "no visible material has KHR_materials_iridescence > 0 with a film thicker than 0 nm");
     by_materials(gpu::EFFECT_IRIDESCENCE_TEXTURE, film_texture,
                  "no iridescent material has an iridescenceTexture or an iridescenceThicknessTexture");
+    by_materials(gpu::EFFECT_SPECTRAL, dispersive,
+                 "no visible volume (glass, thicknessFactor > 0) has KHR_materials_dispersion > 0");
     return effects;
 }
 

@@ -1,5 +1,5 @@
 // Converts glTF materials (spec 3.9) and the KHR extensions emissive_strength, specular, ior, unlit,
-// transmission, volume, clearcoat, sheen, diffuse_transmission, anisotropy and iridescence.
+// transmission, volume, clearcoat, sheen, diffuse_transmission, anisotropy, iridescence and dispersion.
 #include "scene/gltf_material.h"
 
 #include <algorithm>
@@ -24,6 +24,7 @@ constexpr const char* SUPPORTED_EXTENSIONS[] = {
     "KHR_materials_diffuse_transmission",
     "KHR_materials_anisotropy",
     "KHR_materials_iridescence",
+    "KHR_materials_dispersion",
     "KHR_lights_punctual",  // read by gltf_loader.cpp
     "KHR_texture_transform",  // gltf_texture.cpp
     "EXT_texture_webp",
@@ -179,6 +180,7 @@ gpu::MaterialLayers make_default_layers() {
     layers.iridescence_thickness_texture = gpu::INVALID_INDEX;
     layers.iridescence_albedo_f0 = 0.0f;
     layers.iridescence_albedo_f90 = 0.0f;
+    layers.dispersion = 0.0f;
     return layers;
 }
 
@@ -268,6 +270,14 @@ gpu::MaterialLayers convert_material_layers(const tinygltf::Model& model, int in
         for (int i = 0; i < 3; ++i)
             layers.attenuation[i] = float(std::min(-std::log(std::max(color[i], 1e-300)) / distance, 1e30));
     }
+
+    // KHR_materials_dispersion: 20 / Abbe number; it bends light by wavelength where the material bounds a volume.
+    const tinygltf::Value* dispersion = find_extension(material, "KHR_materials_dispersion");
+    const double strength = read_number(dispersion, "dispersion", 0.0);
+    if (!(strength >= 0.0) || !std::isfinite(strength))
+        throw SceneError(where + " has KHR_materials_dispersion dispersion " + std::to_string(strength) +
+                         " (must be >= 0)");
+    layers.dispersion = float(strength);
     return layers;
 }
 

@@ -19,6 +19,7 @@ layout(std430, binding = BINDING_PUNCTUAL_LIGHTS) readonly buffer PunctualLightB
 layout(std430, binding = BINDING_INSTANCES) readonly buffer InstanceBuffer { Instance instances[]; };
 layout(std430, binding = BINDING_MATERIAL_LAYERS) readonly buffer MaterialLayerBuffer { MaterialLayers material_layers[]; };
 layout(std430, binding = BINDING_PATH_MEDIA) buffer PathMediaBuffer { uint path_media[]; };
+layout(std430, binding = BINDING_PATH_SPECTRA) buffer PathSpectrumBuffer { PathSpectrum path_spectra[]; };
 
 layout(std140, binding = BINDING_BVH_NODES_UNIFORM) uniform NodeUniforms {
     BvhPairNode uniform_nodes[UNIFORM_NODE_CAPACITY];
@@ -67,12 +68,14 @@ Emitter load_emitter(uint entry) {
 
 #include "ggx_albedo_table.glsl"
 #include "sheen_albedo_table.glsl"
-// The BSDF's albedo tables: GGX's, then the sheen lobe's.
+#include "spectral_table.glsl"
+// The BSDF's albedo tables: GGX's, then the sheen lobe's; then the spectral path's table (spectrum.glsl).
 layout(std140, binding = BINDING_GGX_ALBEDO_UNIFORM) uniform GgxAlbedoTable {
-    vec4 ggx_albedo_words[(GGX_ALBEDO_TABLE_SIZE + SHEEN_ALBEDO_TABLE_SIZE) / 4];
+    vec4 ggx_albedo_words[(GGX_ALBEDO_TABLE_SIZE + SHEEN_ALBEDO_TABLE_SIZE + SPECTRAL_TABLE_SIZE) / 4];
 };
 float ggx_albedo_entry(int i) { return ggx_albedo_words[i >> 2][i & 3]; }
 float sheen_albedo_entry(int i) { return ggx_albedo_entry(GGX_ALBEDO_TABLE_SIZE + i); }
+vec4 spectral_table_vec4(int i) { return ggx_albedo_words[(GGX_ALBEDO_TABLE_SIZE + SHEEN_ALBEDO_TABLE_SIZE) / 4 + i]; }
 
 layout(push_constant) uniform PushBlock { StagePush push; };
 

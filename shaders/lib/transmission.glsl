@@ -5,6 +5,7 @@
 #define FH_TRANSMISSION_GLSL
 #include "effects.glsl"
 #include "texture.glsl"
+#include "spectrum.glsl"
 
 // transmissionFactor times the R channel of transmissionTexture at barycentrics (b1, b2) of `triangle`.
 float eval_transmission(uint material, uint triangle, float b1, float b2) {
@@ -44,5 +45,15 @@ vec3 eval_medium_transmittance(uint medium, float t) {
     vec3 sigma = material_layers[medium].attenuation.xyz;
     return vec3(sigma.x > 0.0f ? exp(-sigma.x * t) : 1.0f, sigma.y > 0.0f ? exp(-sigma.y * t) : 1.0f,
                 sigma.z > 0.0f ? exp(-sigma.z * t) : 1.0f);
+}
+// The same at the path's wavelengths: the absorption coefficient's spectrum is that of its RGB (spectrum.glsl), and
+// a wavelength it does not absorb stays 1. For an RGB render, (the above, 0).
+vec4 eval_path_medium_transmittance(SpectralFrame f, uint medium, float t) {
+    if (!effect_on(EFFECT_SPECTRAL)) return vec4(eval_medium_transmittance(medium, t), 0.0f);
+    if (!effect_on(EFFECT_ABSORPTION) || medium == INVALID_INDEX) return vec4(1.0f);
+    vec4 sigma = upsample_rgb(f, material_layers[medium].attenuation.xyz);
+    vec4 transmittance;
+    for (int k = 0; k < 4; ++k) transmittance[k] = sigma[k] > 0.0f ? exp(-sigma[k] * t) : 1.0f;
+    return transmittance;
 }
 #endif

@@ -54,7 +54,8 @@ FH_CONST uint BINDING_ENV_CDF = 24u;            // float[]: marginal CDF (height
 FH_CONST uint BINDING_INSTANCES = 25u;       // Instance[] (two-level BVH), when the scene has instances
 FH_CONST uint BINDING_MATERIAL_LAYERS = 26u; // MaterialLayers[] (KHR material extensions), parallel to Material[]
 FH_CONST uint BINDING_PATH_MEDIA = 27u;      // uint[wave capacity]: the volume a path is in (EFFECT_VOLUME, _ABSORPTION)
-FH_CONST uint BINDING_COUNT = 28u;
+FH_CONST uint BINDING_PATH_SPECTRA = 28u;    // PathSpectrum[wave capacity]: a path's wavelengths (EFFECT_SPECTRAL)
+FH_CONST uint BINDING_COUNT = 29u;
 FH_CONST uint UNIFORM_BUFFER_BYTES = 65536u;  // declared size of each; Vulkan guarantees only 16 KiB of
                                               // maxUniformBufferRange, so fits_uniform_buffers (pack.h) checks
 
@@ -89,6 +90,8 @@ FH_CONST uint EFFECT_ANISOTROPY = 524288u;         // KHR_materials_anisotropy: 
 FH_CONST uint EFFECT_ANISOTROPY_TEXTURE = 1048576u;  // anisotropyTexture
 FH_CONST uint EFFECT_IRIDESCENCE = 2097152u;       // KHR_materials_iridescence: a thin film's Fresnel on the specular
 FH_CONST uint EFFECT_IRIDESCENCE_TEXTURE = 4194304u;  // iridescenceTexture, iridescenceThicknessTexture
+FH_CONST uint EFFECT_SPECTRAL = 8388608u;          // KHR_materials_dispersion: paths carry four wavelengths (hero
+                                                   // wavelength sampling), not RGB; shaders/lib/spectrum.glsl
 FH_CONST uint EFFECT_ATTRIBUTES = EFFECT_BASE_COLOR_TEXTURE | EFFECT_METALLIC_ROUGHNESS_TEXTURE |
                                   EFFECT_NORMAL_TEXTURE | EFFECT_EMISSIVE_TEXTURE | EFFECT_VERTEX_COLORS |
                                   EFFECT_ALPHA | EFFECT_TRANSMISSION_TEXTURE | EFFECT_CLEARCOAT_TEXTURE |
@@ -99,7 +102,7 @@ FH_CONST uint EFFECT_MATERIAL = EFFECT_ATTRIBUTES | EFFECT_TRANSMISSION | EFFECT
                                 EFFECT_CLEARCOAT | EFFECT_UNLIT | EFFECT_SHEEN |
                                 EFFECT_DIFFUSE_TRANSMISSION | EFFECT_ANISOTROPY |
                                 EFFECT_ANISOTROPY_TEXTURE | EFFECT_IRIDESCENCE |
-                                EFFECT_IRIDESCENCE_TEXTURE;  // decided by the materials: --force-effect / --disable-effect
+                                EFFECT_IRIDESCENCE_TEXTURE | EFFECT_SPECTRAL;  // decided by the materials: --force-effect / --disable-effect
 
 // ---- Robustness techniques (all on by default; `--disable-technique` turns one off to measure its cost and
 // to show what goes wrong without it). README "Numerical stability" has the table.
@@ -119,6 +122,7 @@ FH_CONST uint FILTER_BOX = 0u;             // one pixel wide
 FH_CONST uint FILTER_GAUSSIAN = 1u;        // truncated Gaussian, importance sampled (weight 1)
 FH_CONST uint MATERIAL_DOUBLE_SIDED = 1u;  // Material.flags
 FH_CONST uint MATERIAL_UNLIT = 2u;         // Material.flags: KHR_materials_unlit (EFFECT_UNLIT)
+FH_CONST uint PATH_SECONDARIES_TERMINATED = 1u;  // PathSpectrum.flags: only the hero wavelength goes on
 FH_CONST uint LAYERS_VOLUME = 1u;          // MaterialLayers.flags: the mesh bounds a volume (thicknessFactor > 0)
 FH_CONST uint TRIANGLE_HAS_NORMALS = 1u;   // TriangleShading.flags: vertex normals present
 FH_CONST uint RENDER_NEE = 1u;             // FrameParams.flags: next-event estimation
@@ -253,6 +257,8 @@ struct MaterialLayers {
     uint iridescence_thickness_texture;  // TextureSlot (G channel: thickness), or INVALID_INDEX
     float iridescence_albedo_f0;   // the film's Fresnel bound F <= a (1 - (1 - cos)^5) + b (1 - cos)^5: a,
     float iridescence_albedo_f90;  // and b (scene/thin_film_bound.h)
+    float dispersion;              // KHR_materials_dispersion: 20 / Abbe number (0: none); volumes only
+    float pad0, pad1, pad2;
 };
 
 // A material's use of a texture (glTF textureInfo): which image, how it is addressed, and
@@ -369,6 +375,16 @@ struct PathState {
     float bsdf_pdf;             // solid-angle pdf of the last sampled direction (0: camera or delta)
     float radiance_r, radiance_g, radiance_b;
     uint rng;
+};
+
+// What a path carries besides PathState when the scene is rendered spectrally (EFFECT_SPECTRAL): its four
+// wavelengths follow from wavelength_u (shaders/lib/spectrum.glsl); PathState's throughput_r, _g, _b hold the
+// throughput at wavelengths 0 (the hero), 1 and 2, and throughput_3 the fourth's.
+struct PathSpectrum {
+    float wavelength_u;         // in [0, 1): the hero wavelength's sample
+    float throughput_3;
+    uint flags;                 // PATH_SECONDARIES_TERMINATED
+    float pad;
 };
 
 // A ray waiting for its closest hit.

@@ -19,10 +19,12 @@ namespace {
 constexpr const char* USAGE = R"(usage:
   fh_compare TEST.exr --reference REF.exr [--block 16] [--max-block-rel 0.05] [--max-mean-rel 0.005]
                       [--alpha 0.01] [--diff-out DIFF.exr] [--z-out Z.exr]
-  fh_compare TEST.exr --expect-constant VALUE|R,G,B [--tolerance 0.01] [--ignore-border 0] [--diff-out DIFF.exr]
+  fh_compare TEST.exr --expect-constant VALUE|R,G,B [--tolerance 0.01] [--mean-tolerance TOLERANCE/10]
+                      [--ignore-border 0] [--diff-out DIFF.exr]
   fh_compare TEST.exr --identical OTHER.exr [--diff-out DIFF.exr]
   fh_compare TEST.exr --finite [--diff-out DIFF.exr]
   fh_compare TEST.exr --elongated-along x|y [--min-ratio 2]
+  fh_compare TEST.exr --dispersed-along x|-x|y|-y [--min-separation 1]
   fh_compare T1.exr,T2.exr,... --same-distribution R1.exr,R2.exr,... [--alpha 0.01] [--diff-out DIFF.exr]
 Exit status: 0 pass; 1 fail (one line per failing criterion, difference image written to --diff-out,
 default TEST.diff.exr; --z-out adds each tile's z-score) or an unreadable image; 2 bad usage.
@@ -36,10 +38,11 @@ struct UsageError : std::runtime_error {
 // Which options each mode accepts, and what its difference image holds.
 const std::map<std::string, std::vector<std::string>> MODE_OPTIONS = {
     {"--reference", {"--block", "--max-block-rel", "--max-mean-rel", "--alpha", "--diff-out", "--z-out"}},
-    {"--expect-constant", {"--tolerance", "--ignore-border", "--diff-out"}},
+    {"--expect-constant", {"--tolerance", "--mean-tolerance", "--ignore-border", "--diff-out"}},
     {"--identical", {"--diff-out"}},
     {"--finite", {"--diff-out"}},
     {"--elongated-along", {"--min-ratio"}},
+    {"--dispersed-along", {"--min-separation"}},
     {"--same-distribution", {"--alpha", "--diff-out"}},
 };
 
@@ -49,6 +52,7 @@ const std::map<std::string, std::string> DIFFERENCE_CONTENT = {
     {"--identical", "test minus other"},
     {"--finite", "1 where a value is NaN or infinite"},
     {"--elongated-along", "none"},
+    {"--dispersed-along", "none"},
     {"--same-distribution", "mean of test batches minus mean of reference batches"},
 };
 
@@ -106,7 +110,7 @@ Arguments parse_arguments(int argc, char** argv) {
     if (args.test.empty()) throw UsageError("no test image given");
     if (args.mode.empty())
         throw UsageError("choose one of --reference, --expect-constant, --identical, --finite, --same-distribution, "
-                         "--elongated-along");
+                         "--elongated-along, --dispersed-along");
     for (const auto& [name, value] : args.options) {
         if (name == args.mode) continue;
         bool known = false;
@@ -163,6 +167,8 @@ fh::CheckResult run_check(const Arguments& args) {
     if (args.mode == "--expect-constant") {
         const double tolerance = args.number("--tolerance", 0.01);
         if (!(tolerance >= 0)) throw UsageError("--tolerance must not be negative");
+        const double mean_tolerance = args.number("--mean-tolerance", tolerance / 10);
+        if (!(mean_tolerance >= 0)) throw UsageError("--mean-tolerance must not be negative");
         const std::string text = args.options.at("--expect-constant");
         if (std::count(text.begin(), text.end(), ',') == 2) {
             std::array<double, 3> rgb{};
@@ -180,10 +186,10 @@ fh::CheckResult run_check(const Arguments& args) {
                     throw UsageError("--expect-constant expects a number or R,G,B, got \"" + text + "\"");
                 start = end + 1;
             }
-            return fh::check_constant(test, rgb, tolerance, args.integer("--ignore-border", 0, 0));
+            return fh::check_constant(test, rgb, tolerance, args.integer("--ignore-border", 0, 0), mean_tolerance);
         }
         return fh::check_constant(test, args.number("--expect-constant", 0), tolerance,
-                                  args.integer("--ignore-border", 0, 0));
+                                  args.integer("--ignore-border", 0, 0), mean_tolerance);
     }
     if (args.mode == "--elongated-along") {
         const std::string axis = args.options.at("--elongated-along");
@@ -191,6 +197,14 @@ fh::CheckResult run_check(const Arguments& args) {
         const double min_ratio = args.number("--min-ratio", 2.0);
         if (!(min_ratio > 0)) throw UsageError("--min-ratio must be positive");
         return fh::check_elongation(test, axis[0], min_ratio);
+    }
+    if (args.mode == "--dispersed-along") {
+        const std::string direction = args.options.at("--dispersed-along");
+        if (direction != "x" && direction != "-x" && direction != "y" && direction != "-y")
+            throw UsageError("--dispersed-along takes x, -x, y or -y");
+        const double min_separation = args.number("--min-separation", 1.0);
+        if (!(min_separation >= 0)) throw UsageError("--min-separation must not be negative");
+        return fh::check_dispersion(test, direction, min_separation);
     }
     if (args.mode == "--identical") return fh::check_identical(test, fh::read_exr(args.options.at("--identical")));
     return fh::check_finite(test);

@@ -18,12 +18,14 @@ std::string size_mismatch(const Image& a, const Image& b) {
 
 }  // namespace
 
-CheckResult check_constant(const Image& test, double value, double tolerance, int ignore_border) {
-    return check_constant(test, std::array<double, 3>{value, value, value}, tolerance, ignore_border);
+CheckResult check_constant(const Image& test, double value, double tolerance, int ignore_border, double mean_tolerance) {
+    return check_constant(test, std::array<double, 3>{value, value, value}, tolerance, ignore_border, mean_tolerance);
 }
 
-CheckResult check_constant(const Image& test, const std::array<double, 3>& value, double tolerance, int ignore_border) {
+CheckResult check_constant(const Image& test, const std::array<double, 3>& value, double tolerance, int ignore_border,
+                           double mean_tolerance) {
     CheckResult result;
+    if (mean_tolerance < 0) mean_tolerance = tolerance / 10;
     // Relative tolerance, absolute around zero; a grey constant is printed as one number.
     auto scale_of = [&](int c) { return value[c] != 0 ? std::abs(value[c]) : 1.0; };
     const bool grey = value[0] == value[1] && value[1] == value[2];
@@ -61,11 +63,11 @@ CheckResult check_constant(const Image& test, const std::array<double, 3>& value
     for (int c = 0; c < 3; ++c) {
         const double mean = sum[c] / pixels, deviation = std::abs(mean - value[c]) / scale_of(c);
         mean_text += format_text(" %s %.6g", CHANNEL_NAMES[c], mean);
-        if (!(deviation <= tolerance / 10))
+        if (!(deviation <= mean_tolerance))
             mean_failures += format_text(" %s %.6g (off by %.3g)", CHANNEL_NAMES[c], mean, deviation);
     }
     if (!mean_failures.empty())
-        result.failures.push_back(format_text("mean: deviates from %s by more than %g (%s):", expected.c_str(), tolerance / 10,
+        result.failures.push_back(format_text("mean: deviates from %s by more than %g (%s):", expected.c_str(), mean_tolerance,
                                               sense) + mean_failures);
 
     result.difference = Image{test.width, test.height, std::vector<float>(test.rgb.size())};
@@ -149,6 +151,40 @@ CheckResult check_elongation(const Image& test, char axis, double min_ratio) {
                                               axis, ratio, along, across, min_ratio));
     result.summary = format_text("spread along %c / across: %.3g (variances %.4g and %.4g px^2; at least %g)", axis,
                                  ratio, along, across, min_ratio);
+    return result;
+}
+
+CheckResult check_dispersion(const Image& test, const std::string& direction, double min_separation) {
+    CheckResult result;
+    const int axis = direction.back() == 'x' ? 0 : 1;
+    const double sign = direction.front() == '-' ? -1.0 : 1.0;
+    double centroid[3];
+    for (int c = 0; c < 3; ++c) {
+        double weight = 0.0, moment = 0.0;
+        for (int y = 0; y < test.height; ++y)
+            for (int x = 0; x < test.width; ++x) {
+                const double v = test.rgb[(std::size_t(y) * test.width + x) * 3 + c];
+                if (!(v > 0.0) || !std::isfinite(v)) continue;
+                weight += v;
+                moment += v * (axis == 0 ? x : y);
+            }
+        if (!(weight > 0.0)) {
+            result.failures.push_back(format_text("dispersion: channel %s is black", CHANNEL_NAMES[c]));
+            result.summary = result.failures.back();
+            return result;
+        }
+        centroid[c] = sign * moment / weight;  // along the direction red -> blue should go
+    }
+    const double separation = centroid[2] - centroid[0];
+    if (!(centroid[0] < centroid[1] && centroid[1] < centroid[2]))
+        result.failures.push_back(format_text("dispersion: the channels' centroids along %s are R %.3f, G %.3f, B %.3f px: "
+                                              "not in the order red, green, blue",
+                                              direction.c_str(), centroid[0], centroid[1], centroid[2]));
+    if (!(separation >= min_separation))
+        result.failures.push_back(format_text("dispersion: blue lies %.3f px from red along %s, less than %g",
+                                              separation, direction.c_str(), min_separation));
+    result.summary = format_text("centroids along %s: R %.3f, G %.3f, B %.3f px (red to blue %.3f px; at least %g)",
+                                 direction.c_str(), centroid[0], centroid[1], centroid[2], separation, min_separation);
     return result;
 }
 

@@ -80,11 +80,12 @@ ReferenceResult compare_to_reference(const Image& test, const Image& reference, 
 
 // Furnace test: every channel of every pixel (minus `ignore_border` pixels on each side) must satisfy
 // |v - value| <= tolerance * |value| (absolute tolerance when value is 0), and each channel's mean over those
-// pixels must be within tolerance / 10 in the same sense. `difference` = test - value. The second form expects a
-// colour: channel c against value[c].
-CheckResult check_constant(const Image& test, double value, double tolerance = 0.01, int ignore_border = 0);
+// pixels must be within `mean_tolerance` (negative: tolerance / 10) in the same sense. `difference` = test - value.
+// The second form expects a colour: channel c against value[c].
+CheckResult check_constant(const Image& test, double value, double tolerance = 0.01, int ignore_border = 0,
+                           double mean_tolerance = -1);
 CheckResult check_constant(const Image& test, const std::array<double, 3>& value, double tolerance = 0.01,
-                           int ignore_border = 0);
+                           int ignore_border = 0, double mean_tolerance = -1);
 
 // Bit-identical pixel data (NaNs compare by bit pattern); reports the first differing pixel.
 CheckResult check_identical(const Image& test, const Image& other);
@@ -96,6 +97,11 @@ CheckResult check_finite(const Image& test);
 // as widely as across it: the luminance-weighted variance of the pixel coordinate along the axis over the one across
 // it (e.g. an anisotropic highlight, stretched along the rougher direction). No difference image.
 CheckResult check_elongation(const Image& test, char axis, double min_ratio);
+
+// The image's light is split by colour along `direction` ("x", "-x", "y" or "-y"; +y is down the image): the
+// intensity-weighted centroids of R, G and B lie in that order along it, blue at least `min_separation` pixels beyond
+// red (a prism's spectrum: shorter wavelengths bend more). No difference image.
+CheckResult check_dispersion(const Image& test, const std::string& direction, double min_separation);
 
 // ---- Same distribution, pixel by pixel -----------------------------------------------------------------
 //

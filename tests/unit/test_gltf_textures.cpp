@@ -543,3 +543,30 @@ TEST(GltfIridescence, RejectsImpossibleFilms) {
 }
 
 }  // namespace
+
+namespace {
+
+nlohmann::json dispersive_material(double dispersion, double transmission = 1.0, double thickness = 1.0) {
+    nlohmann::json m = glass_material(transmission, thickness);
+    m["extensions"]["KHR_materials_dispersion"] = {{"dispersion", dispersion}};
+    return m;
+}
+
+// KHR_materials_dispersion is read, and switches the spectral path on only where it can bend light: a visible volume.
+TEST(GltfDispersion, ReadsDispersionAndGoesSpectralOnlyForVolumes) {
+    const Scene s = load_textured_triangle(dispersive_material(0.6));
+    ASSERT_EQ(s.material_layers.size(), 1u);
+    EXPECT_FLOAT_EQ(s.material_layers[0].dispersion, 0.6f);
+    auto effects_of = [&](const nlohmann::json& material) { return analysed_effects_of(material, gpu::EFFECT_SPECTRAL); };
+    EXPECT_EQ(effects_of(dispersive_material(0.6)), gpu::EFFECT_SPECTRAL);
+    EXPECT_EQ(effects_of(dispersive_material(0.0)), 0u);            // no dispersion
+    EXPECT_EQ(effects_of(dispersive_material(0.6, 0.0)), 0u);       // no glass
+    EXPECT_EQ(effects_of(dispersive_material(0.6, 1.0, 0.0)), 0u);  // thin-walled: nothing bends
+    EXPECT_EQ(effects_of(glass_material(1.0, 1.0)), 0u);
+}
+
+TEST(GltfDispersion, RejectsNegativeDispersion) {
+    EXPECT_THROW(load_textured_triangle(dispersive_material(-0.1)), fh::SceneError);
+}
+
+}  // namespace

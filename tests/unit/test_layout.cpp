@@ -149,6 +149,14 @@ FH_OFFSET(PathState, bsdf_pdf, 12);
 FH_OFFSET(PathState, radiance_r, 16);
 FH_OFFSET(PathState, rng, 28);
 
+FH_SIZE(MaterialLayers, 160);
+FH_OFFSET(MaterialLayers, iridescence_albedo_f90, 140);
+FH_OFFSET(MaterialLayers, dispersion, 144);
+
+FH_SIZE(PathSpectrum, 16);
+FH_OFFSET(PathSpectrum, throughput_3, 4);
+FH_OFFSET(PathSpectrum, flags, 8);
+
 FH_SIZE(RayItem, 32);
 FH_OFFSET(RayItem, path, 12);
 FH_OFFSET(RayItem, dir_x, 16);
@@ -187,7 +195,7 @@ TEST(Layout, ArrayStridesFollowStd430) {
     EXPECT_TRUE(has_std430_array_stride<MaterialLayers>(true));
     EXPECT_TRUE(has_std430_array_stride<FrameParams>(true));
     for (size_t size : {sizeof(BvhNode), sizeof(BvhPairNode), sizeof(TrianglePositions), sizeof(TriangleShading), sizeof(Emitter),
-                        sizeof(QueueCounters), sizeof(PathState), sizeof(RayItem), sizeof(HitItem),
+                        sizeof(QueueCounters), sizeof(PathState), sizeof(PathSpectrum), sizeof(RayItem), sizeof(HitItem),
                         sizeof(ShadowRayItem), sizeof(FilmPixel), sizeof(StagePush)})
         EXPECT_EQ(size % 4, 0u);
 }
@@ -199,7 +207,7 @@ TEST(Layout, SizesMatchTheGpuStructs) {
     EXPECT_EQ(sizeof(TrianglePositions), 48u);
     EXPECT_EQ(sizeof(TriangleShading), 48u);
     EXPECT_EQ(sizeof(Material), 96u);
-    EXPECT_EQ(sizeof(MaterialLayers), 144u);
+    EXPECT_EQ(sizeof(MaterialLayers), 160u);
     EXPECT_EQ(sizeof(TextureSlot), 48u);
     EXPECT_EQ(sizeof(TriangleAttributes), 96u);
     EXPECT_EQ(sizeof(Emitter), 16u);
@@ -210,6 +218,7 @@ TEST(Layout, SizesMatchTheGpuStructs) {
     EXPECT_EQ(sizeof(Instance), 112u);
     EXPECT_EQ(sizeof(ShadowRayItem), 48u);
     EXPECT_EQ(sizeof(PathState), 32u);
+    EXPECT_EQ(sizeof(PathSpectrum), 16u);
     EXPECT_EQ(sizeof(FilmPixel), 32u);
     EXPECT_EQ(sizeof(StagePush), 32u);
     EXPECT_EQ(BVH_LEAF_COUNT_BITS, 16u);

@@ -10,6 +10,13 @@ looks straight down (-Z) at a white emitter of radiance 1 on the plane z = 0 thr
   glass_slab_absorbing.gltf  the same slab with attenuationColor 0.5 at attenuationDistance 1: with tau = 0.5,
                              (1 - F)^2 tau / (1 - F^2 tau^2) = 0.4609844 (Beer-Lambert on every crossing).
   glass_thin.gltf            one smooth thin-walled glass quad (no volume): 1 - F = 0.96.
+  glass_slab_dispersive.gltf the slab with KHR_materials_dispersion 1 (Abbe number 20), rendered spectrally: each
+                             wavelength passes (1 - F)^2 / (1 - F^2) at its own index (1.486 to 1.538), 0.921 to
+                             0.924 in each channel (the hero wavelength alone after the first surface).
+  glass_furnace_dispersive.gltf  a smooth glass sphere of dispersion 1 in perspective: under --background 1,1,1
+                             white in every pixel (a spectral path that splits light by wavelength loses none).
+  glass_prism.gltf           a 60-degree prism of dispersion 1 in front of a white emissive slit, seen by a
+                             perspective camera: the slit's image is spread into a spectrum (README "Dispersion").
   glass_furnace_rNN.gltf     a glass sphere of ior 1.5 and roughness 0.NN (0, 0.3, 1), seen in perspective, for
                              the README's white-furnace figures (--background 1,1,1): not a test, since the single-
                              scattering lobe loses energy when rough (README "Glass").
@@ -33,7 +40,7 @@ def box(x0, y0, z0, x1, y1, z1):
     return tris
 
 
-def glass(roughness=0.0, volume=True, attenuation=None):
+def glass(roughness=0.0, volume=True, attenuation=None, dispersion=None):
     m = {"pbrMetallicRoughness": {"baseColorFactor": [1.0, 1.0, 1.0, 1.0], "metallicFactor": 0.0,
                                   "roughnessFactor": roughness},
          "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0},
@@ -44,12 +51,45 @@ def glass(roughness=0.0, volume=True, attenuation=None):
             color, distance = attenuation
             m["extensions"]["KHR_materials_volume"].update(
                 {"attenuationColor": [color] * 3, "attenuationDistance": distance})
+    if dispersion is not None:
+        m["extensions"]["KHR_materials_dispersion"] = {"dispersion": dispersion}
     return m
+
+
+def use_glass_extensions(g):
+    g.doc["extensionsUsed"] += ["KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_volume",
+                                "KHR_materials_dispersion"]
+
+
+def prism(x0, x1):
+    """A 60-degree prism along x from x0 to x1: its cross-section is an equilateral triangle of side 2 with its apex
+    up at (y, z) = (1, 0) and its base at y = 1 - sqrt(3), so that its two upper faces look towards +z and -z."""
+    h = 3.0 ** 0.5
+    a, b, c = (1.0, 0.0), (1.0 - h, 1.0), (1.0 - h, -1.0)  # (y, z): apex, base front (+z), base back
+    p = lambda x, yz: (x, yz[0], yz[1])
+    tris = [(p(x0, a), p(x0, c), p(x0, b)), (p(x1, a), p(x1, b), p(x1, c))]  # end caps, facing -x and +x
+    for (u, v) in ((a, b), (b, c), (c, a)):  # sides, facing outwards
+        tris += [(p(x0, u), p(x0, v), p(x1, v)), (p(x0, u), p(x1, v), p(x1, u))]
+    return tris
+
+
+def prism_scene():
+    """The camera looks along -z through the prism at a thin white slit 8 units behind it, 37 degrees below the
+    horizontal (the prism's minimum deviation at index 1.5) and outside the camera's view but through the prism:
+    the slit's image is spread vertically into a spectrum, violet highest, red lowest (least deviated)."""
+    g = Gltf()
+    use_glass_extensions(g)
+    slit = g.add_material(base=(0.0, 0.0, 0.0), emission=4.0)
+    g.add_node({"mesh": g.add_mesh(quad(-10.0, -5.6, 10.0, -5.4, -8.0), slit)})
+    g.doc["materials"].append(glass(dispersion=1.0))
+    g.add_node({"mesh": g.add_mesh(prism(-2.0, 2.0), len(g.doc["materials"]) - 1)})
+    g.add_perspective_camera({"translation": [0.0, 0.2, 8.0]}, 0.5)
+    return g
 
 
 def over_emitter(material, shape):
     g = Gltf()
-    g.doc["extensionsUsed"] += ["KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_volume"]
+    use_glass_extensions(g)
     emitter = g.add_material(base=(0.0, 0.0, 0.0), emission=1.0)
     g.add_node({"mesh": g.add_mesh(quad(-20, -20, 20, 20, 0.0), emitter)})
     g.doc["materials"].append(material)
@@ -58,10 +98,10 @@ def over_emitter(material, shape):
     return g
 
 
-def furnace(roughness):
+def furnace(roughness, dispersion=None):
     g = Gltf()
-    g.doc["extensionsUsed"] += ["KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_volume"]
-    g.doc["materials"].append(glass(roughness=roughness))
+    use_glass_extensions(g)
+    g.doc["materials"].append(glass(roughness=roughness, dispersion=dispersion))
     g.add_node({"mesh": g.add_mesh(icosphere(4), 0)})
     g.add_perspective_camera({"translation": [0.0, 0.0, 3.0]}, 0.8)
     return g
@@ -75,6 +115,9 @@ def main():
         "glass_slab": over_emitter(glass(), slab),
         "glass_slab_absorbing": over_emitter(glass(attenuation=(0.5, 1.0)), slab),
         "glass_thin": over_emitter(glass(volume=False), quad(-10, -10, 10, 10, 1.0)),
+        "glass_slab_dispersive": over_emitter(glass(dispersion=1.0), slab),
+        "glass_furnace_dispersive": furnace(0.0, dispersion=1.0),
+        "glass_prism": prism_scene(),
         "glass_furnace_r0": furnace(0.0),
         "glass_furnace_r30": furnace(0.3),
         "glass_furnace_r100": furnace(1.0),
