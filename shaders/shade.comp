@@ -125,7 +125,7 @@ void main() {
         // Emission. Paths that could also have sampled this light by NEE are weighted by the power
         // heuristic (Veach 1997, eq. 9.13); with NEE on and MIS off, only NEE counts light from surfaces.
         vec3 emission = m.emission.xyz;
-        if ((front || double_sided) && max_component(emission) > 0.0f) {
+        if (effect_on(EFFECT_EMISSIVE_TRIANGLES) && (front || double_sided) && max_component(emission) > 0.0f) {
             float weight = 1.0f;
             bool nee = (params.flags & RENDER_NEE) != 0u && state.bsdf_pdf > 0.0f;
             if (nee) {

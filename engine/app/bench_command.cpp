@@ -237,11 +237,11 @@ int run_bench(const BenchCommand& c) {
                       "instanced_seconds");
     }
     if (c.effects) {
-        // The scene compiled for its own effects against every material effect compiled in: what effects on
+        // The scene compiled for its own effects against every switchable effect compiled in: what effects on
         // demand save (the images are identical; tests/render checks the bits). Not the spectral path: it changes
         // the estimator, not only the code (its cost: `--vary effect:spectral=on,off`, README "Dispersion").
         RenderSettings every = base;
-        every.forced_effects = gpu::EFFECT_MATERIAL & ~gpu::EFFECT_SPECTRAL;
+        every.forced_effects = gpu::EFFECT_SWITCHABLE & ~gpu::EFFECT_SPECTRAL;
         const uint32_t own = prepared.packed.effects.bits;
         const uint32_t all = select_effects(own, every.forced_effects, 0);
         const double own_build = time_pipeline_build(*context, prepared, camera, base);

@@ -54,7 +54,7 @@ void apply_vary(const std::string& key, const std::string& v, RenderSettings& s)
         s.filter = v == "box" ? PixelFilter::box : PixelFilter::gaussian;
     } else if (key.rfind("effect:", 0) == 0) {
         // on: compiled in whether or not the scene uses it; off: compiled out although the scene uses it.
-        const uint32_t bit = find_material_effect(key.substr(7));
+        const uint32_t bit = find_switchable_effect(key.substr(7));
         const bool on = parse_on_off(key, v);
         s.forced_effects = on ? s.forced_effects | bit : s.forced_effects & ~bit;
         s.disabled_effects = on ? s.disabled_effects & ~bit : s.disabled_effects | bit;

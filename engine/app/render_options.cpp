@@ -51,21 +51,21 @@ void add_robustness_options(CLI::App& app, RenderSettings& s) {
 
 namespace {
 
-// --force-effect / --disable-effect NAME[,NAME...] over the material effects (layout.h EFFECT_MATERIAL).
+// --force-effect / --disable-effect NAME[,NAME...] over the switchable effects (layout.h EFFECT_SWITCHABLE).
 void add_effect_list_option(CLI::App& app, const std::string& flag, uint32_t& bits, const std::string& help) {
     std::string words;
     for (const EffectInfo& e : list_effects())
-        if (e.bit & gpu::EFFECT_MATERIAL) words += (words.empty() ? "" : ", ") + std::string(e.name);
+        if (e.bit & gpu::EFFECT_SWITCHABLE) words += (words.empty() ? "" : ", ") + std::string(e.name);
     app.add_option_function<std::vector<std::string>>(
            flag,
            [&bits](const std::vector<std::string>& names) {
-               for (const std::string& name : names) bits |= find_material_effect(name);
+               for (const std::string& name : names) bits |= find_switchable_effect(name);
            },
            help + " (" + words + ")")
         ->delimiter(',')
         ->check([](const std::string& name) {
             try {
-                find_material_effect(name);
+                find_switchable_effect(name);
                 return std::string();
             } catch (const std::invalid_argument& e) {
                 return std::string(e.what());
@@ -77,9 +77,9 @@ void add_effect_list_option(CLI::App& app, const std::string& flag, uint32_t& bi
 
 void add_effect_options(CLI::App& app, RenderSettings& s) {
     add_effect_list_option(app, "--disable-effect", s.disabled_effects,
-                           "compile a material effect out although the scene uses it, to measure what it costs");
+                           "compile an effect out although the scene uses it, to measure what it costs");
     add_effect_list_option(app, "--force-effect", s.forced_effects,
-                           "compile a material effect in although the scene does not use it (same image, its cost)");
+                           "compile an effect in although the scene does not use it (same image, its cost)");
 }
 
 void add_environment_options(CLI::App& app, RenderSettings& s) {

@@ -86,9 +86,8 @@ namespace {
 StageOptions make_stage_options(const vk::Context& context, const PackedScene& scene, const RenderSettings& s) {
     StageOptions o;
     o.scene_in_uniform_buffers = fits_uniform_buffers(scene, context.properties().limits.maxUniformBufferRange);
-    o.punctual_lights = !scene.punctual_lights.empty();
     o.disabled_techniques = s.disabled_techniques;
-    // Only material effects can be forced or switched off: the environment is also an entry of the light table.
+    // The environment cannot be forced or switched off: it follows --env / --background.
     o.effects = select_effects(scene.effects.bits, s.forced_effects, s.disabled_effects);
     o.instances = !scene.instances.empty();
     return o;

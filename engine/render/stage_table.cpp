@@ -33,9 +33,8 @@ std::array<VkDescriptorType, gpu::BINDING_COUNT> binding_types() {
 
 StageTable::StageTable(const vk::Context& context, const StageOptions& options)
     : options_(options), bindings_(context, binding_types(), sizeof(gpu::StagePush)) {
-    std::array<uint32_t, 5> spec{};
+    std::array<uint32_t, gpu::SPEC_CONSTANT_COUNT> spec{};
     spec[gpu::SPEC_SCENE_IN_UNIFORM_BUFFERS] = options.scene_in_uniform_buffers ? 1u : 0u;
-    spec[gpu::SPEC_HAS_PUNCTUAL_LIGHTS] = options.punctual_lights ? 1u : 0u;
     spec[gpu::SPEC_DISABLED_TECHNIQUES] = options.disabled_techniques;
     spec[gpu::SPEC_EFFECTS] = options.effects;
     spec[gpu::SPEC_HAS_INSTANCES] = options.instances ? 1u : 0u;

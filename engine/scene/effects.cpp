@@ -38,6 +38,19 @@ std::string list_materials(const std::set<uint32_t>& materials) {
 
 }  // namespace
 
+const std::vector<EffectInfo>& list_effects();
+
+namespace {
+
+// Records one row of the effect table, switching the effect on when `on`.
+void add_decision(SceneEffects& effects, uint32_t bit, bool on, std::string why) {
+    if (on) effects.bits |= bit;
+    for (const EffectInfo& e : list_effects())
+        if (e.bit == bit) effects.decisions.push_back({bit, e.name, on, std::move(why)});
+}
+
+}  // namespace
+
 const std::vector<EffectInfo>& list_effects() {
     static const std::vector<EffectInfo> effects = {
         {gpu::EFFECT_BASE_COLOR_TEXTURE, "base-color-texture"},
@@ -46,6 +59,8 @@ const std::vector<EffectInfo>& list_effects() {
         {gpu::EFFECT_EMISSIVE_TEXTURE, "emissive-texture"},
         {gpu::EFFECT_VERTEX_COLORS, "vertex-colors"},
         {gpu::EFFECT_ALPHA, "alpha"},
+        {gpu::EFFECT_EMISSIVE_TRIANGLES, "emissive-triangles"},
+        {gpu::EFFECT_PUNCTUAL_LIGHTS, "punctual-lights"},
         {gpu::EFFECT_ENVIRONMENT, "environment"},
         {gpu::EFFECT_TRANSMISSION, "transmission"},
         {gpu::EFFECT_TRANSMISSION_TEXTURE, "transmission-texture"},
@@ -68,10 +83,10 @@ const std::vector<EffectInfo>& list_effects() {
     return effects;
 }
 
-uint32_t find_material_effect(const std::string& name) {
+uint32_t find_switchable_effect(const std::string& name) {
     std::string names;
     for (const EffectInfo& e : list_effects()) {
-        if (!(e.bit & gpu::EFFECT_MATERIAL)) continue;
+        if (!(e.bit & gpu::EFFECT_SWITCHABLE)) continue;
         if (name == e.name) return e.bit;
         names += (names.empty() ? "" : ", ") + std::string(e.name);
     }
@@ -195,11 +210,7 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
     }
 
     SceneEffects effects;
-    auto decide = [&](uint32_t bit, bool on, std::string why) {
-        if (on) effects.bits |= bit;
-        for (const EffectInfo& e : list_effects())
-            if (e.bit == bit) effects.decisions.push_back({bit, e.name, on, std::move(why)});
-    };
+    auto decide = [&](uint32_t bit, bool on, std::string why) { add_decision(effects, bit, on, std::move(why)); };
     auto by_materials = [&](uint32_t bit, const std::set<uint32_t>& materials, const char* absent) {
         decide(bit, !materials.empty(), materials.empty() ? absent : list_materials(materials));
     };
@@ -244,8 +255,29 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
     return effects;
 }
 
+void decide_light_effects(SceneEffects& effects, const std::set<uint32_t>& emitting_materials, size_t emitting_triangles,
+                          size_t punctual_lights) {
+    auto decide = [&](uint32_t bit, bool on, std::string why) { add_decision(effects, bit, on, std::move(why)); };
+    decide(gpu::EFFECT_EMISSIVE_TRIANGLES, emitting_triangles > 0,
+           emitting_triangles > 0 ? std::to_string(emitting_triangles) + " emitting triangles, " +
+                                        list_materials(emitting_materials)
+                                  : "no triangle emits (emissive factor, texture and area all non-zero)");
+    decide(gpu::EFFECT_PUNCTUAL_LIGHTS, punctual_lights > 0,
+           punctual_lights > 0 ? std::to_string(punctual_lights) + " KHR_lights_punctual lights"
+                               : "no KHR_lights_punctual light of non-zero power");
+    // Keep the table in list_effects() order.
+    auto rank = [](uint32_t bit) {
+        const std::vector<EffectInfo>& all = list_effects();
+        for (size_t i = 0; i < all.size(); ++i)
+            if (all[i].bit == bit) return i;
+        return all.size();
+    };
+    std::stable_sort(effects.decisions.begin(), effects.decisions.end(),
+                     [&](const EffectDecision& a, const EffectDecision& b) { return rank(a.bit) < rank(b.bit); });
+}
+
 uint32_t select_effects(uint32_t analysed, uint32_t forced, uint32_t disabled) {
-    return (analysed | (forced & gpu::EFFECT_MATERIAL)) & ~(disabled & gpu::EFFECT_MATERIAL);
+    return (analysed | (forced & gpu::EFFECT_SWITCHABLE)) & ~(disabled & gpu::EFFECT_SWITCHABLE);
 }
 
 }  // namespace fh

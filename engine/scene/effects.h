@@ -2,7 +2,9 @@
 // whose alpha is 1 everywhere, white vertex colours: none of these switch an effect on). The stages are
 // compiled for exactly this set (layout.h EFFECT_*, specialization constant SPEC_EFFECTS).
 #pragma once
+#include <cstddef>
 #include <cstdint>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -28,16 +30,22 @@ struct SceneEffects {
     std::vector<EffectDecision> decisions;  // one per list_effects() entry
 };
 
-// `environment`: the render has --env or --background.
+// `environment`: the render has --env or --background. The light effects (EFFECT_LIGHTS) are left off: the
+// light table decides them (decide_light_effects).
 SceneEffects analyse_effects(const Scene& scene, bool environment);
 
+// Adds the decisions of the light effects from the light table: `emitting_materials` of the triangles it holds
+// (those that emit by value: non-black factor and texture, some area) and its `punctual_lights` of non-zero power.
+void decide_light_effects(SceneEffects& effects, const std::set<uint32_t>& emitting_materials, size_t emitting_triangles,
+                          size_t punctual_lights);
+
 // The effect set the stages are compiled with: the analysed one, with --force-effect and --disable-effect
-// applied to material effects (EFFECT_MATERIAL; the environment follows the command line).
+// applied to the switchable effects (EFFECT_SWITCHABLE; the environment follows the command line).
 uint32_t select_effects(uint32_t analysed, uint32_t forced, uint32_t disabled);
 
-// The bit of a material effect (EFFECT_MATERIAL) named as list_effects() names it; throws std::invalid_argument
-// naming the switchable effects when `name` is not one of them.
-uint32_t find_material_effect(const std::string& name);
+// The bit of a switchable effect (EFFECT_SWITCHABLE) named as list_effects() names it; throws
+// std::invalid_argument naming the switchable effects when `name` is not one of them.
+uint32_t find_switchable_effect(const std::string& name);
 
 // "base-color-texture,alpha,..." (or "none").
 std::string describe_effects(uint32_t bits);

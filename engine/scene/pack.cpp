@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 #include <stdexcept>
 #include <string>
 
@@ -228,6 +229,7 @@ PackedScene pack_scene(const Scene& scene, const SceneBvh& bvh, EnvironmentMap e
     pack_textures(scene, packed);
 
     std::vector<uint32_t> emissive;  // leaf-order indices of emitting triangles
+    std::set<uint32_t> emitting_materials;
     std::vector<double> power, area;
     for (size_t i = 0; i < n; ++i) {
         const size_t t = bvh.triangle_order[i];
@@ -251,6 +253,7 @@ PackedScene pack_scene(const Scene& scene, const SceneBvh& bvh, EnvironmentMap e
         if (lit && !scene.instances.empty() && t >= scene.world_triangle_count)
             throw std::invalid_argument("pack.cpp: an instanced mesh emits light (the loader flattens those)");
         if (lit) {
+            emitting_materials.insert(s.material);
             emissive.push_back(uint32_t(i));
             power.push_back(w);
             area.push_back(a);
@@ -265,6 +268,7 @@ PackedScene pack_scene(const Scene& scene, const SceneBvh& bvh, EnvironmentMap e
         packed.punctual_lights.push_back(pack_punctual_light(scene.lights[l]));
         power.push_back(w);
     }
+    decide_light_effects(packed.effects, emitting_materials, triangle_lights, packed.punctual_lights.size());
     // The environment as a light over the scene's bounding disc: pi r^2 times the integral of its radiance
     // (a directional light's pi r^2 E, summed over directions; pbrt-v4 ImageInfiniteLight::Phi likewise).
     const bool environment_light = !environment.empty() && environment.luminance_integral > 0.0;

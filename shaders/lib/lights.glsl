@@ -9,8 +9,8 @@
 #include "material.glsl"
 #include "environment.glsl"
 
-// Scenes without punctual lights compile their code out (the host sets this from the scene).
-layout(constant_id = SPEC_HAS_PUNCTUAL_LIGHTS) const bool has_punctual_lights = false;
+// Scenes without punctual lights (EFFECT_PUNCTUAL_LIGHTS) or emitting triangles (EFFECT_EMISSIVE_TRIANGLES)
+// compile the code of that kind of light out: its entries cannot be in the light table.
 
 // What a shading point at p needs to connect to a sampled light.
 struct LightConnection {
@@ -122,8 +122,10 @@ LightConnection connect_environment(float pick_pdf, vec2 u) {
 LightConnection sample_light_connection(vec3 p, float u_pick, vec2 u_point) {
     Emitter e = pick_emitter(u_pick);
     if (effect_on(EFFECT_ENVIRONMENT) && e.light == ENVIRONMENT_LIGHT) return connect_environment(e.pick_pdf, u_point);
-    if (has_punctual_lights && (e.light & PUNCTUAL_LIGHT_BIT) != 0u)
+    if (effect_on(EFFECT_PUNCTUAL_LIGHTS) && (e.light & PUNCTUAL_LIGHT_BIT) != 0u)
         return connect_punctual_light(e.light & ~PUNCTUAL_LIGHT_BIT, e.pick_pdf, p);
-    return connect_triangle_light(e.light, p, u_point);
+    if (effect_on(EFFECT_EMISSIVE_TRIANGLES) && (e.light & PUNCTUAL_LIGHT_BIT) == 0u && e.light != ENVIRONMENT_LIGHT)
+        return connect_triangle_light(e.light, p, u_point);
+    return make_invalid_connection();  // a kind of light compiled out (--disable-effect)
 }
 #endif

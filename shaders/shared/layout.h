@@ -61,10 +61,10 @@ FH_CONST uint UNIFORM_BUFFER_BYTES = 65536u;  // declared size of each; Vulkan g
 
 // ---- Specialization constants (constant_id) -------------------------------------------------------------
 FH_CONST uint SPEC_SCENE_IN_UNIFORM_BUFFERS = 0u;  // bool: every scene array fits its uniform binding
-FH_CONST uint SPEC_HAS_PUNCTUAL_LIGHTS = 1u;       // bool: the scene has point/spot/directional lights
-FH_CONST uint SPEC_DISABLED_TECHNIQUES = 2u;       // TECHNIQUE_* bits switched off (cost measurements only)
-FH_CONST uint SPEC_EFFECTS = 3u;                   // EFFECT_* bits: what the scene calls for (scene/effects.h)
-FH_CONST uint SPEC_HAS_INSTANCES = 4u;             // bool: two-level BVH (meshes drawn by several nodes)
+FH_CONST uint SPEC_DISABLED_TECHNIQUES = 1u;       // TECHNIQUE_* bits switched off (cost measurements only)
+FH_CONST uint SPEC_EFFECTS = 2u;                   // EFFECT_* bits: what the scene calls for (scene/effects.h)
+FH_CONST uint SPEC_HAS_INSTANCES = 3u;             // bool: two-level BVH (meshes drawn by several nodes)
+FH_CONST uint SPEC_CONSTANT_COUNT = 4u;
 
 // ---- Effects (engine/scene/effects.h decides them by value; a stage compiles only the code of those set) ----
 FH_CONST uint EFFECT_BASE_COLOR_TEXTURE = 1u;      // some visible material has a baseColorTexture
@@ -92,6 +92,8 @@ FH_CONST uint EFFECT_IRIDESCENCE = 2097152u;       // KHR_materials_iridescence:
 FH_CONST uint EFFECT_IRIDESCENCE_TEXTURE = 4194304u;  // iridescenceTexture, iridescenceThicknessTexture
 FH_CONST uint EFFECT_SPECTRAL = 8388608u;          // KHR_materials_dispersion: paths carry four wavelengths (hero
                                                    // wavelength sampling), not RGB; shaders/lib/spectrum.glsl
+FH_CONST uint EFFECT_EMISSIVE_TRIANGLES = 16777216u;  // some triangle emits (NEE picks it; rays that hit it see it)
+FH_CONST uint EFFECT_PUNCTUAL_LIGHTS = 33554432u;     // KHR_lights_punctual lights of non-zero power (NEE only)
 FH_CONST uint EFFECT_ATTRIBUTES = EFFECT_BASE_COLOR_TEXTURE | EFFECT_METALLIC_ROUGHNESS_TEXTURE |
                                   EFFECT_NORMAL_TEXTURE | EFFECT_EMISSIVE_TEXTURE | EFFECT_VERTEX_COLORS |
                                   EFFECT_ALPHA | EFFECT_TRANSMISSION_TEXTURE | EFFECT_CLEARCOAT_TEXTURE |
@@ -102,7 +104,11 @@ FH_CONST uint EFFECT_MATERIAL = EFFECT_ATTRIBUTES | EFFECT_TRANSMISSION | EFFECT
                                 EFFECT_CLEARCOAT | EFFECT_UNLIT | EFFECT_SHEEN |
                                 EFFECT_DIFFUSE_TRANSMISSION | EFFECT_ANISOTROPY |
                                 EFFECT_ANISOTROPY_TEXTURE | EFFECT_IRIDESCENCE |
-                                EFFECT_IRIDESCENCE_TEXTURE | EFFECT_SPECTRAL;  // decided by the materials: --force-effect / --disable-effect
+                                EFFECT_IRIDESCENCE_TEXTURE | EFFECT_SPECTRAL;  // decided by the materials
+FH_CONST uint EFFECT_LIGHTS = EFFECT_EMISSIVE_TRIANGLES | EFFECT_PUNCTUAL_LIGHTS;  // decided by the light table
+// What --force-effect / --disable-effect may switch (to measure an effect's cost): all but the environment,
+// which follows --env / --background.
+FH_CONST uint EFFECT_SWITCHABLE = EFFECT_MATERIAL | EFFECT_LIGHTS;
 
 // ---- Robustness techniques (all on by default; `--disable-technique` turns one off to measure its cost and
 // to show what goes wrong without it). README "Numerical stability" has the table.

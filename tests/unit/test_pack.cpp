@@ -1,5 +1,6 @@
 // pack_scene and the emitter alias table: leaf-order packing, emitter powers and pdfs, and sampling
 // frequencies that match pick_pdf.
+#include <algorithm>
 #include <cmath>
 #include <numeric>
 
@@ -160,6 +161,36 @@ TEST(Pack, SceneWithoutEmittersHasNoTable) {
     const fh::PackedScene packed = fh::pack_scene(s, fh::build_bvh(s.positions));
     EXPECT_TRUE(packed.emitters.empty());
     EXPECT_EQ(packed.total_emitted_power, 0.0);
+}
+
+// The light effects follow the light table, by value: a black emitter, a zero-area one or a black light
+// switches nothing on; an emitting triangle or a punctual light of non-zero power does.
+TEST(Pack, LightEffectsFollowTheLightTable) {
+    namespace gpu = fh::gpu;
+    fh::Scene s = make_test_scene(30);
+    s.materials[1].emission = s.materials[2].emission = glm::vec4(0.0f);
+    fh::SceneLight black;
+    black.intensity = glm::vec3(0.0f);
+    s.lights = {black};
+    EXPECT_EQ(fh::pack_scene(s, fh::build_bvh(s.positions)).effects.bits & gpu::EFFECT_LIGHTS, 0u);
+
+    s.lights[0].intensity = glm::vec3(0.0f, 2.0f, 0.0f);
+    fh::PackedScene packed = fh::pack_scene(s, fh::build_bvh(s.positions));
+    EXPECT_EQ(packed.effects.bits & gpu::EFFECT_LIGHTS, gpu::EFFECT_PUNCTUAL_LIGHTS);
+
+    s.lights.clear();
+    s.materials[2].emission = glm::vec4(0.0f, 0.0f, 0.5f, 0.0f);
+    packed = fh::pack_scene(s, fh::build_bvh(s.positions));
+    EXPECT_EQ(packed.effects.bits & gpu::EFFECT_LIGHTS, gpu::EFFECT_EMISSIVE_TRIANGLES);
+    // The table says why, in list_effects() order (emissive triangles before punctual lights before the environment).
+    std::vector<std::string> names;
+    for (const fh::EffectDecision& d : packed.effects.decisions) names.push_back(d.name);
+    const auto at = [&](const char* name) { return std::find(names.begin(), names.end(), name) - names.begin(); };
+    EXPECT_LT(at("emissive-triangles"), at("punctual-lights"));
+    EXPECT_LT(at("punctual-lights"), at("environment"));
+    EXPECT_EQ(names.size(), fh::list_effects().size());
+    for (const fh::EffectDecision& d : packed.effects.decisions)
+        if (d.bit == gpu::EFFECT_EMISSIVE_TRIANGLES) EXPECT_NE(d.why.find("material 2"), std::string::npos) << d.why;
 }
 
 }  // namespace
