@@ -20,6 +20,7 @@
 #define BSDF_HAS_DIFFUSE_TRANSMISSION effect_on(EFFECT_DIFFUSE_TRANSMISSION)
 #define BSDF_HAS_ANISOTROPY effect_on(EFFECT_ANISOTROPY)
 #define BSDF_HAS_IRIDESCENCE effect_on(EFFECT_IRIDESCENCE)
+#define BSDF_HAS_GLASS_MULTISCATTER effect_on(EFFECT_GLASS_MULTISCATTER)
 #include "lib/bsdf.glsl"
 #include "lib/clearcoat.glsl"
 #include "lib/sheen_layer.glsl"

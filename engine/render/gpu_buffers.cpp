@@ -14,6 +14,7 @@ namespace tables {
 #include "lib/ggx_albedo_table.glsl"
 #include "lib/sheen_albedo_table.glsl"
 #include "lib/spectral_table.glsl"
+#include "lib/glass_albedo_table.glsl"
 }  // namespace tables
 namespace {
 
@@ -26,6 +27,20 @@ std::vector<float> flatten_albedo_tables() {
                              std::span<const float>(tables::GGX_ALBEDO_AVERAGE_A),
                              std::span<const float>(tables::GGX_ALBEDO_AVERAGE_B), std::span<const float>(tables::SHEEN_ALBEDO),
                              std::span<const float>(tables::SPECTRAL_TABLE)})
+        words.insert(words.end(), part.begin(), part.end());
+    return words;
+}
+
+// The glass albedo table in the order shaders/lib/glass_albedo_table.glsl documents (EFFECT_GLASS_MULTISCATTER),
+// else one word.
+std::vector<float> flatten_glass_albedo_table(uint32_t effects) {
+    if (!(effects & gpu::EFFECT_GLASS_MULTISCATTER)) return {0.0f};
+    std::vector<float> words;
+    words.reserve(tables::GLASS_ALBEDO_TABLE_SIZE);
+    for (const auto& part : {std::span<const float>(tables::GLASS_ALBEDO_OUT), std::span<const float>(tables::GLASS_ALBEDO_IN),
+                             std::span<const float>(tables::GLASS_ALBEDO_AVERAGE_OUT),
+                             std::span<const float>(tables::GLASS_ALBEDO_AVERAGE_IN), std::span<const float>(tables::GLASS_ALBEDO_K),
+                             std::span<const float>(tables::GLASS_ALBEDO_F_AVERAGE)})
         words.insert(words.end(), part.begin(), part.end());
     return words;
 }
@@ -89,13 +104,14 @@ GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& sce
     b.material_layers = make_filled_buffer(context, scene.material_layers);
     b.path_media = make_state_buffer(context, path_media_bytes(frame.wave_capacity, effects));
     b.path_spectra = make_state_buffer(context, path_spectra_bytes(frame.wave_capacity, effects));
+    b.glass_albedo = make_filled_buffer(context, flatten_glass_albedo_table(effects));
     // The limits check before rendering relies on the estimate: keep it exact.
     uint64_t allocated = 0;
     for (const vk::Buffer* buffer : {&b.params, &b.nodes, &b.tri_positions, &b.tri_shading, &b.materials, &b.emitters,
                                      &b.punctual_lights, &b.ggx_albedo, &b.counters, &b.counters_readback, &b.paths, &b.rays, &b.hits,
                                      &b.shadow_rays, &b.film, &b.tri_attributes, &b.texture_slots, &b.texture_images,
                                      &b.texels, &b.env_radiance, &b.env_cdf, &b.instances, &b.material_layers, &b.path_media,
-                                     &b.path_spectra})
+                                     &b.path_spectra, &b.glass_albedo})
         allocated += buffer->size();
     if (allocated != estimate_render_memory(scene, frame.width, frame.height, frame.wave_capacity, effects).device_bytes())
         throw std::logic_error("create_gpu_buffers: allocated sizes differ from estimate_render_memory");
@@ -132,6 +148,7 @@ void bind_gpu_buffers(vk::BindingTable& table, const GpuBuffers& b) {
     table.bind_buffer(gpu::BINDING_MATERIAL_LAYERS, b.material_layers);
     table.bind_buffer(gpu::BINDING_PATH_MEDIA, b.path_media);
     table.bind_buffer(gpu::BINDING_PATH_SPECTRA, b.path_spectra);
+    table.bind_buffer(gpu::BINDING_GLASS_ALBEDO, b.glass_albedo);
 }
 
 }  // namespace fh

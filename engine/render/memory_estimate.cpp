@@ -12,6 +12,7 @@ namespace tables {
 #include "lib/ggx_albedo_table.glsl"
 #include "lib/sheen_albedo_table.glsl"
 #include "lib/spectral_table.glsl"
+#include "lib/glass_albedo_table.glsl"
 }  // namespace tables
 namespace {
 
@@ -36,6 +37,10 @@ uint64_t attribute_bytes(const PackedScene& scene, uint32_t effects) {
 
 uint64_t path_media_bytes(uint32_t wave_capacity, uint32_t effects) {
     return (effects & (gpu::EFFECT_VOLUME | gpu::EFFECT_ABSORPTION)) ? uint64_t(wave_capacity) * sizeof(uint32_t) : sizeof(uint32_t);
+}
+
+uint64_t glass_albedo_bytes(uint32_t effects) {
+    return uint64_t((effects & gpu::EFFECT_GLASS_MULTISCATTER) ? tables::GLASS_ALBEDO_TABLE_SIZE : 1) * sizeof(float);
 }
 
 uint64_t path_spectra_bytes(uint32_t wave_capacity, uint32_t effects) {
@@ -73,6 +78,7 @@ MemoryEstimate estimate_render_memory(const PackedScene& scene, uint32_t width, 
         {"material_layers", array_bytes(scene.material_layers), true},
         {"path_media", path_media_bytes(wave_capacity, effects), true},
         {"path_spectra", path_spectra_bytes(wave_capacity, effects), true},
+        {"glass_albedo", glass_albedo_bytes(effects), false},
     };
     e.film_readback_bytes = film;
     return e;

@@ -40,6 +40,8 @@ struct DeviceMemoryLimits {
 uint64_t attribute_bytes(const PackedScene& scene, uint32_t effects);
 uint64_t path_media_bytes(uint32_t wave_capacity, uint32_t effects);
 uint64_t path_spectra_bytes(uint32_t wave_capacity, uint32_t effects);
+// The glass albedo table's buffer: the whole table with EFFECT_GLASS_MULTISCATTER, else one word.
+uint64_t glass_albedo_bytes(uint32_t effects);
 
 MemoryEstimate estimate_render_memory(const PackedScene& scene, uint32_t width, uint32_t height,
                                       uint32_t wave_capacity, uint32_t effects);

@@ -66,6 +66,7 @@ const std::vector<EffectInfo>& list_effects() {
         {gpu::EFFECT_TRANSMISSION_TEXTURE, "transmission-texture"},
         {gpu::EFFECT_VOLUME, "volume"},
         {gpu::EFFECT_ABSORPTION, "absorption"},
+        {gpu::EFFECT_GLASS_MULTISCATTER, "glass-multiscatter"},
         {gpu::EFFECT_CLEARCOAT, "clearcoat"},
         {gpu::EFFECT_CLEARCOAT_TEXTURE, "clearcoat-texture"},
         {gpu::EFFECT_CLEARCOAT_NORMAL_TEXTURE, "clearcoat-normal-texture"},
@@ -119,7 +120,7 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
         return std::all_of(channels.begin(), channels.end(), [&](int c) { return is_zero_channel(image, c); });
     };
 
-    std::set<uint32_t> base, metal_rough, normal, emissive, alpha, glass, glass_texture, volume, absorbing;
+    std::set<uint32_t> base, metal_rough, normal, emissive, alpha, glass, glass_texture, volume, absorbing, rough_glass;
     std::set<uint32_t> coat, coat_texture, coat_normal, unlit, sheen, sheen_texture, diffuse, diffuse_texture;
     std::set<uint32_t> anisotropic, anisotropy_texture, film, film_texture, dispersive;
     for (uint32_t m : used) {
@@ -135,6 +136,9 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
                                  !(has_texture && slot_zero(layers.transmission_texture, {0}));
             if (visible) {
                 glass.insert(m);
+                // Rough glass loses energy between its microfacets, given back by the multiple-scattering lobe; a
+                // roughness factor of 0 keeps alpha at its minimum (texture or not), where nothing is lost.
+                if (mat.roughness > 0.0f) rough_glass.insert(m);
                 if (has_texture) glass_texture.insert(m);
                 if (layers.flags & gpu::LAYERS_VOLUME) volume.insert(m);
                 // Dispersion bends light by wavelength where it refracts into a volume (thin walls do not bend it).
@@ -230,6 +234,7 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
     by_materials(gpu::EFFECT_VOLUME, volume, "no glass material has KHR_materials_volume thicknessFactor > 0");
     by_materials(gpu::EFFECT_ABSORPTION, absorbing,
                  "no volume has a finite attenuationDistance with an attenuationColor below 1");
+    by_materials(gpu::EFFECT_GLASS_MULTISCATTER, rough_glass, "no glass material has a roughness above 0");
     by_materials(gpu::EFFECT_CLEARCOAT, coat, "no visible material has KHR_materials_clearcoat clearcoatFactor > 0");
     by_materials(gpu::EFFECT_CLEARCOAT_TEXTURE, coat_texture,
                  "no coated material has a clearcoatTexture or a clearcoatRoughnessTexture with a non-zero factor");

@@ -20,6 +20,7 @@ layout(std430, binding = BINDING_INSTANCES) readonly buffer InstanceBuffer { Ins
 layout(std430, binding = BINDING_MATERIAL_LAYERS) readonly buffer MaterialLayerBuffer { MaterialLayers material_layers[]; };
 layout(std430, binding = BINDING_PATH_MEDIA) buffer PathMediaBuffer { uint path_media[]; };
 layout(std430, binding = BINDING_PATH_SPECTRA) buffer PathSpectrumBuffer { PathSpectrum path_spectra[]; };
+layout(std430, binding = BINDING_GLASS_ALBEDO) readonly buffer GlassAlbedoBuffer { float glass_albedo_words[]; };
 
 layout(std140, binding = BINDING_BVH_NODES_UNIFORM) uniform NodeUniforms {
     BvhPairNode uniform_nodes[UNIFORM_NODE_CAPACITY];
@@ -75,6 +76,7 @@ layout(std140, binding = BINDING_GGX_ALBEDO_UNIFORM) uniform GgxAlbedoTable {
 };
 float ggx_albedo_entry(int i) { return ggx_albedo_words[i >> 2][i & 3]; }
 float sheen_albedo_entry(int i) { return ggx_albedo_entry(GGX_ALBEDO_TABLE_SIZE + i); }
+float glass_albedo_entry(int i) { return glass_albedo_words[i]; }  // glass_albedo_table.glsl's order
 vec4 spectral_table_vec4(int i) { return ggx_albedo_words[(GGX_ALBEDO_TABLE_SIZE + SHEEN_ALBEDO_TABLE_SIZE) / 4 + i]; }
 
 layout(push_constant) uniform PushBlock { StagePush push; };

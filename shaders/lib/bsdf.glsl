@@ -22,7 +22,9 @@
 // KHR_materials_transmission replaces a fraction `transmission` of the dielectric by the glass lobe of
 // dielectric.glsl (its own exact-Fresnel reflection and the refraction or thin-walled pass-through):
 //   dielectric = mix(F_d specular + albedo-scaled Lambert, glass, transmission)
-// a convex mix of two energy-conserving, reciprocal BSDFs. Stages compiled without EFFECT_TRANSMISSION define
+// a convex mix of two energy-conserving, reciprocal BSDFs (the glass lobe conserves energy with the multiple-
+// scattering lobe of glass_multiscatter.glsl, EFFECT_GLASS_MULTISCATTER; BSDF_HAS_GLASS_MULTISCATTER false leaves
+// single scattering, which loses energy on rough glass). Stages compiled without EFFECT_TRANSMISSION define
 // BSDF_HAS_TRANSMISSION false, and none of the glass code is left in them.
 //
 // KHR_materials_diffuse_transmission sends a fraction `diffuse_transmission` of the diffuse lobe through the
@@ -94,6 +96,10 @@ using fh::gpu::Material;  // C++: include shaders/shared/layout.h at global scop
 #define BSDF_HAS_IRIDESCENCE true
 #endif
 #define GLASS_HAS_IRIDESCENCE BSDF_HAS_IRIDESCENCE
+#ifndef BSDF_HAS_GLASS_MULTISCATTER
+#define BSDF_HAS_GLASS_MULTISCATTER true
+#endif
+#define GLASS_HAS_MULTISCATTER BSDF_HAS_GLASS_MULTISCATTER
 #include "ggx.glsl"
 #include "ggx_albedo.glsl"
 #include "dielectric.glsl"

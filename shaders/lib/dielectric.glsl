@@ -11,7 +11,8 @@
 // (Walter eq. 21, pbrt-v4 radiance mode with its 1 / eta^2):
 //   f cos_i = T D G2 |wi.h| (wo.h) / (cos_o (wi.h + wo.h / eta)^2 eta^2) = 4 T D V cos_i |wi.h| (wo.h) / (...)
 // Thin-walled: f(wo, wi) = T D V evaluated at the mirror image of wi (reciprocal, and the same energy as R).
-// Single scattering between microfacets only: rough glass loses a little energy, never gains it.
+// Single scattering alone loses the light that bounces between microfacets (rough glass: up to half of it from
+// inside); glass_multiscatter.glsl gives it back, and eval_glass / pdf_glass / sample_glass below are the sum.
 // KHR_materials_iridescence: a thin film on the outside mixes its reflectance F_film(wo.h) (thin_film.glsl) into R,
 //   R = mix(R, F_film, iridescence), and T = base_color (1 - max(R)) as above (the extension's rgb_mix with the
 // BTDF as its base): per microfacet R + T <= 1 still. Seen from inside a volume (eta < 1) light meets the film at
@@ -28,6 +29,10 @@
 #ifndef GLASS_HAS_IRIDESCENCE
 #define GLASS_HAS_IRIDESCENCE true
 #endif
+#ifndef GLASS_HAS_MULTISCATTER
+#define GLASS_HAS_MULTISCATTER true
+#endif
+#include "glass_multiscatter.glsl"
 
 // A refracting eta within this of 1 is moved to 1 +- this: at eta = 1 the interface is invisible and rough
 // refraction degenerates into a delta that no finite pdf describes. (Thin-walled glass has no such limit.)
@@ -118,8 +123,8 @@ RefractionHalf refraction_half_vector(vec3 wo, vec3 wi, float eta) {
     return r;
 }
 
-// f cos(theta_i) of the glass lobe alone.
-vec3 eval_glass(GlassParams g, vec3 wo, vec3 wi) {
+// f cos(theta_i) of the glass lobe's single scattering.
+vec3 eval_glass_single(GlassParams g, vec3 wo, vec3 wi) {
     if (!(wo.z > 0.0f)) {
         return vec3(0.0f);
     }
@@ -146,8 +151,8 @@ vec3 eval_glass(GlassParams g, vec3 wo, vec3 wi) {
     return glass_transmittance(g, glass_reflectance(g, dot(wo, r.h), f)) * (4.0f * ggx_d_lobe(g.roughness, r.h) * ggx_v_cos_lobe(g.roughness, wo, -wi) * jacobian);
 }
 
-// Solid-angle pdf of sample_glass: h from the visible normals, then reflection with probability F(wo.h).
-float pdf_glass(GlassParams g, vec3 wo, vec3 wi) {
+// Solid-angle pdf of sample_glass_single: h from the visible normals, then reflection with probability F(wo.h).
+float pdf_glass_single(GlassParams g, vec3 wo, vec3 wi) {
     if (!(wo.z > 0.0f)) {
         return 0.0f;
     }
@@ -171,9 +176,9 @@ float pdf_glass(GlassParams g, vec3 wo, vec3 wi) {
            reflect_to_refract;
 }
 
-// A direction of the glass lobe: u.yz pick a visible microfacet normal, u.x < F(wo.h) reflects about it, else
-// the light refracts (thin-walled: leaves mirrored). Returns vec3(0) when there is no direction.
-vec3 sample_glass(GlassParams g, vec3 wo, vec3 u) {
+// A direction of the glass lobe's single scattering: u.yz pick a visible microfacet normal, u.x < F(wo.h) reflects
+// about it, else the light refracts (thin-walled: leaves mirrored). Returns vec3(0) when there is no direction.
+vec3 sample_glass_single(GlassParams g, vec3 wo, vec3 u) {
     vec3 h = sample_ggx_vndf_lobe(g.roughness, wo, vec2(u.y, u.z));
     float cos_o = dot(wo, h);
     if (!(cos_o > 0.0f)) {
@@ -198,6 +203,73 @@ vec3 sample_glass(GlassParams g, vec3 wo, vec3 u) {
         return vec3(0.0f);  // a steep microfacet sent it back up: not a transmission
     }
     return refracted;
+}
+
+// ---- The whole glass lobe: single scattering plus the energy it loses between microfacets ---------------------
+// (glass_multiscatter.glsl). Stages without EFFECT_GLASS_MULTISCATTER define GLASS_HAS_MULTISCATTER false and keep
+// single scattering alone, with the same bits as before the compensation existed.
+
+GlassMultiscatter make_glass_multiscatter_of(GlassParams g, vec3 wo) {
+    return make_glass_multiscatter(g.roughness.alpha, g.eta, g.thin_walled, wo.z);
+}
+
+// What tints the given-back energy: reflections the specular colour times specularFactor, transmissions the base
+// colour. The lobe is sized for white glass (specularFactor 1); a refracting interface of weaker reflection w =
+// specularFactor max(specularColor) < 1 keeps more in single scattering, E(w) = E(0) + w (E(1) - E(0)) (energy is
+// linear in the reflectance's scale: per microfacet w F g_r + (1 - w F) g_t), so the lobe is scaled by w as well:
+// E(w) + w (1 - E(1)) = mix(E(0), 1, w) <= 1. Above 1 (a specular colour brighter than white, which min(F c, 1)
+// lets reflect more than white glass does) nothing bounds what single scattering keeps, and the lobe is left out.
+// A thin wall's single scattering keeps the same energy whatever w (both parts leave through the mirrored
+// geometry): its lobe is only tinted.
+vec3 glass_multiscatter_tint(GlassParams g, vec3 wi) {
+    if (g.thin_walled != 0u) {
+        return wi.z > 0.0f ? g.specular * min(g.specular_color, vec3(1.0f)) : g.transmission_tint;
+    }
+    float w = g.specular * max_value(g.specular_color);
+    if (w > 1.0f) {
+        return vec3(0.0f);
+    }
+    return wi.z > 0.0f ? g.specular * g.specular_color : g.transmission_tint * w;
+}
+
+// f cos(theta_i) of the glass lobe.
+vec3 eval_glass(GlassParams g, vec3 wo, vec3 wi) {
+    vec3 f = eval_glass_single(g, wo, wi);
+    if (GLASS_HAS_MULTISCATTER && wo.z > 0.0f) {
+        GlassMultiscatter s = make_glass_multiscatter_of(g, wo);
+        if (s.loss > 0.0f) {
+            f += glass_multiscatter_tint(g, wi) * eval_glass_multiscatter(s, g.roughness.alpha, wi);
+        }
+    }
+    return f;
+}
+
+// Solid-angle pdf of sample_glass: the multiple-scattering lobe with probability 1 - E_o(mu_o) (its share of white
+// glass's energy), single scattering otherwise.
+float pdf_glass(GlassParams g, vec3 wo, vec3 wi) {
+    float pdf = pdf_glass_single(g, wo, wi);
+    if (GLASS_HAS_MULTISCATTER && wo.z > 0.0f) {
+        GlassMultiscatter s = make_glass_multiscatter_of(g, wo);
+        if (s.loss > 0.0f) {
+            pdf = mix(pdf, pdf_glass_multiscatter(s, wi), s.loss);
+        }
+    }
+    return pdf;
+}
+
+// A direction of the glass lobe: u.x < 1 - E_o(mu_o) picks the multiple-scattering lobe (u.x rescaled and reused),
+// else single scattering.
+vec3 sample_glass(GlassParams g, vec3 wo, vec3 u) {
+    if (GLASS_HAS_MULTISCATTER && wo.z > 0.0f) {
+        GlassMultiscatter s = make_glass_multiscatter_of(g, wo);
+        if (u.x < s.loss) {
+            return sample_glass_multiscatter(s, vec3(u.x / s.loss, u.y, u.z));
+        }
+        if (s.loss > 0.0f) {
+            u.x = min((u.x - s.loss) / (1.0f - s.loss), 0.99999994f);
+        }
+    }
+    return sample_glass_single(g, wo, u);
 }
 
 #endif

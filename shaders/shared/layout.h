@@ -55,7 +55,8 @@ FH_CONST uint BINDING_INSTANCES = 25u;       // Instance[] (two-level BVH), when
 FH_CONST uint BINDING_MATERIAL_LAYERS = 26u; // MaterialLayers[] (KHR material extensions), parallel to Material[]
 FH_CONST uint BINDING_PATH_MEDIA = 27u;      // uint[wave capacity]: the volume a path is in (EFFECT_VOLUME, _ABSORPTION)
 FH_CONST uint BINDING_PATH_SPECTRA = 28u;    // PathSpectrum[wave capacity]: a path's wavelengths (EFFECT_SPECTRAL)
-FH_CONST uint BINDING_COUNT = 29u;
+FH_CONST uint BINDING_GLASS_ALBEDO = 29u;    // float[]: glass_albedo_table.glsl (EFFECT_GLASS_MULTISCATTER; else one word)
+FH_CONST uint BINDING_COUNT = 30u;
 FH_CONST uint UNIFORM_BUFFER_BYTES = 65536u;  // declared size of each; Vulkan guarantees only 16 KiB of
                                               // maxUniformBufferRange, so fits_uniform_buffers (pack.h) checks
 
@@ -94,6 +95,8 @@ FH_CONST uint EFFECT_SPECTRAL = 8388608u;          // KHR_materials_dispersion: 
                                                    // wavelength sampling), not RGB; shaders/lib/spectrum.glsl
 FH_CONST uint EFFECT_EMISSIVE_TRIANGLES = 16777216u;  // some triangle emits (NEE picks it; rays that hit it see it)
 FH_CONST uint EFFECT_PUNCTUAL_LIGHTS = 33554432u;     // KHR_lights_punctual lights of non-zero power (NEE only)
+FH_CONST uint EFFECT_GLASS_MULTISCATTER = 67108864u;  // rough glass: the energy single scattering loses, given
+                                                      // back (shaders/lib/glass_multiscatter.glsl)
 FH_CONST uint EFFECT_ATTRIBUTES = EFFECT_BASE_COLOR_TEXTURE | EFFECT_METALLIC_ROUGHNESS_TEXTURE |
                                   EFFECT_NORMAL_TEXTURE | EFFECT_EMISSIVE_TEXTURE | EFFECT_VERTEX_COLORS |
                                   EFFECT_ALPHA | EFFECT_TRANSMISSION_TEXTURE | EFFECT_CLEARCOAT_TEXTURE |
@@ -104,7 +107,8 @@ FH_CONST uint EFFECT_MATERIAL = EFFECT_ATTRIBUTES | EFFECT_TRANSMISSION | EFFECT
                                 EFFECT_CLEARCOAT | EFFECT_UNLIT | EFFECT_SHEEN |
                                 EFFECT_DIFFUSE_TRANSMISSION | EFFECT_ANISOTROPY |
                                 EFFECT_ANISOTROPY_TEXTURE | EFFECT_IRIDESCENCE |
-                                EFFECT_IRIDESCENCE_TEXTURE | EFFECT_SPECTRAL;  // decided by the materials
+                                EFFECT_IRIDESCENCE_TEXTURE | EFFECT_SPECTRAL |
+                                EFFECT_GLASS_MULTISCATTER;  // decided by the materials
 FH_CONST uint EFFECT_LIGHTS = EFFECT_EMISSIVE_TRIANGLES | EFFECT_PUNCTUAL_LIGHTS;  // decided by the light table
 // What --force-effect / --disable-effect may switch (to measure an effect's cost): all but the environment,
 // which follows --env / --background.

@@ -17,9 +17,10 @@ looks straight down (-Z) at a white emitter of radiance 1 on the plane z = 0 thr
                              white in every pixel (a spectral path that splits light by wavelength loses none).
   glass_prism.gltf           a 60-degree prism of dispersion 1 in front of a white emissive slit, seen by a
                              perspective camera: the slit's image is spread into a spectrum (README "Dispersion").
-  glass_furnace_rNN.gltf     a glass sphere of ior 1.5 and roughness 0.NN (0, 0.3, 1), seen in perspective, for
-                             the README's white-furnace figures (--background 1,1,1): not a test, since the single-
-                             scattering lobe loses energy when rough (README "Glass").
+  glass_furnace_rNN.gltf     a glass sphere of ior 1.5 and roughness 0.NN (0, 0.3, 1), seen in perspective: under
+                             --background 1,1,1 white in every pixel, rough or not (the multiple-scattering lobe gives
+                             back what single scattering loses; without it roughness 1 reads 0.64, README "Glass").
+  glass_furnace_thin_r100.gltf  the same sphere thin-walled (no volume), roughness 1: white too.
 """
 import sys
 from pathlib import Path
@@ -98,10 +99,10 @@ def over_emitter(material, shape):
     return g
 
 
-def furnace(roughness, dispersion=None):
+def furnace(roughness, dispersion=None, volume=True):
     g = Gltf()
     use_glass_extensions(g)
-    g.doc["materials"].append(glass(roughness=roughness, dispersion=dispersion))
+    g.doc["materials"].append(glass(roughness=roughness, volume=volume, dispersion=dispersion))
     g.add_node({"mesh": g.add_mesh(icosphere(4), 0)})
     g.add_perspective_camera({"translation": [0.0, 0.0, 3.0]}, 0.8)
     return g
@@ -121,6 +122,7 @@ def main():
         "glass_furnace_r0": furnace(0.0),
         "glass_furnace_r30": furnace(0.3),
         "glass_furnace_r100": furnace(1.0),
+        "glass_furnace_thin_r100": furnace(1.0, volume=False),
     }
     for name, g in scenes.items():
         g.write(out / f"{name}.gltf")
