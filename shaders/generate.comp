@@ -8,6 +8,7 @@
 #include "lib/sampling.glsl"
 #include "lib/camera.glsl"
 #include "lib/effects.glsl"
+#include "lib/path_sampler.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE) in;
 
@@ -31,11 +32,11 @@ void main() {
     if (i >= total) return;
 
     // Sample-major order inside the wave: path i is sample i / pixel_count of pixel i % pixel_count.
-    uint pixel = push.pixel_begin + i % push.pixel_count;
-    uint sample_index = push.sample_begin + i / push.pixel_count;
-    uint rng = init_rng(pixel, sample_index, params.seed);
+    uint pixel = path_pixel(i);
+    uint rng = init_rng(pixel, path_sample_index(i), params.seed);
+    vec3 camera_u = draw_camera_samples(i, rng);
 
-    vec2 u = vec2(next_float(rng), next_float(rng));
+    vec2 u = camera_u.xy;
     vec2 offset = (params.filter_type == FILTER_GAUSSIAN) ? sample_gaussian_filter(u, params.filter_radius)
                                                            : u - vec2(0.5f);
     vec2 film = vec2(float(pixel % params.width), float(pixel / params.width)) + vec2(0.5f) + offset;
@@ -65,11 +66,10 @@ void main() {
     if (effect_on(EFFECT_VOLUME) || effect_on(EFFECT_ABSORPTION)) path_media[i] = INVALID_INDEX;
     if (effect_on(EFFECT_SPECTRAL)) {
         PathSpectrum spectrum;
-        spectrum.wavelength_u = next_float(rng);
+        spectrum.wavelength_u = camera_u.z;
         spectrum.throughput_3 = 1.0f;
         spectrum.flags = 0u;
         spectrum.pad = 0.0f;
         path_spectra[i] = spectrum;
-        paths[i].rng = rng;
     }
 }

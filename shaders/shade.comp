@@ -12,6 +12,7 @@
 #include "lib/bindings.glsl"
 #include "lib/queue.glsl"
 #include "lib/rng.glsl"
+#include "lib/path_sampler.glsl"
 #include "lib/sampling.glsl"
 #include "lib/effects.glsl"
 #define BSDF_HAS_TRANSMISSION effect_on(EFFECT_TRANSMISSION)
@@ -208,10 +209,9 @@ void main() {
             bool transmits = has_transmission_lobe(bsdf);
             uint medium_beyond = volume ? (front ? s.material : INVALID_INDEX) : medium;  // across the surface
 
-            float u_pick = next_float(rng);
-            vec2 u_light = vec2(next_float(rng), next_float(rng));
+            VertexSamples u = draw_vertex_samples(path, push.depth, rng);
             if ((params.flags & RENDER_NEE) != 0u && params.emitter_count > 0u) {
-                LightConnection light = sample_light_connection(s.p, u_pick, u_light);
+                LightConnection light = sample_light_connection(s.p, u.pick, u.light);
                 vec3 wi = light.wi;
                 if (light.valid != 0u && (transmits || dot(wi, ng) > 0.0f)) {
                     vec3 wi_local = to_local(frame, wi);
@@ -251,9 +251,7 @@ void main() {
                 }
             }
 
-            vec3 u_bsdf = vec3(next_float(rng), next_float(rng), next_float(rng));
-            float u_rr = next_float(rng);
-            BsdfSample bs = sample_bsdf(bsdf, wo_local, u_bsdf);
+            BsdfSample bs = sample_bsdf(bsdf, wo_local, u.bsdf);
             vec3 wi = to_world(frame, bs.wi);
             if (bs.valid != 0u && (transmits ? is_on_consistent_side(wi, ng, bs.wi) : dot(wi, ng) > 0.0f)) {
                 beta *= lift_color(spectral, bs.weight);
@@ -262,7 +260,7 @@ void main() {
                 // Russian roulette (unbiased: survivors are divided by the survival probability).
                 if ((params.flags & RENDER_RR) != 0u && segments >= params.rr_start_depth) {
                     float q = min(max_path_component(beta) * roulette_scale(medium), 0.95f);
-                    survive = u_rr < q;
+                    survive = u.roulette < q;
                     beta /= q;
                 }
                 if (survive && max_path_component(beta) > 0.0f) {

@@ -52,6 +52,9 @@ void apply_vary(const std::string& key, const std::string& v, RenderSettings& s)
     } else if (key == "filter") {
         if (v != "box" && v != "gaussian") throw std::invalid_argument("filter: '" + v + "' is not box or gaussian");
         s.filter = v == "box" ? PixelFilter::box : PixelFilter::gaussian;
+    } else if (key == "sampler") {
+        if (v != "independent" && v != "sobol") throw std::invalid_argument("sampler: '" + v + "' is not independent or sobol");
+        s.sampler = v == "sobol" ? Sampler::sobol : Sampler::independent;
     } else if (key.rfind("effect:", 0) == 0) {
         // on: compiled in whether or not the scene uses it; off: compiled out although the scene uses it.
         const uint32_t bit = find_switchable_effect(key.substr(7));
@@ -59,13 +62,14 @@ void apply_vary(const std::string& key, const std::string& v, RenderSettings& s)
         s.forced_effects = on ? s.forced_effects | bit : s.forced_effects & ~bit;
         s.disabled_effects = on ? s.disabled_effects & ~bit : s.disabled_effects | bit;
     } else {
-        throw std::invalid_argument("unknown key '" + key + "' (max-depth, nee, mis, rr, filter, effect:NAME)");
+        throw std::invalid_argument("unknown key '" + key + "' (max-depth, nee, mis, rr, filter, sampler, effect:NAME)");
     }
 }
 
 bool same_settings(const RenderSettings& a, const RenderSettings& b) {
     return a.max_depth == b.max_depth && a.nee == b.nee && a.mis == b.mis &&
-           a.russian_roulette == b.russian_roulette && a.filter == b.filter && a.forced_effects == b.forced_effects &&
+           a.russian_roulette == b.russian_roulette && a.filter == b.filter && a.sampler == b.sampler &&
+           a.forced_effects == b.forced_effects &&
            a.disabled_effects == b.disabled_effects;
 }
 
@@ -201,6 +205,7 @@ std::string describe_command(const ConvergeCommand& c) {
     line += " --width " + std::to_string(s.width) + " --height " + std::to_string(s.height) + " --max-depth " +
             std::to_string(s.max_depth) + " --seed " + std::to_string(s.seed) + " --filter " + to_string(s.filter);
     if (s.camera >= 0) line += " --camera " + std::to_string(s.camera);
+    if (s.sampler != Sampler::sobol) line += std::string(" --sampler ") + to_string(s.sampler);
     if (!s.nee) line += " --nee off";
     if (!s.mis) line += " --mis off";
     if (!s.russian_roulette) line += " --rr off";
@@ -248,7 +253,7 @@ void add_converge_options(CLI::App& app, ConvergeCommand& c) {
     two->excludes(ref_spp);
     app.add_option("--max-seconds", c.max_seconds, "render-time budget per configuration")->check(CLI::PositiveNumber);
     app.add_option("--max-spp", c.max_spp, "largest spp of the doubling sequence")->check(CLI::Range(1u, 1u << 20));
-    app.add_option("--vary", c.vary, "KEY=V1,V2,...: one curve per value (max-depth, nee, mis, rr, filter; effect:NAME=on,off compiles "
+    app.add_option("--vary", c.vary, "KEY=V1,V2,...: one curve per value (max-depth, nee, mis, rr, filter, sampler; effect:NAME=on,off compiles "
                    "a material effect in or out, e.g. effect:transmission=on,off)")
         ->check(CLI::Validator(
             [](std::string& spec) {

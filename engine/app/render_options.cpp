@@ -19,6 +19,10 @@ void add_sampling_options(CLI::App& app, RenderSettings& s) {
         ->transform(CLI::CheckedTransformer(filters, CLI::ignore_case));
     app.add_option("--filter-radius", s.filter_radius, "Gaussian truncation radius in pixels")
         ->check(CLI::Range(0.5f, 8.0f));
+    std::map<std::string, Sampler> samplers{{"independent", Sampler::independent}, {"sobol", Sampler::sobol}};
+    app.add_option("--sampler", s.sampler,
+                   "sobol: Owen-scrambled Sobol' points, stratified (default); independent: a PCG stream per path")
+        ->transform(CLI::CheckedTransformer(samplers, CLI::ignore_case));
     std::map<std::string, bool> on_off{{"on", true}, {"off", false}};
     app.add_option("--nee", s.nee, "next-event estimation: on/off")->transform(CLI::CheckedTransformer(on_off));
     app.add_option("--mis", s.mis, "multiple importance sampling: on/off")->transform(CLI::CheckedTransformer(on_off));

@@ -13,7 +13,7 @@ const char* const COMP_NAMES[3] = {"fredholm.comp.R", "fredholm.comp.G", "fredho
 // Metadata whose values must be equal for a render to continue another (besides the image size): the
 // settings that decide each sample's value.
 const char* const RESUME_KEYS[] = {"fredholm:renderer", "fredholm:scene", "fredholm:seed", "fredholm:max_depth",
-                                   "fredholm:camera",   "fredholm:filter", "fredholm:filter_radius",
+                                   "fredholm:camera",   "fredholm:filter", "fredholm:filter_radius", "fredholm:sampler",
                                    "fredholm:nee",      "fredholm:mis",    "fredholm:rr",
                                    "fredholm:environment", "fredholm:variant", "fredholm:disabled_effects"};
 

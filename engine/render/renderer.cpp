@@ -66,6 +66,7 @@ gpu::FrameParams make_frame(const PackedScene& scene, const SceneCamera& camera,
 }  // namespace
 
 const char* to_string(PixelFilter filter) { return filter == PixelFilter::gaussian ? "gaussian" : "box"; }
+const char* to_string(Sampler sampler) { return sampler == Sampler::sobol ? "sobol" : "independent"; }
 
 std::vector<Wave> plan_waves(uint32_t pixel_count, uint32_t sample_begin, uint32_t sample_end, uint32_t capacity) {
     std::vector<Wave> waves;
@@ -90,6 +91,7 @@ StageOptions make_stage_options(const vk::Context& context, const PackedScene& s
     // The environment cannot be forced or switched off: it follows --env / --background.
     o.effects = select_effects(scene.effects.bits, s.forced_effects, s.disabled_effects);
     o.instances = !scene.instances.empty();
+    o.sampler = s.sampler == Sampler::sobol ? gpu::SAMPLER_SOBOL : gpu::SAMPLER_INDEPENDENT;
     return o;
 }
 

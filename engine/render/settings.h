@@ -8,6 +8,8 @@
 namespace fh {
 
 enum class PixelFilter { box, gaussian };
+// Where a path's random numbers come from (shaders/lib/path_sampler.glsl).
+enum class Sampler { independent, sobol };
 
 struct RenderSettings {
     uint32_t width = 512;
@@ -17,6 +19,7 @@ struct RenderSettings {
     uint32_t seed = 0;
     int camera = -1;               // glTF camera index in scene order; -1 = first camera or default framing
     PixelFilter filter = PixelFilter::box;
+    Sampler sampler = Sampler::sobol;  // --sampler: Owen-scrambled Sobol' (stratified) or independent
     float filter_radius = 1.5f;    // Gaussian truncation radius in pixels
     bool nee = true;               // next-event estimation
     bool mis = true;               // MIS between NEE and BSDF sampling
@@ -38,5 +41,6 @@ struct RenderSettings {
 };
 
 const char* to_string(PixelFilter filter);
+const char* to_string(Sampler sampler);
 
 }  // namespace fh

@@ -38,6 +38,7 @@ StageTable::StageTable(const vk::Context& context, const StageOptions& options)
     spec[gpu::SPEC_DISABLED_TECHNIQUES] = options.disabled_techniques;
     spec[gpu::SPEC_EFFECTS] = options.effects;
     spec[gpu::SPEC_HAS_INSTANCES] = options.instances ? 1u : 0u;
+    spec[gpu::SPEC_SAMPLER] = options.sampler;
     auto make = [&](Stage stage, std::span<const uint32_t> spirv) {
         pipelines_[size_t(stage)] =
             std::make_unique<vk::ComputePipeline>(context, bindings_, stage_name(stage), spirv, spec);

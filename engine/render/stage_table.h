@@ -17,6 +17,7 @@ struct StageOptions {
     uint32_t disabled_techniques = 0;       // layout.h TECHNIQUE_* bits switched off
     uint32_t effects = 0;                   // layout.h EFFECT_* bits (scene/effects.h)
     bool instances = false;                 // two-level BVH (pack.h PackedScene::instances)
+    uint32_t sampler = 0;                   // layout.h SAMPLER_*
 };
 
 class StageTable {

@@ -65,7 +65,8 @@ FH_CONST uint SPEC_SCENE_IN_UNIFORM_BUFFERS = 0u;  // bool: every scene array fi
 FH_CONST uint SPEC_DISABLED_TECHNIQUES = 1u;       // TECHNIQUE_* bits switched off (cost measurements only)
 FH_CONST uint SPEC_EFFECTS = 2u;                   // EFFECT_* bits: what the scene calls for (scene/effects.h)
 FH_CONST uint SPEC_HAS_INSTANCES = 3u;             // bool: two-level BVH (meshes drawn by several nodes)
-FH_CONST uint SPEC_CONSTANT_COUNT = 4u;
+FH_CONST uint SPEC_SAMPLER = 4u;                   // SAMPLER_*: where a path's random numbers come from
+FH_CONST uint SPEC_CONSTANT_COUNT = 5u;
 
 // ---- Effects (engine/scene/effects.h decides them by value; a stage compiles only the code of those set) ----
 FH_CONST uint EFFECT_BASE_COLOR_TEXTURE = 1u;      // some visible material has a baseColorTexture
@@ -130,6 +131,8 @@ FH_CONST uint CAMERA_PERSPECTIVE = 0u;
 FH_CONST uint CAMERA_ORTHOGRAPHIC = 1u;
 FH_CONST uint FILTER_BOX = 0u;             // one pixel wide
 FH_CONST uint FILTER_GAUSSIAN = 1u;        // truncated Gaussian, importance sampled (weight 1)
+FH_CONST uint SAMPLER_INDEPENDENT = 0u;    // each path's own PCG stream (lib/rng.glsl)
+FH_CONST uint SAMPLER_SOBOL = 1u;          // Owen-scrambled Sobol', four dimensions per block (lib/sobol.glsl)
 FH_CONST uint MATERIAL_DOUBLE_SIDED = 1u;  // Material.flags
 FH_CONST uint MATERIAL_UNLIT = 2u;         // Material.flags: KHR_materials_unlit (EFFECT_UNLIT)
 FH_CONST uint PATH_SECONDARIES_TERMINATED = 1u;  // PathSpectrum.flags: only the hero wavelength goes on
