@@ -38,15 +38,19 @@ struct TraceHit {
 // holds a leaf, then the lanes test their leaves' triangles together. On lavapipe every branch of an `if`
 // runs (masked) for the whole SIMD group, so keeping triangle tests out of the node loop means a node step
 // never pays for a triangle test, and each leaf loop tests the triangles of all lanes at once.
-bool is_same_surface(uint tri, TrianglePositions tp, uint origin_triangle) {
+//
+// On lavapipe both sides of every branch run (masked) for the whole SIMD group, so nothing rare may load inside the
+// triangle loop: the origin triangle's normal is loaded once per ray, and the best hit's source index is kept.
+vec3 triangle_unit_normal(TrianglePositions tp) {
+    return normalize(cross(vec3(tp.p1_x, tp.p1_y, tp.p1_z) - vec3(tp.p0_x, tp.p0_y, tp.p0_z),
+                           vec3(tp.p2_x, tp.p2_y, tp.p2_z) - vec3(tp.p0_x, tp.p0_y, tp.p0_z)));
+}
+
+// origin_normal: triangle_unit_normal of the origin triangle (unused without one).
+bool is_same_surface(uint tri, TrianglePositions tp, uint origin_triangle, vec3 origin_normal) {
     if (origin_triangle == INVALID_INDEX) return false;
     if (tri == origin_triangle) return true;
-    TrianglePositions op = load_triangle_positions(origin_triangle);
-    vec3 n = cross(vec3(tp.p1_x, tp.p1_y, tp.p1_z) - vec3(tp.p0_x, tp.p0_y, tp.p0_z),
-                   vec3(tp.p2_x, tp.p2_y, tp.p2_z) - vec3(tp.p0_x, tp.p0_y, tp.p0_z));
-    vec3 m = cross(vec3(op.p1_x, op.p1_y, op.p1_z) - vec3(op.p0_x, op.p0_y, op.p0_z),
-                   vec3(op.p2_x, op.p2_y, op.p2_z) - vec3(op.p0_x, op.p0_y, op.p0_z));
-    float c = dot(normalize(n), normalize(m));
+    float c = dot(triangle_unit_normal(tp), origin_normal);
     return abs(c) > 0.99999f;  // parallel within ~0.26 degrees
 }
 
@@ -70,6 +74,9 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin
     uint stack_size = 0u;
     uint index = 0u;  // the root pair node
     uint count = 0u;
+    vec3 origin_normal = origin_triangle != INVALID_INDEX ? triangle_unit_normal(load_triangle_positions(origin_triangle))
+                                                          : vec3(0.0f);
+    uint best_source = INVALID_INDEX;  // the best hit's TrianglePositions.source_index (tie-break)
     while (true) {
         // Descend until this lane holds a leaf, or finds nothing below (index INVALID_INDEX, count 0).
         while ((count == 0u || (scene_has_instances && count == INSTANCE_LEAF)) && index != INVALID_INDEX) {
@@ -113,9 +120,8 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin
             TriangleHit h = intersect_triangle(pre, vec3(tp.p0_x, tp.p0_y, tp.p0_z), vec3(tp.p1_x, tp.p1_y, tp.p1_z),
                                                vec3(tp.p2_x, tp.p2_y, tp.p2_z), limit);
             // intersect_triangle only reports t < limit: closer, or (tie-break) equal.
-            if (h.hit == HIT_UNCERTAIN && is_same_surface(tri, tp, origin_triangle)) h.hit = 0u;
-            bool take = h.hit != 0u && (!have_hit || h.t < best.t ||
-                                        tp.source_index < load_triangle_positions(best.triangle).source_index);
+            if (h.hit == HIT_UNCERTAIN && is_same_surface(tri, tp, origin_triangle, origin_normal)) h.hit = 0u;
+            bool take = h.hit != 0u && (!have_hit || h.t < best.t || tp.source_index < best_source);
             if (effect_on(EFFECT_ALPHA) && take) take = is_surface_present(tri, h.b1, h.b2, alpha_seed);
             if (take) {
                 best.t = h.t;
@@ -123,6 +129,7 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin
                 best.b1 = h.b1;
                 best.b2 = h.b2;
                 best.instance = instance;
+                best_source = tp.source_index;
                 if (any_hit) return best;
             }
         }

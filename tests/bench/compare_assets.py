@@ -91,8 +91,10 @@ def use_single_scattering():
 
 # --without LAYER: the Principled BSDF input that switches a layer off in Cycles (set to 0), beside Fredholm's
 # --disable-effect.
+# The Principled input that switches each layer off (0). Blender's importer does not read KHR_materials_iridescence,
+# so its thin film is already 0 in Cycles: `--without iridescence` removes the film from Fredholm's render alone.
 LAYER_WEIGHTS = {"sheen": "Sheen Weight", "clearcoat": "Coat Weight", "transmission": "Transmission Weight",
-                 "anisotropy": "Anisotropic"}
+                 "anisotropy": "Anisotropic", "iridescence": "Thin Film Thickness"}
 
 
 def remove_layer(layer):

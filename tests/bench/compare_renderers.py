@@ -205,7 +205,7 @@ class MitsubaRenderer:
                 "component_format": "float32",
                 "rfilter": {"type": "box"},  # radius 0.5: one pixel wide
             },
-            "sampler": {"type": "independent", "sample_count": args.spp},
+            "sampler": {"type": args.mitsuba_sampler, "sample_count": args.spp},
         }
         objects["integrator"] = {"type": "path", "max_depth": args.max_depth, "hide_emitters": False}
         # no environment emitter: black background
@@ -259,7 +259,8 @@ class MitsubaRenderer:
         llvm = sorted({os.path.basename(l.split()[-1]) for l in open("/proc/self/maps")
                        if "LLVM" in l and "/" in l})
         return {"version": self.mi.__version__, "drjit": dr.__version__,
-                "variant": self.args.mitsuba_variant, "llvm": ",".join(llvm) or "none",
+                "variant": self.args.mitsuba_variant, "sampler": self.args.mitsuba_sampler,
+                "llvm": ",".join(llvm) or "none",
                 "threads": self.args.threads or os.cpu_count()}
 
 
@@ -460,6 +461,7 @@ def compare(img, ref, block=16):
         "channel_rel_diff": [float(a / b - 1.0) for a, b in zip(m, r)],
         "block_rel_diff_median": float(np.median(rel)),
         "block_rel_diff_max": float(rel.max()),
+        "mse": float(np.mean((img.astype(np.float64) - ref.astype(np.float64)) ** 2)),
     }
 
 
@@ -477,6 +479,8 @@ def main(argv=None):
     ap.add_argument("--seed", type=int, default=0,
                     help="seed of every render (the same seed lets Mitsuba reuse its compiled kernel)")
     ap.add_argument("--mitsuba-variant", default="llvm_ad_rgb")
+    ap.add_argument("--mitsuba-sampler", default="independent",
+                    help="Mitsuba's sampler: independent, stratified, multijitter, orthogonal, ldsampler")
     ap.add_argument("--output", help="write the last timed image here (.exr)")
     ap.add_argument("--reference", help="compare the last timed image's mean with this .exr")
     args = ap.parse_args(argv)
@@ -515,11 +519,12 @@ def main(argv=None):
     if args.reference:
         c = compare(r.result(), r.load(args.reference))
         print("%s compare reference %s mean %.6f ref_mean %.6f mean_rel_diff %+.4f%% "
-              "channel_rel_diff %s block16_rel_diff median %.2f%% max %.2f%%" % (
+              "channel_rel_diff %s block16_rel_diff median %.2f%% max %.2f%% mse %.4e efficiency %.4e" % (
                   args.renderer, os.path.basename(args.reference), c["mean"], c["ref_mean"],
                   100 * c["mean_rel_diff"],
                   ",".join("%+.4f%%" % (100 * x) for x in c["channel_rel_diff"]),
-                  100 * c["block_rel_diff_median"], 100 * c["block_rel_diff_max"]), flush=True)
+                  100 * c["block_rel_diff_median"], 100 * c["block_rel_diff_max"], c["mse"],
+                  1.0 / (c["mse"] * statistics.median(runs))), flush=True)
     return 0
 
 
