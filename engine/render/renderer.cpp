@@ -11,6 +11,16 @@
 #include "vk/context.h"
 
 namespace fh {
+void set_frame_scene_bounds(gpu::FrameParams& f, const PackedScene& scene) {
+    if (scene.pair_nodes.empty()) return;
+    const gpu::BvhPairNode& r = scene.pair_nodes[0];  // the root pair's two boxes bound the scene (render space)
+    const bool b = r.b_index != gpu::INVALID_INDEX;
+    f.scene_min = glm::vec4(b ? std::min(r.a_min_x, r.b_min_x) : r.a_min_x, b ? std::min(r.a_min_y, r.b_min_y) : r.a_min_y,
+                            b ? std::min(r.a_min_z, r.b_min_z) : r.a_min_z, 0.0f);
+    f.scene_max = glm::vec4(b ? std::max(r.a_max_x, r.b_max_x) : r.a_max_x, b ? std::max(r.a_max_y, r.b_max_y) : r.a_max_y,
+                            b ? std::max(r.a_max_z, r.b_max_z) : r.a_max_z, 0.0f);
+}
+
 namespace {
 
 // With unlimited depth the host looks at the queue length every this many bounces (one readback per
@@ -35,14 +45,7 @@ gpu::StagePush make_push(uint32_t depth, const Wave& wave) {
 gpu::FrameParams make_frame(const PackedScene& scene, const SceneCamera& camera, const RenderSettings& s) {
     gpu::FrameParams f{};
     set_frame_camera(f, camera, s.width, s.height, scene.origin);
-    if (!scene.pair_nodes.empty()) {  // the root pair's two boxes bound the scene (render space)
-        const gpu::BvhPairNode& r = scene.pair_nodes[0];
-        const bool b = r.b_index != gpu::INVALID_INDEX;
-        f.scene_min = glm::vec4(b ? std::min(r.a_min_x, r.b_min_x) : r.a_min_x, b ? std::min(r.a_min_y, r.b_min_y) : r.a_min_y,
-                                b ? std::min(r.a_min_z, r.b_min_z) : r.a_min_z, 0.0f);
-        f.scene_max = glm::vec4(b ? std::max(r.a_max_x, r.b_max_x) : r.a_max_x, b ? std::max(r.a_max_y, r.b_max_y) : r.a_max_y,
-                                b ? std::max(r.a_max_z, r.b_max_z) : r.a_max_z, 0.0f);
-    }
+    set_frame_scene_bounds(f, scene);
     f.width = s.width;
     f.height = s.height;
     f.max_depth = s.max_depth;

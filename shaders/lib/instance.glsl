@@ -13,4 +13,10 @@ vec3 map_point(vec4 r0, vec4 r1, vec4 r2, vec3 p) {
 vec3 map_vector(vec4 r0, vec4 r1, vec4 r2, vec3 v) {
     return vec3(dot(vec3(r0), v), dot(vec3(r1), v), dot(vec3(r2), v));
 }
+
+// The most the linear part of that matrix stretches a distance measured along an axis (its largest row sum of
+// absolute entries: |M v|_inf <= this |v|_inf), so that a padding bound in one space holds in the other.
+float max_axis_stretch(vec4 r0, vec4 r1, vec4 r2) {
+    return max(dot(abs(vec3(r0)), vec3(1.0f)), max(dot(abs(vec3(r1)), vec3(1.0f)), dot(abs(vec3(r2)), vec3(1.0f))));
+}
 #endif

@@ -169,15 +169,13 @@ TriangleHit intersect_triangle(RayPrecomp r, vec3 p0, vec3 p1, vec3 p2, float t_
 
 // Ray/box slab test that never culls a triangle intersect_triangle would report. The triangle test is
 // conservative, not exact: it tests the sheared ray, which may pass a few ulps beside the real one, so
-// "we must dynamically enlarge bounds during BVH traversal" (Woop et al. 2013, sec. 5). The box grows by
-// 2^-20 of the largest origin-to-box distance (the shear's error is ~8 ulp of it), and the far distance
-// by 1 + 2 gamma(3) for the slab arithmetic (Ize 2013, "Robust BVH Ray Traversal", JCGT 2(2)).
+// "we must dynamically enlarge bounds during BVH traversal" (Woop et al. 2013, sec. 5). The box grows by `pad`,
+// 2^-20 of the largest origin-to-box distance or more (the shear's error is ~8 ulp of it; box_padding), and the far
+// distance by 1 + 2 gamma(3) for the slab arithmetic (Ize 2013, "Robust BVH Ray Traversal", JCGT 2(2)).
 // inv_dir: 1 / dir with each component clamped to +-1e30, so a zero component never makes 0 * inf.
 // Returns (enter, leave): the box is hit when enter <= leave; enter orders the children of a node.
-vec2 box_entry_exit(vec3 origin, vec3 inv_dir, vec3 lo, vec3 hi, float t_max) {
+vec2 box_entry_exit(vec3 origin, vec3 inv_dir, vec3 lo, vec3 hi, float t_max, float pad) {
     bool conservative = FH_TECHNIQUE_ON(TECHNIQUE_CONSERVATIVE_BOX);
-    vec3 reach = max(abs(lo - origin), abs(hi - origin));
-    float pad = conservative ? max(max(reach.x, reach.y), reach.z) * 9.5367431640625e-7f : 0.0f;  // 2^-20
     vec3 t0 = (lo - vec3(pad) - origin) * inv_dir;
     vec3 t1 = (hi + vec3(pad) - origin) * inv_dir;
     vec3 t_near = min(t0, t1);
@@ -191,8 +189,17 @@ vec2 box_entry_exit(vec3 origin, vec3 inv_dir, vec3 lo, vec3 hi, float t_max) {
     return range;
 }
 
+// The padding box_entry_exit needs for every box inside [lo, hi] (a node's, or the whole scene's: traversal
+// computes it once per ray from the scene's bounds): 2^-20 of the largest distance from the origin to that box
+// along an axis; 0 without TECHNIQUE_CONSERVATIVE_BOX.
+float box_padding(vec3 origin, vec3 lo, vec3 hi) {
+    if (!FH_TECHNIQUE_ON(TECHNIQUE_CONSERVATIVE_BOX)) return 0.0f;
+    vec3 reach = max(abs(lo - origin), abs(hi - origin));
+    return max(max(reach.x, reach.y), reach.z) * 9.5367431640625e-7f;  // 2^-20
+}
+
 uint intersect_box(vec3 origin, vec3 inv_dir, vec3 lo, vec3 hi, float t_max) {
-    vec2 range = box_entry_exit(origin, inv_dir, lo, hi, t_max);
+    vec2 range = box_entry_exit(origin, inv_dir, lo, hi, t_max, box_padding(origin, lo, hi));
     return range.x <= range.y ? 1u : 0u;
 }
 

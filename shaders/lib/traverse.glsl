@@ -69,6 +69,10 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin
     uint instance_base = 0u;        // stack size when it was entered
     RayPrecomp pre = make_ray_precomp(origin, dir);
     vec3 inv_dir = make_safe_inverse_dir(dir);
+    // Boxes are padded by the bound of the whole scene's (intersect.glsl box_padding), once per ray rather than per
+    // box; in an instance's object space by that bound times the most its map stretches a distance.
+    float world_pad = box_padding(origin, params.scene_min.xyz, params.scene_max.xyz);
+    float pad = world_pad;
     uint stack_index[TRAVERSAL_STACK_SIZE];
     uint stack_count[TRAVERSAL_STACK_SIZE];
     uint stack_size = 0u;
@@ -90,15 +94,17 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin
                                  world_dir);
                 pre = make_ray_precomp(origin, dir);
                 inv_dir = make_safe_inverse_dir(dir);
+                pad = world_pad * max_axis_stretch(inst.object_from_render_0, inst.object_from_render_1,
+                                                   inst.object_from_render_2);
                 index = inst.root_node;
                 count = 0u;
                 continue;
             }
             BvhPairNode n = load_bvh_node(index);
             vec2 a = box_entry_exit(origin, inv_dir, vec3(n.a_min_x, n.a_min_y, n.a_min_z),
-                                    vec3(n.a_max_x, n.a_max_y, n.a_max_z), best.t);
+                                    vec3(n.a_max_x, n.a_max_y, n.a_max_z), best.t, pad);
             vec2 b = box_entry_exit(origin, inv_dir, vec3(n.b_min_x, n.b_min_y, n.b_min_z),
-                                    vec3(n.b_max_x, n.b_max_y, n.b_max_z), best.t);
+                                    vec3(n.b_max_x, n.b_max_y, n.b_max_z), best.t, pad);
             bool hit_a = a.x <= a.y && n.a_index != INVALID_INDEX;
             bool hit_b = b.x <= b.y && n.b_index != INVALID_INDEX;
             // Nearer child first (ties: a); when both are hit the other waits on the stack.
@@ -144,6 +150,7 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin
             dir = world_dir;
             pre = make_ray_precomp(origin, dir);
             inv_dir = make_safe_inverse_dir(dir);
+            pad = world_pad;
         }
     }
     return best;

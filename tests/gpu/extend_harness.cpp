@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "render/gpu_buffers.h"
+#include "render/renderer.h"
 #include "render/stage_table.h"
 #include "scene/pack.h"
 #include "scene/scene.h"
@@ -34,6 +35,7 @@ ExtendResult run_extend_once(vk::Context& context, const PackedScene& packed, co
     frame.height = 1;
     frame.wave_capacity = uint32_t(rays.size());
     frame.triangle_count = uint32_t(packed.positions.size());
+    set_frame_scene_bounds(frame, packed);  // traversal pads its boxes from these
     GpuBuffers buffers = create_gpu_buffers(context, packed, frame, 0u);
     StageOptions stage_options;
     stage_options.scene_in_uniform_buffers = uniform_scene;
