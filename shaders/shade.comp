@@ -15,6 +15,7 @@
 #include "lib/path_sampler.glsl"
 #include "lib/sampling.glsl"
 #include "lib/effects.glsl"
+#define BSDF_HAS_SPECULAR effect_on(EFFECT_SPECULAR)
 #define BSDF_HAS_TRANSMISSION effect_on(EFFECT_TRANSMISSION)
 #define BSDF_HAS_CLEARCOAT effect_on(EFFECT_CLEARCOAT)
 #define BSDF_HAS_SHEEN effect_on(EFFECT_SHEEN)

@@ -59,6 +59,7 @@ const std::vector<EffectInfo>& list_effects() {
         {gpu::EFFECT_EMISSIVE_TEXTURE, "emissive-texture"},
         {gpu::EFFECT_VERTEX_COLORS, "vertex-colors"},
         {gpu::EFFECT_ALPHA, "alpha"},
+        {gpu::EFFECT_SPECULAR, "specular"},
         {gpu::EFFECT_EMISSIVE_TRIANGLES, "emissive-triangles"},
         {gpu::EFFECT_PUNCTUAL_LIGHTS, "punctual-lights"},
         {gpu::EFFECT_ENVIRONMENT, "environment"},
@@ -122,7 +123,7 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
 
     std::set<uint32_t> base, metal_rough, normal, emissive, alpha, glass, glass_texture, volume, absorbing, rough_glass;
     std::set<uint32_t> coat, coat_texture, coat_normal, unlit, sheen, sheen_texture, diffuse, diffuse_texture;
-    std::set<uint32_t> anisotropic, anisotropy_texture, film, film_texture, dispersive;
+    std::set<uint32_t> anisotropic, anisotropy_texture, film, film_texture, dispersive, specular;
     for (uint32_t m : used) {
         const gpu::Material& mat = scene.materials[m];
         // An unlit material shows its base colour only: none of its layers is ever evaluated.
@@ -192,6 +193,9 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
             }
         }
         if (mat.flags & gpu::MATERIAL_UNLIT) unlit.insert(m);
+        // The base's GGX reflection shows unless the material is Lambertian: metallic 0 (a metallicRoughnessTexture
+        // only multiplies the factor) and specularFactor 0 (no specular layer: f0 = f90 = 0). Unlit: never evaluated.
+        if (!(mat.flags & gpu::MATERIAL_UNLIT) && (mat.metallic > 0.0f || mat.specular_color.w > 0.0f)) specular.insert(m);
         const bool black_emission = mat.emission.r == 0.0f && mat.emission.g == 0.0f && mat.emission.b == 0.0f;
         if (slot_valid(mat.base_color_texture)) base.insert(m);
         // Metallic and roughness textures multiply their factors; a factor of 0 keeps the product 0.
@@ -227,6 +231,8 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
     decide(gpu::EFFECT_VERTEX_COLORS, colors_rgb || colors_alpha,
            colors_rgb || colors_alpha ? "COLOR_0 is not white everywhere" : "no COLOR_0, or white everywhere");
     by_materials(gpu::EFFECT_ALPHA, alpha, "every visible material is opaque (OPAQUE, or alpha 1 everywhere)");
+    by_materials(gpu::EFFECT_SPECULAR, specular,
+                 "every visible material is Lambertian (metallic 0 and KHR_materials_specular specularFactor 0)");
     decide(gpu::EFFECT_ENVIRONMENT, environment, environment ? "--env or --background" : "no --env or --background");
     by_materials(gpu::EFFECT_TRANSMISSION, glass,
                  "no visible material has KHR_materials_transmission > 0 on a dielectric");

@@ -108,6 +108,12 @@ using fh::gpu::Material;  // C++: include shaders/shared/layout.h at global scop
 #ifndef BSDF_HAS_TRANSMISSION
 #define BSDF_HAS_TRANSMISSION true
 #endif
+// The base's GGX reflection lobe (dielectric specular layer and metal). Stages compiled without EFFECT_SPECULAR (every
+// visible material has metallic 0 and specularFactor 0: Lambertian) define it false: the BSDF is then Lambert alone,
+// with the same bits, and no table lookup or GGX code is left.
+#ifndef BSDF_HAS_SPECULAR
+#define BSDF_HAS_SPECULAR true
+#endif
 #ifndef BSDF_HAS_CLEARCOAT
 #define BSDF_HAS_CLEARCOAT true
 #endif
@@ -205,6 +211,13 @@ BsdfParams make_bsdf_params(Material m) {
     p.diffuse_transmission_color = vec3(1.0f);
     p.film_albedo_bound = vec2(0.0f);
     p.glass.film = make_no_film();
+    if (!BSDF_HAS_SPECULAR) {
+        // Lambert alone (--disable-effect specular on a scene with a specular lobe leaves it out: metal is black).
+        p.f0_dielectric = vec3(0.0f);
+        p.f90_dielectric = 0.0f;
+        p.diffuse_scale = 1.0f;
+        return p;
+    }
     return normalise_diffuse(p, ggx_albedo_average(p.alpha));
 }
 
@@ -227,6 +240,9 @@ bool has_anisotropy(BsdfParams p) {
 // The specular layer's albedo terms (A, B) = ggx_albedo for light from direction w (local frame; its z's sign is
 // ignored); anisotropic, their bound (see the top of the file). Isotropic: ggx_albedo's bits.
 vec2 specular_albedo(BsdfParams p, vec3 w) {
+    if (!BSDF_HAS_SPECULAR) {
+        return vec2(0.0f);
+    }
     float mu = abs(w.z);
     vec2 albedo = ggx_albedo(mu, p.alpha);
     if (has_anisotropy(p)) {
@@ -369,7 +385,8 @@ struct LobeAlbedos {
 };
 
 LobeAlbedos estimate_lobe_albedos(BsdfParams p, float cos_o, float opaque) {
-    vec2 albedo = ggx_albedo(cos_o, p.alpha);  // an estimate, to pick lobes by: isotropic will do
+    // An estimate, to pick lobes by: isotropic will do.
+    vec2 albedo = BSDF_HAS_SPECULAR ? ggx_albedo(cos_o, p.alpha) : vec2(0.0f);
     LobeAlbedos a;
     a.diffuse = (1.0f - p.metallic) * opaque * diffuse_transmittance(p, albedo) * luminance(p.base_color);
     a.through = 0.0f;
@@ -380,7 +397,7 @@ LobeAlbedos estimate_lobe_albedos(BsdfParams p, float cos_o, float opaque) {
     }
     vec3 e_dielectric = p.f0_dielectric * albedo.x + vec3(p.f90_dielectric * albedo.y);
     vec3 e_metal = p.base_color * albedo.x + vec3(albedo.y);
-    a.specular = luminance(mix(e_dielectric * opaque, e_metal, p.metallic));
+    a.specular = BSDF_HAS_SPECULAR ? luminance(mix(e_dielectric * opaque, e_metal, p.metallic)) : 0.0f;
     return a;
 }
 
@@ -388,7 +405,8 @@ LobeAlbedos estimate_lobe_albedos(BsdfParams p, float cos_o, float opaque) {
 // clamped to [BSDF_MIN_LOBE_PROBABILITY, 1 - BSDF_MIN_LOBE_PROBABILITY] when both lobes exist, and exactly 0 (1)
 // when the specular (diffuse) lobe is absent. Depends on wo only, so pdf_bsdf can recompute it.
 float specular_probability(BsdfParams p, float cos_o) {
-    bool has_specular = p.metallic > 0.0f || p.f90_dielectric > 0.0f || max_value(p.f0_dielectric) > 0.0f;
+    bool has_specular = BSDF_HAS_SPECULAR &&
+                        (p.metallic > 0.0f || p.f90_dielectric > 0.0f || max_value(p.f0_dielectric) > 0.0f);
     if (!has_specular) {
         return 0.0f;
     }
@@ -420,7 +438,7 @@ vec3 eval_base_bsdf(BsdfParams p, vec3 wo, vec3 wi) {
     }
     vec3 h = normalize(wo + wi);  // |wo + wi| >= wo.z + wi.z > 0
     float w = schlick_weight(abs(dot(wo, h)));
-    float specular = ggx_d_lobe(p.roughness, h) * ggx_v_cos_lobe(p.roughness, wo, wi);
+    float specular = BSDF_HAS_SPECULAR ? ggx_d_lobe(p.roughness, h) * ggx_v_cos_lobe(p.roughness, wo, wi) : 0.0f;
     float transmittance = diffuse_transmittance(p, specular_albedo(p, wo)) *
                           diffuse_transmittance(p, specular_albedo(p, wi)) * p.diffuse_scale;
     vec3 diffuse = p.base_color * (INV_PI * wi.z * transmittance);
@@ -514,7 +532,9 @@ float pdf_bsdf_lobes(BsdfParams p, LobeChoice c, vec3 wo, vec3 wi) {
         }
         return pdf;
     }
-    float pdf_specular = c.specular > 0.0f ? pdf_ggx_vndf_reflection_lobe(p.roughness, wo, normalize(wo + wi)) : 0.0f;
+    float pdf_specular = BSDF_HAS_SPECULAR && c.specular > 0.0f
+                             ? pdf_ggx_vndf_reflection_lobe(p.roughness, wo, normalize(wo + wi))
+                             : 0.0f;
     float pdf = c.specular * pdf_specular + (1.0f - c.specular - c.glass - c.through) * pdf_cosine_hemisphere(wi.z);
     if (c.glass > 0.0f) {
         pdf += c.glass * pdf_glass(p.glass, wo, wi);
@@ -614,7 +634,7 @@ float pdf_bsdf(BsdfParams p, vec3 wo, vec3 wi) {
 // transmission of this lobe).
 vec4 sample_base_direction(BsdfParams p, LobeChoice c, vec3 wo, vec3 u) {
     vec3 wi;
-    if (u.x < c.specular) {
+    if (BSDF_HAS_SPECULAR && u.x < c.specular) {
         vec3 h = sample_ggx_vndf_lobe(p.roughness, wo, vec2(u.y, u.z));
         wi = 2.0f * dot(wo, h) * h - wo;  // reflect wo about h; h = 0 (degenerate) gives -wo, rejected below
         if (!(wi.z > 0.0f)) {

@@ -1,8 +1,8 @@
 // The random numbers a path's stages consume, from the sampler the render asks for (`--sampler`, specialization
 // constant SPEC_SAMPLER): independent (the path's PCG stream, lib/rng.glsl) or Owen-scrambled Sobol' (lib/sobol.glsl),
-// whose blocks of four dimensions are: 0 the camera (film position, wavelength), then per vertex (depth d) 1 + 2d the
-// light sample (two for the point, the light's pick, Russian roulette) and 2 + 2d the BSDF sample (two for the
-// direction, the lobe's pick). Both are deterministic per (pixel, sample index, seed). GLSL only (inout).
+// one 2D or 1D Sobol' dimension per decision: the camera's film position (2D) and wavelength (1D), then per vertex
+// (depth d) the light's point (2D), which light (1D), Russian roulette (1D), the BSDF's direction (2D) and lobe (1D).
+// Both are deterministic per (pixel, sample index, seed). GLSL only (inout).
 #ifndef FH_PATH_SAMPLER_GLSL
 #define FH_PATH_SAMPLER_GLSL
 #include "effects.glsl"
@@ -16,10 +16,26 @@ uint path_pixel(uint path) { return push.pixel_begin + path % push.pixel_count; 
 uint path_sample_index(uint path) { return push.sample_begin + path / push.pixel_count; }
 
 // The camera's numbers: film offset (xy) and the hero wavelength's u (z). Independent: drawn from `rng` in that order.
+// Sobol' dimension numbers (sobol_seed): the camera's, then SOBOL_VERTEX_DIMENSIONS per vertex.
+const uint SOBOL_FILM = 0u;
+const uint SOBOL_WAVELENGTH = 1u;
+const uint SOBOL_CAMERA_DIMENSIONS = 4u;  // two spare (a lens)
+const uint SOBOL_LIGHT_POINT = 0u;
+const uint SOBOL_LIGHT_PICK = 1u;
+const uint SOBOL_ROULETTE = 2u;
+const uint SOBOL_BSDF_DIRECTION = 3u;
+const uint SOBOL_BSDF_LOBE = 4u;
+const uint SOBOL_VERTEX_DIMENSIONS = 5u;
+
 vec3 draw_camera_samples(uint path, inout uint rng) {
     if (path_sampler == SAMPLER_SOBOL) {
-        vec4 u = sample_sobol_block(path_sample_index(path), sobol_block_seed(path_pixel(path), params.seed, 0u));
-        return u.xyz;
+        uint pixel = path_pixel(path);
+        uint sample_index = path_sample_index(path);
+        vec2 film = sample_sobol_2d(sample_index, sobol_seed(pixel, params.seed, SOBOL_FILM));
+        float wavelength = effect_on(EFFECT_SPECTRAL)
+                               ? sample_sobol_1d(sample_index, sobol_seed(pixel, params.seed, SOBOL_WAVELENGTH))
+                               : 0.0f;
+        return vec3(film, wavelength);
     }
     vec3 u;
     u.x = next_float(rng);
@@ -43,12 +59,12 @@ VertexSamples draw_vertex_samples(uint path, uint depth, inout uint rng) {
     if (path_sampler == SAMPLER_SOBOL) {
         uint pixel = path_pixel(path);
         uint sample_index = path_sample_index(path);
-        vec4 light = sample_sobol_block(sample_index, sobol_block_seed(pixel, params.seed, 1u + 2u * depth));
-        vec4 bsdf = sample_sobol_block(sample_index, sobol_block_seed(pixel, params.seed, 2u + 2u * depth));
-        s.light = light.xy;
-        s.pick = light.z;
-        s.roulette = light.w;
-        s.bsdf = vec3(bsdf.z, bsdf.x, bsdf.y);
+        uint first = SOBOL_CAMERA_DIMENSIONS + SOBOL_VERTEX_DIMENSIONS * depth;
+        s.light = sample_sobol_2d(sample_index, sobol_seed(pixel, params.seed, first + SOBOL_LIGHT_POINT));
+        s.pick = sample_sobol_1d(sample_index, sobol_seed(pixel, params.seed, first + SOBOL_LIGHT_PICK));
+        s.roulette = sample_sobol_1d(sample_index, sobol_seed(pixel, params.seed, first + SOBOL_ROULETTE));
+        s.bsdf.yz = sample_sobol_2d(sample_index, sobol_seed(pixel, params.seed, first + SOBOL_BSDF_DIRECTION));
+        s.bsdf.x = sample_sobol_1d(sample_index, sobol_seed(pixel, params.seed, first + SOBOL_BSDF_LOBE));
         return s;
     }
     s.pick = next_float(rng);

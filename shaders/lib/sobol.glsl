@@ -1,14 +1,19 @@
-// Owen-scrambled Sobol' points, four dimensions at a time (Burley 2020, "Practical Hash-based Owen Scrambling",
-// JCGT 9(4)): the stratified, low-discrepancy sampler (`--sampler sobol`). Shared GLSL/C++ subset.
+// Owen-scrambled Sobol' points in one and two dimensions (Burley 2020, "Practical Hash-based Owen Scrambling", JCGT
+// 9(4)): the stratified, low-discrepancy sampler (`--sampler sobol`). Shared GLSL/C++ subset.
 //
-// A pixel's sample i draws each block of four dimensions from the first four Sobol' dimensions at a shuffled index:
-//   x = owen(sobol_k(owen(i, seed_block)), hash(seed_block, k))       k = 0..3
+// A pixel's sample i draws each of its 2D (or 1D) dimensions from the first two (one) Sobol' dimensions at a shuffled
+// index:
+//   x_k = owen(sobol_k(owen(i, seed)), hash(seed, k))       k = 0, 1
 // Shuffling the index (a nested uniform scramble of its bits, Owen 1995 as hashed by Laine & Karras 2011) gives every
-// block its own random order, so blocks are independent of each other (padding, Kollig & Keller 2002) while each
-// block's points stay a (0, m, 2)-net in every pair of dimensions for any power-of-two prefix of the samples; the
-// scramble of the values makes every point uniform on [0, 1)^4, so estimates are unbiased. Seeds hash the pixel, the
-// render seed and the block, so pixels, seeds and blocks decorrelate; the same (pixel, sample, seed) gives the same
-// point (deterministic, resumable, independent of the wave size).
+// dimension its own random order, so dimensions are independent of each other (padding, Kollig & Keller 2002) while
+// each one's points stay a (0, m, 2)-net (2D) or (0, m, 1)-net (1D) for any power-of-two prefix of the samples; the
+// scramble of the values makes every point uniform, so estimates are unbiased. Seeds hash the pixel, the render seed
+// and the dimension, so pixels, seeds and dimensions decorrelate; the same (pixel, sample, seed) gives the same point
+// (deterministic, resumable, independent of the wave size).
+//
+// No loop and no table: Sobol' dimension 0 is the bit reversal of the index (van der Corput), and dimension 1's
+// generator matrix is Pascal's triangle mod 2, so its point is the reversal of the index's superset-XOR transform (bit
+// k of it is the XOR of the index's bits n whose binary digits contain k's: Lucas' theorem), five shift-XOR steps.
 #ifndef FREDHOLM_LIB_SOBOL_GLSL
 #define FREDHOLM_LIB_SOBOL_GLSL
 
@@ -33,56 +38,48 @@ uint nested_uniform_scramble(uint x, uint seed) {
     return bitfieldReverse(laine_karras_permutation(bitfieldReverse(x), seed));
 }
 
-// The first four Sobol' dimensions of point `index`, as 32-bit fractions: dimension 0 is van der Corput's radical
-// inverse; dimensions 1 to 3 XOR the direction numbers of Joe & Kuo 2008 (polynomials x + 1, x^2 + x + 1,
-// x^3 + x + 1; initial numbers 1 / 1, 3 / 1, 3, 1), generated here by their recurrences instead of read from a table:
-// v_i = v_{i-s} ^ (v_{i-s} >> s) ^ (the polynomial's inner terms).
-uvec4 sobol_4d(uint index) {
-    uvec4 x = uvec4(bitfieldReverse(index), 0u, 0u, 0u);
-    uint v1 = 0x80000000u;
-    uint v2a = 0x80000000u;  // dimension 2: v_i, v_{i+1}
-    uint v2b = 0xc0000000u;
-    uint v3a = 0x80000000u;  // dimension 3: v_i, v_{i+1}, v_{i+2}
-    uint v3b = 0xc0000000u;
-    uint v3c = 0x20000000u;
-    for (uint rest = index; rest != 0u; rest >>= 1u) {
-        if ((rest & 1u) != 0u) {
-            x.y ^= v1;
-            x.z ^= v2a;
-            x.w ^= v3a;
-        }
-        v1 ^= v1 >> 1u;
-        uint v2 = v2a ^ (v2a >> 2u) ^ v2b;
-        v2a = v2b;
-        v2b = v2;
-        uint v3 = v3a ^ (v3a >> 3u) ^ v3b;
-        v3a = v3b;
-        v3b = v3c;
-        v3c = v3;
-    }
-    return x;
+// Sobol' dimension 1 of point `index` before its bit reversal: bit k is the XOR of the index's bits n with k's binary
+// digits among n's (the superset-XOR, or zeta, transform over the five bit positions of k).
+uint sobol_dimension_1_reversed(uint index) {
+    uint z = index;
+    z ^= (z >> 1u) & 0x55555555u;
+    z ^= (z >> 2u) & 0x33333333u;
+    z ^= (z >> 4u) & 0x0f0f0f0fu;
+    z ^= (z >> 8u) & 0x00ff00ffu;
+    z ^= (z >> 16u) & 0x0000ffffu;
+    return z;
 }
 
-// A hash of two words (the PCG output permutation over a multiply-xorshift mix): seeds per pixel, block and dimension.
+// A hash of two words (the PCG output permutation over a multiply-xorshift mix): seeds per pixel and dimension.
 uint hash_combine(uint a, uint b) {
     uint state = (a ^ (b * 0x9e3779b9u + 0x7f4a7c15u)) * 747796405u + 2891336453u;
     uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
     return (word >> 22u) ^ word;
 }
 
-// The seed of one pixel's block of four dimensions under render seed `seed`.
-uint sobol_block_seed(uint pixel, uint seed, uint block) {
-    return hash_combine(hash_combine(seed, block), pixel);
+// The seed of one pixel's dimension (or pair of dimensions) `dimension` under render seed `seed`.
+uint sobol_seed(uint pixel, uint seed, uint dimension) {
+    return hash_combine(hash_combine(seed, dimension), pixel);
 }
 
-// Point `sample_index` of the block with seed `block_seed`: four floats in [0, 1), 24 bits each (at most 1 - 2^-24).
-vec4 sample_sobol_block(uint sample_index, uint block_seed) {
-    uvec4 x = sobol_4d(nested_uniform_scramble(sample_index, block_seed));
-    vec4 u;
-    for (int k = 0; k < 4; ++k) {
-        u[k] = float(nested_uniform_scramble(x[k], hash_combine(block_seed, uint(k) + 1u)) >> 8u) * (1.0f / 16777216.0f);
-    }
-    return u;
+// A 32-bit fraction as a float in [0, 1): its top 24 bits (at most 1 - 2^-24).
+float fraction_to_float(uint x) {
+    return float(x >> 8u) * (1.0f / 16777216.0f);
+}
+
+// Point `sample_index` of the 2D dimension with seed `seed`. owen(reverse(y)) = reverse(LK(y)): each scramble of a
+// value costs one reversal.
+vec2 sample_sobol_2d(uint sample_index, uint seed) {
+    uint i = nested_uniform_scramble(sample_index, seed);
+    uint x0 = bitfieldReverse(laine_karras_permutation(i, hash_combine(seed, 1u)));
+    uint x1 = bitfieldReverse(laine_karras_permutation(sobol_dimension_1_reversed(i), hash_combine(seed, 2u)));
+    return vec2(fraction_to_float(x0), fraction_to_float(x1));
+}
+
+// Point `sample_index` of the 1D dimension with seed `seed`.
+float sample_sobol_1d(uint sample_index, uint seed) {
+    uint i = nested_uniform_scramble(sample_index, seed);
+    return fraction_to_float(bitfieldReverse(laine_karras_permutation(i, hash_combine(seed, 1u))));
 }
 
 #endif

@@ -98,6 +98,8 @@ FH_CONST uint EFFECT_EMISSIVE_TRIANGLES = 16777216u;  // some triangle emits (NE
 FH_CONST uint EFFECT_PUNCTUAL_LIGHTS = 33554432u;     // KHR_lights_punctual lights of non-zero power (NEE only)
 FH_CONST uint EFFECT_GLASS_MULTISCATTER = 67108864u;  // rough glass: the energy single scattering loses, given
                                                       // back (shaders/lib/glass_multiscatter.glsl)
+FH_CONST uint EFFECT_SPECULAR = 134217728u;  // the base's GGX reflection (dielectric specular layer, metal): off when
+                                             // every visible material is Lambertian (metallic 0, specularFactor 0)
 FH_CONST uint EFFECT_ATTRIBUTES = EFFECT_BASE_COLOR_TEXTURE | EFFECT_METALLIC_ROUGHNESS_TEXTURE |
                                   EFFECT_NORMAL_TEXTURE | EFFECT_EMISSIVE_TEXTURE | EFFECT_VERTEX_COLORS |
                                   EFFECT_ALPHA | EFFECT_TRANSMISSION_TEXTURE | EFFECT_CLEARCOAT_TEXTURE |
@@ -109,7 +111,7 @@ FH_CONST uint EFFECT_MATERIAL = EFFECT_ATTRIBUTES | EFFECT_TRANSMISSION | EFFECT
                                 EFFECT_DIFFUSE_TRANSMISSION | EFFECT_ANISOTROPY |
                                 EFFECT_ANISOTROPY_TEXTURE | EFFECT_IRIDESCENCE |
                                 EFFECT_IRIDESCENCE_TEXTURE | EFFECT_SPECTRAL |
-                                EFFECT_GLASS_MULTISCATTER;  // decided by the materials
+                                EFFECT_GLASS_MULTISCATTER | EFFECT_SPECULAR;  // decided by the materials
 FH_CONST uint EFFECT_LIGHTS = EFFECT_EMISSIVE_TRIANGLES | EFFECT_PUNCTUAL_LIGHTS;  // decided by the light table
 // What --force-effect / --disable-effect may switch (to measure an effect's cost): all but the environment,
 // which follows --env / --background.
