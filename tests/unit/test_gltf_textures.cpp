@@ -104,7 +104,8 @@ TEST(GltfTextures, ReadsSlotsSamplersTransformsAndTheImage) {
 
     const fh::SceneEffects effects = fh::analyse_effects(s, false);
     EXPECT_EQ(effects.bits, gpu::EFFECT_BASE_COLOR_TEXTURE | gpu::EFFECT_METALLIC_ROUGHNESS_TEXTURE |
-                                gpu::EFFECT_NORMAL_TEXTURE | gpu::EFFECT_VERTEX_COLORS | gpu::EFFECT_ALPHA);
+                                gpu::EFFECT_NORMAL_TEXTURE | gpu::EFFECT_VERTEX_COLORS | gpu::EFFECT_ALPHA |
+                                gpu::EFFECT_SPECULAR);  // glTF's default dielectric has a 4% specular layer
 }
 
 // Effects are decided by value: a normal texture of scale 0, an opaque BLEND, white vertex colours and an
@@ -116,9 +117,25 @@ TEST(GltfTextures, EffectsAreDecidedByValue) {
     b.set_scene({b.add_node({{"mesh", 0}})});
     Scene s = fh::load_gltf(b.write_gltf(), WORLD_SPACE);
     for (glm::vec4& c : s.colors) c = glm::vec4(1.0f);
+    s.materials[0].specular_color.w = 0.0f;  // KHR_materials_specular specularFactor 0 and no metal: Lambertian
+    s.materials[0].metallic = 0.0f;
     EXPECT_EQ(fh::analyse_effects(s, false).bits, 0u) << fh::describe_effects(fh::analyse_effects(s, false).bits);
     s.materials[0].base_color.a = 0.5f;  // now BLEND matters
     EXPECT_EQ(fh::analyse_effects(s, true).bits, gpu::EFFECT_ALPHA | gpu::EFFECT_ENVIRONMENT);
+}
+
+// The base's GGX reflection is an effect by value: a Lambertian material (metallic 0, specularFactor 0) does not ask
+// for it, a specular layer or any metal does, and an unlit material never does (it is never evaluated).
+TEST(GltfTextures, SpecularLobeIsDecidedByValue) {
+    Scene s = load_textured_triangle({{"pbrMetallicRoughness", {{"metallicFactor", 0.0}}}});
+    const uint32_t specular = gpu::EFFECT_SPECULAR;
+    EXPECT_EQ(fh::analyse_effects(s, false).bits & specular, specular);  // glTF's default: a 4% specular layer
+    s.materials[0].specular_color.w = 0.0f;
+    EXPECT_EQ(fh::analyse_effects(s, false).bits & specular, 0u);
+    s.materials[0].metallic = 0.1f;
+    EXPECT_EQ(fh::analyse_effects(s, false).bits & specular, specular);
+    s.materials[0].flags |= gpu::MATERIAL_UNLIT;
+    EXPECT_EQ(fh::analyse_effects(s, false).bits & specular, 0u);
 }
 
 TEST(GltfTextures, MirroringFlipsTheBitangentSign) {
