@@ -52,6 +52,10 @@ void apply_vary(const std::string& key, const std::string& v, RenderSettings& s)
     } else if (key == "filter") {
         if (v != "box" && v != "gaussian") throw std::invalid_argument("filter: '" + v + "' is not box or gaussian");
         s.filter = v == "box" ? PixelFilter::box : PixelFilter::gaussian;
+    } else if (key == "rr-start-depth") {
+        const int depth = std::stoi(v);
+        if (depth < 1 || depth > 1000) throw std::invalid_argument("rr-start-depth: '" + v + "' is not in [1, 1000]");
+        s.rr_start_depth = uint32_t(depth);
     } else if (key == "sampler") {
         if (v != "independent" && v != "sobol") throw std::invalid_argument("sampler: '" + v + "' is not independent or sobol");
         s.sampler = v == "sobol" ? Sampler::sobol : Sampler::independent;
@@ -62,13 +66,14 @@ void apply_vary(const std::string& key, const std::string& v, RenderSettings& s)
         s.forced_effects = on ? s.forced_effects | bit : s.forced_effects & ~bit;
         s.disabled_effects = on ? s.disabled_effects & ~bit : s.disabled_effects | bit;
     } else {
-        throw std::invalid_argument("unknown key '" + key + "' (max-depth, nee, mis, rr, filter, sampler, effect:NAME)");
+        throw std::invalid_argument("unknown key '" + key + "' (max-depth, nee, mis, rr, rr-start-depth, filter, sampler, effect:NAME)");
     }
 }
 
 bool same_settings(const RenderSettings& a, const RenderSettings& b) {
     return a.max_depth == b.max_depth && a.nee == b.nee && a.mis == b.mis &&
-           a.russian_roulette == b.russian_roulette && a.filter == b.filter && a.sampler == b.sampler &&
+           a.russian_roulette == b.russian_roulette && a.rr_start_depth == b.rr_start_depth && a.filter == b.filter &&
+           a.sampler == b.sampler &&
            a.forced_effects == b.forced_effects &&
            a.disabled_effects == b.disabled_effects;
 }
@@ -209,6 +214,7 @@ std::string describe_command(const ConvergeCommand& c) {
     if (!s.nee) line += " --nee off";
     if (!s.mis) line += " --mis off";
     if (!s.russian_roulette) line += " --rr off";
+    if (s.rr_start_depth != RenderSettings{}.rr_start_depth) line += " --rr-start-depth " + std::to_string(s.rr_start_depth);
     if (s.forced_effects) line += " --force-effect " + describe_effects(s.forced_effects);
     if (s.disabled_effects) line += " --disable-effect " + describe_effects(s.disabled_effects);
     return line;
@@ -253,7 +259,7 @@ void add_converge_options(CLI::App& app, ConvergeCommand& c) {
     two->excludes(ref_spp);
     app.add_option("--max-seconds", c.max_seconds, "render-time budget per configuration")->check(CLI::PositiveNumber);
     app.add_option("--max-spp", c.max_spp, "largest spp of the doubling sequence")->check(CLI::Range(1u, 1u << 20));
-    app.add_option("--vary", c.vary, "KEY=V1,V2,...: one curve per value (max-depth, nee, mis, rr, filter, sampler; effect:NAME=on,off compiles "
+    app.add_option("--vary", c.vary, "KEY=V1,V2,...: one curve per value (max-depth, nee, mis, rr, rr-start-depth, filter, sampler; effect:NAME=on,off compiles "
                    "a material effect in or out, e.g. effect:transmission=on,off)")
         ->check(CLI::Validator(
             [](std::string& spec) {

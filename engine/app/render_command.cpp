@@ -56,6 +56,7 @@ ImageMetadata make_metadata(const RenderCommand& c, uint32_t spp_done, uint32_t 
             {"fredholm:nee", s.nee ? "on" : "off"},
             {"fredholm:mis", s.mis ? "on" : "off"},
             {"fredholm:rr", s.russian_roulette ? "on" : "off"},
+            {"fredholm:rr_start_depth", std::to_string(s.rr_start_depth)},
             {"fredholm:disabled_techniques", name_techniques(s.disabled_techniques)},
             {"fredholm:bvh_leaf_size", std::to_string(s.bvh_max_leaf_size)},
             {"fredholm:effects", describe_effects(select_effects(effects, s.forced_effects, s.disabled_effects))},

@@ -27,6 +27,8 @@ void add_sampling_options(CLI::App& app, RenderSettings& s) {
     app.add_option("--nee", s.nee, "next-event estimation: on/off")->transform(CLI::CheckedTransformer(on_off));
     app.add_option("--mis", s.mis, "multiple importance sampling: on/off")->transform(CLI::CheckedTransformer(on_off));
     app.add_option("--rr", s.russian_roulette, "Russian roulette: on/off")->transform(CLI::CheckedTransformer(on_off));
+    app.add_option("--rr-start-depth", s.rr_start_depth, "Russian roulette from this many segments on")
+        ->check(CLI::Range(1u, 1000u));
     app.add_option("--wave-paths", s.wave_paths, "paths in flight per wave")->check(CLI::Range(1024u, 1u << 22));
 }
 
