@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
 
 #include "app/session.h"
@@ -13,6 +14,7 @@
 #include "io/atomic_write.h"
 #include "io/image.h"
 #include "render/camera_setup.h"
+#include "render/ray_tracer.h"
 #include "render/renderer.h"
 #include "render/techniques.h"
 #include "scene/effects.h"
@@ -52,6 +54,11 @@ void add_bench_options(CLI::App& app, BenchCommand& c) {
            }, "constant environment radiance R,G,B")
         ->delimiter(',')
         ->expected(3);
+    app.add_option("--trace-rays", c.trace_rays,
+                   "only time the extend stage over the rays of this file (six float32 per ray: world-space origin, "
+                   "direction), median of --repeats")
+        ->check(CLI::ExistingFile);
+    app.add_option("--hits-out", c.hits_out, "with --trace-rays: write each ray's hit distance (float32, inf: miss)");
     app.add_option("--json", c.json, "also write the figures as JSON");
     app.add_option("--device", c.device, "use the first Vulkan device whose name contains this");
 }
@@ -133,6 +140,61 @@ double time_pipeline_build(const vk::Context& context, const PreparedScene& prep
     return constructed + std::max(0.0, first - second);
 }
 
+void write_bytes_atomically(const std::filesystem::path& file, const void* data, size_t size) {
+    write_file_atomically(file, [&](const std::filesystem::path& temp) {
+        std::ofstream out(temp, std::ios::binary);
+        out.write(static_cast<const char*>(data), std::streamsize(size));
+        if (!out) throw IoError(file.string() + ": cannot write");
+    });
+}
+
+// --trace-rays: the extend stage alone over the rays of a file (six float32 each, world-space origin and direction,
+// no header), median GPU time of --repeats dispatches; --hits-out writes each ray's hit distance (float32, +inf for a
+// miss) in the same order, to compare with another tracer (tests/bench/compare_embree.py).
+int trace_ray_file(const vk::Context& context, const PreparedScene& prepared, const BenchCommand& c) {
+    std::ifstream in(c.trace_rays, std::ios::binary);
+    std::vector<float> values;
+    in.seekg(0, std::ios::end);
+    const std::streamoff bytes = in ? std::streamoff(in.tellg()) : -1;
+    if (bytes <= 0 || bytes % (6 * sizeof(float)) != 0)
+        throw IoError(c.trace_rays.string() + ": not a ray file (six float32 per ray, at least one ray)");
+    values.resize(size_t(bytes) / sizeof(float));
+    in.seekg(0);
+    in.read(reinterpret_cast<char*>(values.data()), bytes);
+    const size_t count = values.size() / 6;
+    std::vector<gpu::RayItem> rays(count);
+    const glm::dvec3 origin = prepared.packed.origin;  // render space: the scene's arrays are rebased
+    for (size_t i = 0; i < count; ++i) {
+        const float* v = &values[6 * i];
+        rays[i] = {float(v[0] - origin.x), float(v[1] - origin.y), float(v[2] - origin.z), uint32_t(i),
+                   v[3], v[4], v[5], gpu::INVALID_INDEX};
+    }
+    const bool uniform = fits_uniform_buffers(prepared.packed, context.properties().limits.maxUniformBufferRange);
+    RayTracer tracer(context, prepared.packed, uint32_t(count), uniform);
+    tracer.trace(rays, 1);  // lavapipe compiles at the first dispatch
+    TracedRays traced = tracer.trace(rays, c.repeats);
+    std::vector<double> seconds = traced.seconds;
+    std::sort(seconds.begin(), seconds.end());
+    const double median = seconds[seconds.size() / 2];
+    std::printf("trace-rays: %zu rays from %s, %s scene path: extend %.4f s (median of %u), %.3f Mrays/s; %u escaped\n",
+                count, c.trace_rays.string().c_str(), uniform ? "uniform-buffer" : "storage-buffer", median, c.repeats,
+                double(count) / median * 1e-6, traced.escaped_rays);
+    if (!c.hits_out.empty()) {
+        std::vector<float> t(count);
+        for (size_t i = 0; i < count; ++i)
+            t[i] = traced.hits[i].triangle == gpu::INVALID_INDEX ? std::numeric_limits<float>::infinity() : traced.hits[i].t;
+        write_bytes_atomically(c.hits_out, t.data(), t.size() * sizeof(float));
+    }
+    if (!c.json.empty()) {
+        nlohmann::json j = {{"rays", count}, {"seconds", seconds}, {"median_seconds", median},
+                            {"rays_per_second", double(count) / median}, {"escaped_rays", traced.escaped_rays},
+                            {"uniform_scene", uniform}};
+        const std::string text = j.dump(1) + "\n";
+        write_bytes_atomically(c.json, text.data(), text.size());
+    }
+    return 0;
+}
+
 }  // namespace
 
 int run_bench(const BenchCommand& c) {
@@ -151,6 +213,7 @@ int run_bench(const BenchCommand& c) {
                 scene_file.string().c_str(), prepared.scene.rendered_triangle_count(), prepared.scene.triangle_count(),
                 prepared.scene.instances.size(), prepared.load_seconds,
                 prepared.bvh_nodes, prepared.bvh_build_seconds, prepared.sah_cost);
+    if (!c.trace_rays.empty()) return trace_ray_file(*context, prepared, c);
     std::printf("device %s; %u spp, max depth %u, median of %u\n\n", context->device_name().c_str(), c.spp,
                 c.max_depth, c.repeats);
     std::printf("%-9s %-18s %10s %12s %12s   %s\n", "size", "disabled", "seconds", "Msamples/s", "Mrays/s",

@@ -20,6 +20,8 @@ struct BenchCommand {
     uint32_t max_depth = 10;
     uint32_t repeats = 3;
     std::filesystem::path json;
+    std::filesystem::path trace_rays;     // --trace-rays: time the extend stage alone over these rays
+    std::filesystem::path hits_out;       // --hits-out: their hit distances
     std::string device;
     bool techniques = false;  // also time each robustness technique switched off (README cost table)
     bool textures = false;    // also time the scene with its material effects compiled out (factors only)

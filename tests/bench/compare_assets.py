@@ -12,7 +12,9 @@ The same scene for both renderers:
   the bounds' centre from the front, a little above and to the right (VIEW_DIRECTION), from far enough to see the
   bounding sphere; passed to Fredholm as
   --look-from/--look-at/--yfov, built in Blender from the same numbers (glTF (x, y, z) = Blender (x, -z, y));
-- light only from the environment map, Fredholm --env, Blender's world Environment Texture (equirectangular,
+- light only from the environment map (a model's KHR_lights_punctual lights are left out of both: Blender's importer
+  converts their candela and lux to watts, Fredholm takes them as radiometric units; `--keep-punctual-lights` keeps
+  them), Fredholm --env, Blender's world Environment Texture (equirectangular,
   strength 1); Fredholm's mapping is Blender's (shaders/lib/environment.glsl), so no rotation is needed;
 - a box pixel filter one pixel wide, no denoising, clamping or adaptive sampling, Standard view transform, 64
   bounces in Cycles and unlimited depth (Russian roulette) in Fredholm; linear Rec.709 EXR from both.
@@ -51,9 +53,12 @@ def find_model(name):
     raise SystemExit(f"compare_assets: no model {name} in {MODELS_DIR / 'manifest.json'}")
 
 
-def import_model(path):
+def import_model(path, keep_lights=False):
     bpy.ops.wm.read_factory_settings(use_empty=True)
     bpy.ops.import_scene.gltf(filepath=str(path))
+    if not keep_lights:
+        for obj in [o for o in bpy.context.scene.objects if o.type == "LIGHT"]:
+            bpy.data.objects.remove(obj, do_unlink=True)
     lo = np.full(3, np.inf)
     hi = np.full(3, -np.inf)
     for obj in bpy.context.scene.objects:
@@ -227,6 +232,8 @@ def main():
     ap.add_argument("--without", choices=sorted(LAYER_WEIGHTS), action="append", default=[],
                     help="leave a layer out of both renders (Fredholm --disable-effect, Cycles' weight 0), to isolate "
                          "what it contributes to a difference; repeatable")
+    ap.add_argument("--keep-punctual-lights", action="store_true",
+                    help="keep the models' KHR_lights_punctual lights (their units differ between the renderers)")
     args = ap.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else sys.argv[1:])
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -235,7 +242,7 @@ def main():
     for entry in args.models.split(","):
         model = find_model(entry)
         name = Path(entry).stem if entry.endswith((".gltf", ".glb")) else entry
-        lo, hi = import_model(model)
+        lo, hi = import_model(model, args.keep_punctual_lights)
         eye, target = make_camera(lo, hi, args.yfov)
         f_exr, c_exr = out / f"{name}_fredholm.exr", out / f"{name}_cycles.exr"
         cmd = [args.fredholm, "render", str(model), "-o", str(f_exr), "--width", str(args.size), "--height",
@@ -244,6 +251,8 @@ def main():
                "--up", "0,1,0", "--yfov", str(args.yfov), "--stats", str(out / f"{name}_fredholm.json"), "--quiet"]
         for layer in args.without:
             cmd += ["--disable-effect", layer]
+        if not args.keep_punctual_lights:
+            cmd += ["--disable-effect", "punctual-lights"]
         done = subprocess.run(cmd, capture_output=True, text=True)
         warnings = [l for l in done.stderr.splitlines() if "warning" in l and "negative values" not in l]
         if done.returncode != 0:

@@ -8,9 +8,7 @@
 
 #include <gtest/gtest.h>
 
-#include "render/gpu_buffers.h"
-#include "render/renderer.h"
-#include "render/stage_table.h"
+#include "render/ray_tracer.h"
 #include "scene/pack.h"
 #include "scene/scene.h"
 #include "vk/commands.h"
@@ -30,18 +28,6 @@ Scene make_grey_scene(const std::vector<glm::vec3>& positions) {
 // Runs extend once, reading the scene from uniform buffers (the fast path) or from storage buffers.
 ExtendResult run_extend_once(vk::Context& context, const PackedScene& packed, const Bvh& bvh,
                              const std::vector<Ray>& rays, bool uniform_scene) {
-    gpu::FrameParams frame{};
-    frame.width = 1;
-    frame.height = 1;
-    frame.wave_capacity = uint32_t(rays.size());
-    frame.triangle_count = uint32_t(packed.positions.size());
-    set_frame_scene_bounds(frame, packed);  // traversal pads its boxes from these
-    GpuBuffers buffers = create_gpu_buffers(context, packed, frame, 0u);
-    StageOptions stage_options;
-    stage_options.scene_in_uniform_buffers = uniform_scene;
-    StageTable stages(context, stage_options);
-    bind_gpu_buffers(stages.bindings(), buffers);
-
     std::vector<uint32_t> leaf_index_of(bvh.triangle_order.size());
     for (size_t i = 0; i < bvh.triangle_order.size(); ++i) leaf_index_of[bvh.triangle_order[i]] = uint32_t(i);
     std::vector<gpu::RayItem> items(rays.size());
@@ -51,28 +37,13 @@ ExtendResult run_extend_once(vk::Context& context, const PackedScene& packed, co
         items[i] = {rays[i].origin.x, rays[i].origin.y, rays[i].origin.z, uint32_t(i),
                     rays[i].dir.x,    rays[i].dir.y,    rays[i].dir.z,    from};
     }
-    vk::upload_to_buffer(context, buffers.rays, items.data(), items.size() * sizeof(gpu::RayItem));
-    gpu::QueueCounters counters{};
-    counters.ray_count[0] = uint32_t(rays.size());
-    counters.extend_args = {uint32_t((rays.size() + gpu::WORKGROUP_SIZE - 1) / gpu::WORKGROUP_SIZE), 1, 1};
-    vk::upload_to_buffer(context, buffers.counters, &counters, sizeof(counters));
-
-    vk::CommandRecorder recorder(context);
-    recorder.begin();
-    recorder.bind_table(stages.bindings());
-    gpu::StagePush push{};
-    recorder.push_constants(&push, sizeof(push));
-    recorder.barrier_compute();
-    recorder.dispatch_indirect(stages[Stage::extend], buffers.counters, offsetof(gpu::QueueCounters, extend_args));
-    recorder.submit_and_wait();
-
+    RayTracer tracer(context, packed, uint32_t(rays.size()), uniform_scene);
+    TracedRays traced = tracer.trace(items);
     ExtendResult result;
-    result.hits.resize(rays.size());
-    vk::download_from_buffer(context, buffers.hits, result.hits.data(), rays.size() * sizeof(gpu::HitItem));
+    result.hits = std::move(traced.hits);
     for (gpu::HitItem& hit : result.hits)
         if (hit.triangle != gpu::INVALID_INDEX) hit.triangle = bvh.triangle_order[hit.triangle];
-    vk::download_from_buffer(context, buffers.counters, &counters, sizeof(counters));
-    result.escaped_rays = counters.escaped_rays;
+    result.escaped_rays = traced.escaped_rays;
     EXPECT_EQ(context.validation_message_count(), 0u) << "Vulkan validation messages (printed above)";
     return result;
 }

@@ -1,0 +1,74 @@
+// Runs the extend stage over a hand-made ray queue and reads the hits back (see ray_tracer.h).
+#include "render/ray_tracer.h"
+
+#include <cstddef>
+#include <stdexcept>
+
+#include "render/renderer.h"
+#include "vk/buffer.h"
+#include "vk/commands.h"
+#include "vk/context.h"
+
+namespace fh {
+namespace {
+
+gpu::FrameParams make_ray_frame(const PackedScene& scene, uint32_t capacity) {
+    gpu::FrameParams frame{};
+    frame.width = 1;
+    frame.height = 1;
+    frame.wave_capacity = capacity;
+    frame.triangle_count = uint32_t(scene.positions.size());
+    set_frame_scene_bounds(frame, scene);  // traversal pads its boxes from these
+    return frame;
+}
+
+StageOptions make_ray_stage_options(const PackedScene& scene, bool uniform_scene) {
+    StageOptions options;
+    options.scene_in_uniform_buffers = uniform_scene;
+    options.effects = scene.effects.bits;
+    options.instances = !scene.instances.empty();
+    return options;
+}
+
+}  // namespace
+
+RayTracer::RayTracer(const vk::Context& context, const PackedScene& scene, uint32_t capacity, bool uniform_scene)
+    : context_(context),
+      capacity_(capacity),
+      stages_(context, make_ray_stage_options(scene, uniform_scene)),
+      buffers_(create_gpu_buffers(context, scene, make_ray_frame(scene, capacity), stages_.options().effects)) {
+    bind_gpu_buffers(stages_.bindings(), buffers_);
+}
+
+TracedRays RayTracer::trace(const std::vector<gpu::RayItem>& rays, uint32_t repeats) {
+    if (rays.empty() || rays.size() > capacity_)
+        throw std::invalid_argument("RayTracer: " + std::to_string(rays.size()) + " rays for a capacity of " +
+                                    std::to_string(capacity_));
+    std::vector<gpu::RayItem> items = rays;
+    for (size_t i = 0; i < items.size(); ++i) items[i].path = uint32_t(i);
+    vk::upload_to_buffer(context_, buffers_.rays, items.data(), items.size() * sizeof(gpu::RayItem));
+    TracedRays result;
+    gpu::QueueCounters counters{};
+    for (uint32_t r = 0; r < repeats; ++r) {
+        counters = {};
+        counters.ray_count[0] = uint32_t(rays.size());
+        counters.extend_args = {uint32_t((rays.size() + gpu::WORKGROUP_SIZE - 1) / gpu::WORKGROUP_SIZE), 1, 1};
+        vk::upload_to_buffer(context_, buffers_.counters, &counters, sizeof(counters));
+        vk::CommandRecorder recorder(context_, 1);
+        recorder.begin();
+        recorder.bind_table(stages_.bindings());
+        gpu::StagePush push{};
+        recorder.push_constants(&push, sizeof(push));
+        recorder.barrier_compute();
+        recorder.dispatch_indirect(stages_[Stage::extend], buffers_.counters, offsetof(gpu::QueueCounters, extend_args));
+        recorder.submit_and_wait();
+        for (const auto& [name, seconds] : recorder.dispatch_seconds()) result.seconds.push_back(seconds);
+    }
+    result.hits.resize(rays.size());
+    vk::download_from_buffer(context_, buffers_.hits, result.hits.data(), rays.size() * sizeof(gpu::HitItem));
+    vk::download_from_buffer(context_, buffers_.counters, &counters, sizeof(counters));
+    result.escaped_rays = counters.escaped_rays;
+    return result;
+}
+
+}  // namespace fh

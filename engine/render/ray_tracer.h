@@ -1,0 +1,40 @@
+// The extend stage alone over a given set of rays (no paths, no shading): the ray-tracing core measured apart from
+// the path tracer (`fredholm bench --trace-rays`) and checked against a brute force (tests/gpu).
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "render/gpu_buffers.h"
+#include "render/stage_table.h"
+#include "scene/pack.h"
+#include "shared/layout.h"
+
+namespace fh {
+
+namespace vk {
+class Context;
+}
+
+struct TracedRays {
+    std::vector<gpu::HitItem> hits;  // per ray, in order; triangle in BVH leaf order (INVALID_INDEX: a miss)
+    uint32_t escaped_rays = 0;       // as the device counted them
+    std::vector<double> seconds;     // GPU time of each repeat's extend dispatch
+};
+
+class RayTracer {
+public:
+    // Buffers for up to `capacity` rays; the scene read from uniform buffers when `uniform_scene` (it must fit) and
+    // the stages compiled for the scene's effects.
+    RayTracer(const vk::Context& context, const PackedScene& scene, uint32_t capacity, bool uniform_scene);
+
+    // Traces `rays` (RayItem::path is ignored; origin_triangle in BVH leaf order) `repeats` times, one dispatch each.
+    TracedRays trace(const std::vector<gpu::RayItem>& rays, uint32_t repeats = 1);
+
+private:
+    const vk::Context& context_;
+    uint32_t capacity_;
+    StageTable stages_;
+    GpuBuffers buffers_;
+};
+
+}  // namespace fh

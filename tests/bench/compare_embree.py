@@ -1,0 +1,148 @@
+#!/usr/bin/env python3
+"""Incoherent rays per second of Fredholm's extend stage against Embree 4 (PyPI embreex) on the same mesh and rays.
+
+  /opt/refbench/mitsuba-venv/bin/python tests/bench/compare_embree.py SCENE.glb [--rays 1000000] [--repeats 3]
+
+The rays are diffuse bounces: origins uniform by area over every triangle of the scene, lifted off the surface by
+1e-4 of the scene's size, directions cosine-distributed about the triangle's normal (the side its winding faces); no
+two rays are alike and neighbours in the list are unrelated, as a path tracer's second bounce is. Both tracers get
+exactly these rays (Fredholm: `fredholm bench SCENE --trace-rays FILE`, which times the extend stage alone on the
+device; Embree: `EmbreeScene.run` of the whole array, one call per thread, wall clock), and their hit distances are
+compared ray by ray (they must agree: the same mesh, the same rays). Reads .glb files whose nodes carry no transform
+(tests/bench/make_displaced_sphere.py writes them). Needs numpy and embreex (tests/bench/README.md).
+"""
+import argparse
+import json
+import os
+import struct
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+
+import numpy as np
+from embreex import rtcore_scene
+from embreex.mesh_construction import TriangleMesh
+
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+
+def read_glb_triangles(path):
+    """Every triangle of every mesh primitive (indexed or not), as an (n, 3, 3) float32 array."""
+    data = open(path, "rb").read()
+    magic, _, _ = struct.unpack_from("<III", data, 0)
+    if magic != 0x46546C67:
+        raise SystemExit(f"compare_embree: {path}: not a .glb")
+    json_length, _ = struct.unpack_from("<II", data, 12)
+    doc = json.loads(data[20:20 + json_length])
+    blob = data[20 + json_length + 8:]
+    if any(k in n for n in doc["nodes"] for k in ("matrix", "translation", "rotation", "scale") if "mesh" in n):
+        raise SystemExit(f"compare_embree: {path}: mesh nodes with transforms are not supported here")
+
+    def accessor(i, components):
+        a = doc["accessors"][i]
+        view = doc["bufferViews"][a["bufferView"]]
+        dtype = {5126: np.float32, 5125: np.uint32, 5123: np.uint16, 5121: np.uint8}[a["componentType"]]
+        start = view.get("byteOffset", 0) + a.get("byteOffset", 0)
+        return np.frombuffer(blob, dtype=dtype, count=a["count"] * components, offset=start).reshape(a["count"], components)
+
+    triangles = []
+    for mesh in doc["meshes"]:
+        for p in mesh["primitives"]:
+            positions = accessor(p["attributes"]["POSITION"], 3)
+            indices = accessor(p["indices"], 1).reshape(-1) if "indices" in p else np.arange(len(positions))
+            triangles.append(positions[indices.reshape(-1, 3)])
+    return np.concatenate(triangles).astype(np.float32)
+
+
+def diffuse_rays(triangles, count, seed):
+    rng = np.random.default_rng(seed)
+    e1, e2 = triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0]
+    normals = np.cross(e1, e2).astype(np.float64)
+    areas = 0.5 * np.linalg.norm(normals, axis=1)
+    keep = areas > 0
+    normals[keep] /= (2.0 * areas[keep])[:, None]
+    pick = rng.choice(len(triangles), size=count, p=areas / areas.sum())
+    r1, r2 = np.sqrt(rng.random(count)), rng.random(count)
+    b1, b2 = r1 * (1 - r2), r1 * r2
+    points = triangles[pick, 0] + b1[:, None] * e1[pick] + b2[:, None] * e2[pick]
+    n = normals[pick]
+    size = float(np.max(triangles.reshape(-1, 3).max(0) - triangles.reshape(-1, 3).min(0)))
+    origins = points + 1e-4 * size * n
+    # Cosine-weighted directions about n (Malley's method in a frame built around n).
+    u1, u2 = rng.random(count), rng.random(count)
+    radius, phi = np.sqrt(u1), 2.0 * np.pi * u2
+    local = np.stack([radius * np.cos(phi), radius * np.sin(phi), np.sqrt(np.maximum(0.0, 1.0 - u1))], axis=1)
+    helper = np.where(np.abs(n[:, :1]) > 0.9, np.array([[0.0, 1.0, 0.0]]), np.array([[1.0, 0.0, 0.0]]))
+    t = np.cross(helper, n)
+    t /= np.linalg.norm(t, axis=1, keepdims=True)
+    b = np.cross(n, t)
+    directions = local[:, :1] * t + local[:, 1:2] * b + local[:, 2:3] * n
+    return origins.astype(np.float32), directions.astype(np.float32)
+
+
+def time_embree(triangles, origins, directions, threads, repeats):
+    scene = rtcore_scene.EmbreeScene()
+    vertices = triangles.reshape(-1, 3)
+    TriangleMesh(scene, vertices, np.arange(len(vertices), dtype=np.int32).reshape(-1, 3))
+    scene.run(origins[:1000], directions[:1000], output=1)  # commit and build outside the timing
+    chunks = np.array_split(np.arange(len(origins)), threads)
+    results = [None] * threads
+    seconds = []
+    for _ in range(repeats):
+        def work(k):
+            idx = chunks[k]
+            results[k] = scene.run(origins[idx], directions[idx], output=1)["tfar"]
+        start = time.perf_counter()
+        workers = [threading.Thread(target=work, args=(k,)) for k in range(threads)]
+        for w in workers:
+            w.start()
+        for w in workers:
+            w.join()
+        seconds.append(time.perf_counter() - start)
+    tfar = np.concatenate(results)
+    return float(np.median(seconds)), np.where(tfar > 1e30, np.inf, tfar)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("scene")
+    ap.add_argument("--fredholm", default=os.path.join(REPO, "build", "fredholm"))
+    ap.add_argument("--rays", type=int, default=1_000_000)
+    ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--threads", type=int, default=2, help="Embree threads (default: the machine's 2 cores)")
+    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--json", help="also write the figures here")
+    args = ap.parse_args()
+    triangles = read_glb_triangles(args.scene)
+    origins, directions = diffuse_rays(triangles, args.rays, args.seed)
+    with tempfile.TemporaryDirectory() as tmp:
+        ray_file, hit_file, stats_file = (os.path.join(tmp, n) for n in ("rays.bin", "hits.bin", "stats.json"))
+        np.concatenate([origins, directions], axis=1).astype("<f4").tofile(ray_file)
+        subprocess.run([args.fredholm, "bench", args.scene, "--trace-rays", ray_file, "--hits-out", hit_file,
+                        "--repeats", str(args.repeats), "--json", stats_file], check=True, stdout=subprocess.DEVNULL)
+        fredholm_t = np.fromfile(hit_file, dtype="<f4")
+        stats = json.load(open(stats_file))
+    fredholm_rate = stats["rays_per_second"]
+    embree_seconds, embree_t = time_embree(triangles, origins, directions, args.threads, args.repeats)
+    embree_rate = args.rays / embree_seconds
+    both = np.isfinite(fredholm_t) & np.isfinite(embree_t)
+    agree_hit = float(np.mean(np.isfinite(fredholm_t) == np.isfinite(embree_t)))
+    rel = np.abs(fredholm_t[both] - embree_t[both]) / np.maximum(embree_t[both], 1e-12)
+    print(f"scene {os.path.basename(args.scene)}: {len(triangles)} triangles, {args.rays} diffuse-bounce rays")
+    print(f"fredholm extend: {fredholm_rate / 1e6:.3f} Mrays/s ({'uniform' if stats['uniform_scene'] else 'storage'}-buffer "
+          f"scene, median of {args.repeats})")
+    print(f"embree {args.threads} thread(s): {embree_rate / 1e6:.3f} Mrays/s (median of {args.repeats})")
+    print(f"fredholm / embree: {fredholm_rate / embree_rate:.3f}; hit or miss agree on {100 * agree_hit:.4f}% of rays, "
+          f"hit distance relative difference median {np.median(rel):.2e}, 99.9th percentile {np.quantile(rel, 0.999):.2e}")
+    if args.json:
+        with open(args.json, "w") as out:
+            json.dump({"triangles": len(triangles), "rays": args.rays, "fredholm_rays_per_second": fredholm_rate,
+                       "embree_rays_per_second": embree_rate, "embree_threads": args.threads, "ratio": fredholm_rate / embree_rate,
+                       "hit_agreement": agree_hit, "relative_t_median": float(np.median(rel))}, out, indent=1)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
