@@ -73,8 +73,10 @@ GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& sce
                               uint32_t effects) {
     GpuBuffers b;
     b.params = make_filled_buffer(context, std::vector<gpu::FrameParams>{frame});
-    b.nodes = make_filled_buffer(context, scene.pair_nodes, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
-    b.tri_positions = make_filled_buffer(context, scene.positions, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
+    b.nodes = make_filled_buffer(context, scene.pair_nodes,
+                                 VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT);
+    b.tri_positions = make_filled_buffer(context, scene.positions,
+                                         VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT);
     b.tri_shading = make_filled_buffer(context, scene.shading, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
     b.materials = make_filled_buffer(context, scene.materials, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
     b.emitters = make_filled_buffer(context, scene.emitters, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
@@ -133,6 +135,8 @@ void bind_gpu_buffers(vk::BindingTable& table, const GpuBuffers& b) {
     table.bind_buffer(gpu::BINDING_FILM, b.film);
     table.bind_buffer(gpu::BINDING_PUNCTUAL_LIGHTS, b.punctual_lights);
     table.bind_buffer(gpu::BINDING_BVH_NODES_UNIFORM, b.nodes);
+    table.bind_buffer(gpu::BINDING_BVH_NODE_TEXELS, b.nodes);
+    table.bind_buffer(gpu::BINDING_TRI_POSITION_TEXELS, b.tri_positions);
     table.bind_buffer(gpu::BINDING_TRI_POSITIONS_UNIFORM, b.tri_positions);
     table.bind_buffer(gpu::BINDING_TRI_SHADING_UNIFORM, b.tri_shading);
     table.bind_buffer(gpu::BINDING_MATERIALS_UNIFORM, b.materials);

@@ -16,6 +16,8 @@ BindingTable::BindingTable(const Context& context, std::span<const VkDescriptorT
     : device_(context.device()),
       types_(types.begin(), types.end()),
       max_uniform_range_(context.properties().limits.maxUniformBufferRange),
+      max_texel_elements_(context.properties().limits.maxTexelBufferElements),
+      views_(types.size(), VK_NULL_HANDLE),
       push_constant_size_(push_constant_size) {
     const uint32_t binding_count = uint32_t(types_.size());
     std::vector<VkDescriptorSetLayoutBinding> bindings(binding_count);
@@ -59,6 +61,7 @@ BindingTable::BindingTable(const Context& context, std::span<const VkDescriptorT
 }
 
 BindingTable::~BindingTable() {
+    for (VkBufferView view : views_) vkDestroyBufferView(device_, view, nullptr);
     vkDestroyPipelineLayout(device_, pipeline_layout_, nullptr);
     vkDestroyDescriptorPool(device_, pool_, nullptr);
     vkDestroyDescriptorSetLayout(device_, set_layout_, nullptr);
@@ -67,6 +70,25 @@ BindingTable::~BindingTable() {
 void BindingTable::bind_buffer(uint32_t binding, const Buffer& buffer) {
     assert(binding < types_.size());
     const VkDescriptorType type = types_[binding];
+    if (type == VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER) {
+        VkBufferViewCreateInfo view_info{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
+        view_info.buffer = buffer.handle();
+        view_info.format = VK_FORMAT_R32G32B32A32_UINT;
+        view_info.offset = 0;
+        view_info.range = std::max<VkDeviceSize>(std::min(buffer.size() / 16, max_texel_elements_), 1) * 16;
+        VkBufferView view;
+        FH_VK_CHECK(vkCreateBufferView(device_, &view_info, nullptr, &view));
+        if (views_[binding] != VK_NULL_HANDLE) vkDestroyBufferView(device_, views_[binding], nullptr);
+        views_[binding] = view;
+        VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+        write.dstSet = set_;
+        write.dstBinding = binding;
+        write.descriptorCount = 1;
+        write.descriptorType = type;
+        write.pTexelBufferView = &views_[binding];
+        vkUpdateDescriptorSets(device_, 1, &write, 0, nullptr);
+        return;
+    }
     const bool uniform = type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     VkDescriptorBufferInfo info{buffer.handle(), 0,
                                 uniform ? std::min(buffer.size(), max_uniform_range_) : VK_WHOLE_SIZE};

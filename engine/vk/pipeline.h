@@ -12,8 +12,9 @@ namespace fh::vk {
 class Buffer;
 class Context;
 
-// One descriptor set whose binding i is a buffer of descriptor type types[i] (storage or uniform), plus the
-// pipeline layout every compute pipeline using it shares (that set + one push-constant block).
+// One descriptor set whose binding i is a buffer of descriptor type types[i] (storage, uniform, or uniform texel
+// buffer of 32-bit RGBA texels), plus the pipeline layout every compute pipeline using it shares (that set + one
+// push-constant block).
 class BindingTable {
 public:
     BindingTable(const Context& context, std::span<const VkDescriptorType> types, uint32_t push_constant_size);
@@ -21,7 +22,8 @@ public:
     BindingTable(const BindingTable&) = delete;
     BindingTable& operator=(const BindingTable&) = delete;
 
-    // Uniform-buffer bindings see at most the device's maxUniformBufferRange bytes from the buffer's start.
+    // Uniform-buffer bindings see at most the device's maxUniformBufferRange bytes from the buffer's start; texel
+    // buffers (VK_FORMAT_R32G32B32A32_UINT: 16 bytes a texel) the whole 16-byte texels, at most maxTexelBufferElements.
     void bind_buffer(uint32_t binding, const Buffer& buffer);
     VkDescriptorSet set() const { return set_; }
     VkPipelineLayout pipeline_layout() const { return pipeline_layout_; }
@@ -31,6 +33,8 @@ private:
     VkDevice device_;
     std::vector<VkDescriptorType> types_;
     VkDeviceSize max_uniform_range_;
+    VkDeviceSize max_texel_elements_;
+    std::vector<VkBufferView> views_;  // per binding (texel buffers), VK_NULL_HANDLE elsewhere
     VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
     VkDescriptorPool pool_ = VK_NULL_HANDLE;
     VkDescriptorSet set_ = VK_NULL_HANDLE;

@@ -42,14 +42,57 @@ layout(constant_id = SPEC_SCENE_IN_UNIFORM_BUFFERS) const bool scene_in_uniform_
 // compiled into traversal or shading.
 layout(constant_id = SPEC_HAS_INSTANCES) const bool scene_has_instances = false;
 
+layout(binding = BINDING_BVH_NODE_TEXELS) uniform usamplerBuffer node_texels;
+
 BvhPairNode load_bvh_node(uint index) {
     if (scene_in_uniform_buffers) return uniform_nodes[index];
-    return nodes[index];
+    int first = int(4u * index);
+    uvec4 w0 = texelFetch(node_texels, first);
+    uvec4 w1 = texelFetch(node_texels, first + 1);
+    uvec4 w2 = texelFetch(node_texels, first + 2);
+    uvec4 w3 = texelFetch(node_texels, first + 3);
+    BvhPairNode n;
+    n.a_min_x = uintBitsToFloat(w0.x);
+    n.a_min_y = uintBitsToFloat(w0.y);
+    n.a_min_z = uintBitsToFloat(w0.z);
+    n.a_index = w0.w;
+    n.a_max_x = uintBitsToFloat(w1.x);
+    n.a_max_y = uintBitsToFloat(w1.y);
+    n.a_max_z = uintBitsToFloat(w1.z);
+    n.a_count = w1.w;
+    n.b_min_x = uintBitsToFloat(w2.x);
+    n.b_min_y = uintBitsToFloat(w2.y);
+    n.b_min_z = uintBitsToFloat(w2.z);
+    n.b_index = w2.w;
+    n.b_max_x = uintBitsToFloat(w3.x);
+    n.b_max_y = uintBitsToFloat(w3.y);
+    n.b_max_z = uintBitsToFloat(w3.z);
+    n.b_count = w3.w;
+    return n;
 }
+
+layout(binding = BINDING_TRI_POSITION_TEXELS) uniform usamplerBuffer tri_position_texels;
 
 TrianglePositions load_triangle_positions(uint triangle) {
     if (scene_in_uniform_buffers) return uniform_tri_positions[triangle];
-    return tri_positions[triangle];
+    int first = int(3u * triangle);
+    uvec4 w0 = texelFetch(tri_position_texels, first);
+    uvec4 w1 = texelFetch(tri_position_texels, first + 1);
+    uvec4 w2 = texelFetch(tri_position_texels, first + 2);
+    TrianglePositions t;
+    t.p0_x = uintBitsToFloat(w0.x);
+    t.p0_y = uintBitsToFloat(w0.y);
+    t.p0_z = uintBitsToFloat(w0.z);
+    t.p1_x = uintBitsToFloat(w0.w);
+    t.p1_y = uintBitsToFloat(w1.x);
+    t.p1_z = uintBitsToFloat(w1.y);
+    t.p2_x = uintBitsToFloat(w1.z);
+    t.p2_y = uintBitsToFloat(w1.w);
+    t.p2_z = uintBitsToFloat(w2.x);
+    t.source_index = w2.y;
+    t.pad1 = 0.0f;
+    t.pad2 = 0.0f;
+    return t;
 }
 
 TriangleShading load_triangle_shading(uint triangle) {

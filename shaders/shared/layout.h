@@ -56,7 +56,9 @@ FH_CONST uint BINDING_MATERIAL_LAYERS = 26u; // MaterialLayers[] (KHR material e
 FH_CONST uint BINDING_PATH_MEDIA = 27u;      // uint[wave capacity]: the volume a path is in (EFFECT_VOLUME, _ABSORPTION)
 FH_CONST uint BINDING_PATH_SPECTRA = 28u;    // PathSpectrum[wave capacity]: a path's wavelengths (EFFECT_SPECTRAL)
 FH_CONST uint BINDING_GLASS_ALBEDO = 29u;    // float[]: glass_albedo_table.glsl (EFFECT_GLASS_MULTISCATTER; else one word)
-FH_CONST uint BINDING_COUNT = 30u;
+FH_CONST uint BINDING_BVH_NODE_TEXELS = 30u; // BvhPairNode[] again, as a uniform texel buffer of RGBA32UI (4 per node)
+FH_CONST uint BINDING_TRI_POSITION_TEXELS = 31u;  // TrianglePositions[] again, as RGBA32UI texels (3 per triangle)
+FH_CONST uint BINDING_COUNT = 32u;
 FH_CONST uint UNIFORM_BUFFER_BYTES = 65536u;  // declared size of each; Vulkan guarantees only 16 KiB of
                                               // maxUniformBufferRange, so fits_uniform_buffers (pack.h) checks
 
