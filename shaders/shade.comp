@@ -99,7 +99,7 @@ void main() {
         bool instanced = scene_has_instances && hit.instance != INVALID_INDEX;
         Instance inst;
         if (instanced) {
-            inst = instances[hit.instance];
+            inst = load_instance(hit.instance);
             if (inst.material != INVALID_INDEX) s.material = inst.material;
         }
         Material m = resolve_material(load_material(s.material), hit.triangle, hit.b1, hit.b2);
@@ -165,7 +165,7 @@ void main() {
             // Dispersion (KHR_materials_dispersion) where light refracts into a volume: the whole BSDF takes the hero
             // wavelength's index, and the other wavelengths stop here (their directions would differ).
             if (effect_on(EFFECT_SPECTRAL) && volume && transmission > 0.0f) {
-                float dispersion = material_layers[s.material].dispersion;
+                float dispersion = load_material_layers(s.material).dispersion;
                 if (dispersion > 0.0f) {
                     m.ior = eval_dispersive_ior(m.ior, dispersion, spectral.lambda.x);
                     if ((spectrum.flags & PATH_SECONDARIES_TERMINATED) == 0u) {

@@ -169,15 +169,14 @@ int trace_ray_file(const vk::Context& context, const PreparedScene& prepared, co
         rays[i] = {float(v[0] - origin.x), float(v[1] - origin.y), float(v[2] - origin.z), uint32_t(i),
                    v[3], v[4], v[5], gpu::INVALID_INDEX};
     }
-    const bool uniform = fits_uniform_buffers(prepared.packed, context.properties().limits.maxUniformBufferRange);
-    RayTracer tracer(context, prepared.packed, uint32_t(count), uniform);
+    RayTracer tracer(context, prepared.packed, uint32_t(count));
     tracer.trace(rays, 1);  // lavapipe compiles at the first dispatch
     TracedRays traced = tracer.trace(rays, c.repeats);
     std::vector<double> seconds = traced.seconds;
     std::sort(seconds.begin(), seconds.end());
     const double median = seconds[seconds.size() / 2];
-    std::printf("trace-rays: %zu rays from %s, %s scene path: extend %.4f s (median of %u), %.3f Mrays/s; %u escaped\n",
-                count, c.trace_rays.string().c_str(), uniform ? "uniform-buffer" : "storage-buffer", median, c.repeats,
+    std::printf("trace-rays: %zu rays from %s: extend %.4f s (median of %u), %.3f Mrays/s; %u escaped\n",
+                count, c.trace_rays.string().c_str(), median, c.repeats,
                 double(count) / median * 1e-6, traced.escaped_rays);
     if (!c.hits_out.empty()) {
         std::vector<float> t(count);
@@ -187,8 +186,7 @@ int trace_ray_file(const vk::Context& context, const PreparedScene& prepared, co
     }
     if (!c.json.empty()) {
         nlohmann::json j = {{"rays", count}, {"seconds", seconds}, {"median_seconds", median},
-                            {"rays_per_second", double(count) / median}, {"escaped_rays", traced.escaped_rays},
-                            {"uniform_scene", uniform}};
+                            {"rays_per_second", double(count) / median}, {"escaped_rays", traced.escaped_rays}};
         const std::string text = j.dump(1) + "\n";
         write_bytes_atomically(c.json, text.data(), text.size());
     }

@@ -48,11 +48,23 @@ std::vector<float> flatten_glass_albedo_table(uint32_t effects) {
 constexpr VkBufferUsageFlags STORAGE = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
 
 template <typename T>
-vk::Buffer make_filled_buffer(const vk::Context& context, const std::vector<T>& items, VkBufferUsageFlags extra = 0) {
+vk::Buffer make_buffer(const vk::Context& context, const std::vector<T>& items, VkBufferUsageFlags usage) {
     size_t size = std::max<size_t>(items.size(), 1) * sizeof(T);
-    vk::Buffer buffer(context, size, STORAGE | extra, vk::MemoryUse::device);
+    vk::Buffer buffer(context, size, usage, vk::MemoryUse::device);
     if (!items.empty()) vk::upload_to_buffer(context, buffer, items.data(), items.size() * sizeof(T));
     return buffer;
+}
+
+template <typename T>
+vk::Buffer make_filled_buffer(const vk::Context& context, const std::vector<T>& items) {
+    return make_buffer(context, items, STORAGE);
+}
+
+// A scene array read as RGBA32UI texels (layout.h TEXELS bindings): whole texels per element.
+template <typename T>
+vk::Buffer make_texel_buffer(const vk::Context& context, const std::vector<T>& items) {
+    static_assert(sizeof(T) % gpu::TEXEL_BYTES == 0, "a texel-buffer struct is whole 16-byte texels");
+    return make_buffer(context, items, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT);
 }
 
 vk::Buffer make_state_buffer(const vk::Context& context, size_t size, VkBufferUsageFlags extra = 0) {
@@ -73,15 +85,13 @@ GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& sce
                               uint32_t effects) {
     GpuBuffers b;
     b.params = make_filled_buffer(context, std::vector<gpu::FrameParams>{frame});
-    b.nodes = make_filled_buffer(context, scene.pair_nodes,
-                                 VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT);
-    b.tri_positions = make_filled_buffer(context, scene.positions,
-                                         VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT);
-    b.tri_shading = make_filled_buffer(context, scene.shading, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
-    b.materials = make_filled_buffer(context, scene.materials, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
-    b.emitters = make_filled_buffer(context, scene.emitters, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
-    b.punctual_lights = make_filled_buffer(context, scene.punctual_lights);
-    b.ggx_albedo = make_filled_buffer(context, flatten_albedo_tables(), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
+    b.nodes = make_texel_buffer(context, scene.pair_nodes);
+    b.tri_positions = make_texel_buffer(context, scene.positions);
+    b.tri_shading = make_texel_buffer(context, scene.shading);
+    b.materials = make_texel_buffer(context, scene.materials);
+    b.emitters = make_texel_buffer(context, scene.emitters);
+    b.punctual_lights = make_texel_buffer(context, scene.punctual_lights);
+    b.ggx_albedo = make_buffer(context, flatten_albedo_tables(), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
     const size_t capacity = frame.wave_capacity;
     b.counters = make_state_buffer(context, sizeof(gpu::QueueCounters), VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT);
     b.counters_readback = vk::Buffer(context, sizeof(gpu::QueueCounters), STORAGE, vk::MemoryUse::host);
@@ -92,18 +102,18 @@ GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& sce
     b.film = make_state_buffer(context, size_t(frame.width) * frame.height * sizeof(gpu::FilmPixel));
     // --force-effect of an attribute effect on a scene without attributes: the stages read defaults.
     if (scene.attributes.empty() && (effects & gpu::EFFECT_ATTRIBUTES))
-        b.tri_attributes = make_filled_buffer(
+        b.tri_attributes = make_texel_buffer(
             context, std::vector<gpu::TriangleAttributes>(std::max<size_t>(scene.positions.size(), 1),
                                                           make_default_attributes()));
     else
-        b.tri_attributes = make_filled_buffer(context, scene.attributes);
+        b.tri_attributes = make_texel_buffer(context, scene.attributes);
     b.texture_slots = make_filled_buffer(context, scene.texture_slots);
     b.texture_images = make_filled_buffer(context, scene.texture_images);
     b.texels = make_filled_buffer(context, scene.texels);
     b.env_radiance = make_filled_buffer(context, scene.environment.texels);
     b.env_cdf = make_filled_buffer(context, scene.environment.cdf);
-    b.instances = make_filled_buffer(context, scene.instances);
-    b.material_layers = make_filled_buffer(context, scene.material_layers);
+    b.instances = make_texel_buffer(context, scene.instances);
+    b.material_layers = make_texel_buffer(context, scene.material_layers);
     b.path_media = make_state_buffer(context, path_media_bytes(frame.wave_capacity, effects));
     b.path_spectra = make_state_buffer(context, path_spectra_bytes(frame.wave_capacity, effects));
     b.glass_albedo = make_filled_buffer(context, flatten_glass_albedo_table(effects));
@@ -133,15 +143,8 @@ void bind_gpu_buffers(vk::BindingTable& table, const GpuBuffers& b) {
     table.bind_buffer(gpu::BINDING_HITS, b.hits);
     table.bind_buffer(gpu::BINDING_SHADOW_RAYS, b.shadow_rays);
     table.bind_buffer(gpu::BINDING_FILM, b.film);
-    table.bind_buffer(gpu::BINDING_PUNCTUAL_LIGHTS, b.punctual_lights);
-    table.bind_buffer(gpu::BINDING_BVH_NODES_UNIFORM, b.nodes);
-    table.bind_buffer(gpu::BINDING_BVH_NODE_TEXELS, b.nodes);
-    table.bind_buffer(gpu::BINDING_TRI_POSITION_TEXELS, b.tri_positions);
-    table.bind_buffer(gpu::BINDING_TRI_POSITIONS_UNIFORM, b.tri_positions);
-    table.bind_buffer(gpu::BINDING_TRI_SHADING_UNIFORM, b.tri_shading);
-    table.bind_buffer(gpu::BINDING_MATERIALS_UNIFORM, b.materials);
-    table.bind_buffer(gpu::BINDING_EMITTERS_UNIFORM, b.emitters);
     table.bind_buffer(gpu::BINDING_GGX_ALBEDO_UNIFORM, b.ggx_albedo);
+    table.bind_buffer(gpu::BINDING_PUNCTUAL_LIGHTS, b.punctual_lights);
     table.bind_buffer(gpu::BINDING_TRI_ATTRIBUTES, b.tri_attributes);
     table.bind_buffer(gpu::BINDING_TEXTURE_SLOTS, b.texture_slots);
     table.bind_buffer(gpu::BINDING_TEXTURE_IMAGES, b.texture_images);

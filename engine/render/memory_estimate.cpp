@@ -52,33 +52,34 @@ MemoryEstimate estimate_render_memory(const PackedScene& scene, uint32_t width, 
     const uint64_t capacity = wave_capacity;
     const uint64_t film = uint64_t(width) * height * sizeof(gpu::FilmPixel);
     MemoryEstimate e;
+    const BufferBinding storage = BufferBinding::storage, texels = BufferBinding::texels, other = BufferBinding::other;
     e.buffers = {
-        {"params", sizeof(gpu::FrameParams), true},
-        {"nodes", array_bytes(scene.pair_nodes), true},
-        {"tri_positions", array_bytes(scene.positions), true},
-        {"tri_shading", array_bytes(scene.shading), true},
-        {"materials", array_bytes(scene.materials), true},
-        {"emitters", array_bytes(scene.emitters), true},
-        {"punctual_lights", array_bytes(scene.punctual_lights), true},
-        {"albedo_tables", uint64_t(tables::GGX_ALBEDO_TABLE_SIZE + tables::SHEEN_ALBEDO_TABLE_SIZE + tables::SPECTRAL_TABLE_SIZE) * sizeof(float), false},
-        {"counters", sizeof(gpu::QueueCounters), true},
-        {"counters_readback", sizeof(gpu::QueueCounters), true},
-        {"paths", capacity * sizeof(gpu::PathState), true},
-        {"rays", 2 * capacity * sizeof(gpu::RayItem), true},
-        {"hits", capacity * sizeof(gpu::HitItem), true},
-        {"shadow_rays", capacity * sizeof(gpu::ShadowRayItem), true},
-        {"film", film, true},
-        {"tri_attributes", attribute_bytes(scene, effects), true},
-        {"texture_slots", array_bytes(scene.texture_slots), true},
-        {"texture_images", array_bytes(scene.texture_images), true},
-        {"texels", array_bytes(scene.texels), true},
-        {"env_radiance", array_bytes(scene.environment.texels), true},
-        {"env_cdf", array_bytes(scene.environment.cdf), true},
-        {"instances", array_bytes(scene.instances), true},
-        {"material_layers", array_bytes(scene.material_layers), true},
-        {"path_media", path_media_bytes(wave_capacity, effects), true},
-        {"path_spectra", path_spectra_bytes(wave_capacity, effects), true},
-        {"glass_albedo", glass_albedo_bytes(effects), false},
+        {"params", sizeof(gpu::FrameParams), storage},
+        {"nodes", array_bytes(scene.pair_nodes), texels},
+        {"tri_positions", array_bytes(scene.positions), texels},
+        {"tri_shading", array_bytes(scene.shading), texels},
+        {"materials", array_bytes(scene.materials), texels},
+        {"emitters", array_bytes(scene.emitters), texels},
+        {"punctual_lights", array_bytes(scene.punctual_lights), texels},
+        {"albedo_tables", uint64_t(tables::GGX_ALBEDO_TABLE_SIZE + tables::SHEEN_ALBEDO_TABLE_SIZE + tables::SPECTRAL_TABLE_SIZE) * sizeof(float), other},
+        {"counters", sizeof(gpu::QueueCounters), storage},
+        {"counters_readback", sizeof(gpu::QueueCounters), storage},
+        {"paths", capacity * sizeof(gpu::PathState), storage},
+        {"rays", 2 * capacity * sizeof(gpu::RayItem), storage},
+        {"hits", capacity * sizeof(gpu::HitItem), storage},
+        {"shadow_rays", capacity * sizeof(gpu::ShadowRayItem), storage},
+        {"film", film, storage},
+        {"tri_attributes", attribute_bytes(scene, effects), texels},
+        {"texture_slots", array_bytes(scene.texture_slots), storage},
+        {"texture_images", array_bytes(scene.texture_images), storage},
+        {"texels", array_bytes(scene.texels), storage},
+        {"env_radiance", array_bytes(scene.environment.texels), storage},
+        {"env_cdf", array_bytes(scene.environment.cdf), storage},
+        {"instances", array_bytes(scene.instances), texels},
+        {"material_layers", array_bytes(scene.material_layers), texels},
+        {"path_media", path_media_bytes(wave_capacity, effects), storage},
+        {"path_spectra", path_spectra_bytes(wave_capacity, effects), storage},
+        {"glass_albedo", glass_albedo_bytes(effects), storage},
     };
     e.film_readback_bytes = film;
     return e;
@@ -97,6 +98,7 @@ DeviceMemoryLimits query_memory_limits(const vk::Context& context) {
     properties.pNext = &maintenance3;
     vkGetPhysicalDeviceProperties2(context.physical_device(), &properties);
     limits.max_storage_buffer_range = properties.properties.limits.maxStorageBufferRange;
+    limits.max_texel_buffer_elements = properties.properties.limits.maxTexelBufferElements;
     limits.max_allocation_size = maintenance3.maxMemoryAllocationSize;
     VkPhysicalDeviceMemoryProperties memory;
     vkGetPhysicalDeviceMemoryProperties(context.physical_device(), &memory);
@@ -129,10 +131,16 @@ std::string remedy(const std::string& buffer) {
 void check_render_memory(const MemoryEstimate& estimate, const DeviceMemoryLimits& limits) {
     for (const BufferEstimate& b : estimate.buffers) {
         const std::string split_note = remedy(b.name);
-        if (b.storage && b.bytes > limits.max_storage_buffer_range)
+        if (b.binding == BufferBinding::storage && b.bytes > limits.max_storage_buffer_range)
             throw std::runtime_error("the " + b.name + " buffer needs " + format_bytes(b.bytes) +
                                      ", more than the device's maxStorageBufferRange of " +
                                      format_bytes(limits.max_storage_buffer_range) + split_note);
+        const uint64_t texel_limit = limits.max_texel_buffer_elements * gpu::TEXEL_BYTES;
+        if (b.binding == BufferBinding::texels && b.bytes > texel_limit)
+            throw std::runtime_error("the " + b.name + " buffer needs " + format_bytes(b.bytes) +
+                                     ", more than the device's maxTexelBufferElements of " +
+                                     std::to_string(limits.max_texel_buffer_elements) + " 16-byte texels (" +
+                                     format_bytes(texel_limit) + ")" + split_note);
         if (b.bytes > limits.max_allocation_size)
             throw std::runtime_error("the " + b.name + " buffer needs " + format_bytes(b.bytes) +
                                      ", more than the device's maxMemoryAllocationSize of " +

@@ -13,10 +13,17 @@ namespace vk {
 class Context;
 }
 
+// How a buffer is bound, which decides the limit its size must keep to.
+enum class BufferBinding {
+    storage,  // maxStorageBufferRange
+    texels,   // a uniform texel buffer of 16-byte texels: maxTexelBufferElements texels
+    other,    // only maxMemoryAllocationSize (the uniform albedo tables, host copies)
+};
+
 struct BufferEstimate {
     std::string name;    // as in GpuBuffers (e.g. "film", "tri_positions")
     uint64_t bytes = 0;
-    bool storage = true;  // bound as a storage buffer, so limited by maxStorageBufferRange
+    BufferBinding binding = BufferBinding::storage;
 };
 
 struct MemoryEstimate {
@@ -30,6 +37,7 @@ struct DeviceMemoryLimits {
     uint64_t max_storage_buffer_range = 0;   // VkPhysicalDeviceLimits::maxStorageBufferRange
     uint64_t max_allocation_size = 0;        // VkPhysicalDeviceMaintenance3Properties::maxMemoryAllocationSize
     uint64_t device_local_heap = 0;          // the largest DEVICE_LOCAL heap (vkGetPhysicalDeviceMemoryProperties)
+    uint64_t max_texel_buffer_elements = 0;  // VkPhysicalDeviceLimits::maxTexelBufferElements
 };
 
 // Sizes exactly as create_gpu_buffers makes them (empty arrays get one element); create_gpu_buffers checks

@@ -22,9 +22,8 @@ gpu::FrameParams make_ray_frame(const PackedScene& scene, uint32_t capacity) {
     return frame;
 }
 
-StageOptions make_ray_stage_options(const PackedScene& scene, bool uniform_scene) {
+StageOptions make_ray_stage_options(const PackedScene& scene) {
     StageOptions options;
-    options.scene_in_uniform_buffers = uniform_scene;
     options.effects = scene.effects.bits;
     options.instances = !scene.instances.empty();
     return options;
@@ -32,10 +31,10 @@ StageOptions make_ray_stage_options(const PackedScene& scene, bool uniform_scene
 
 }  // namespace
 
-RayTracer::RayTracer(const vk::Context& context, const PackedScene& scene, uint32_t capacity, bool uniform_scene)
+RayTracer::RayTracer(const vk::Context& context, const PackedScene& scene, uint32_t capacity)
     : context_(context),
       capacity_(capacity),
-      stages_(context, make_ray_stage_options(scene, uniform_scene)),
+      stages_(context, make_ray_stage_options(scene)),
       buffers_(create_gpu_buffers(context, scene, make_ray_frame(scene, capacity), stages_.options().effects)) {
     bind_gpu_buffers(stages_.bindings(), buffers_);
 }

@@ -23,9 +23,8 @@ struct TracedRays {
 
 class RayTracer {
 public:
-    // Buffers for up to `capacity` rays; the scene read from uniform buffers when `uniform_scene` (it must fit) and
-    // the stages compiled for the scene's effects.
-    RayTracer(const vk::Context& context, const PackedScene& scene, uint32_t capacity, bool uniform_scene);
+    // Buffers for up to `capacity` rays; the stages compiled for the scene's effects.
+    RayTracer(const vk::Context& context, const PackedScene& scene, uint32_t capacity);
 
     // Traces `rays` (RayItem::path is ignored; origin_triangle in BVH leaf order) `repeats` times, one dispatch each.
     TracedRays trace(const std::vector<gpu::RayItem>& rays, uint32_t repeats = 1);

@@ -87,9 +87,8 @@ std::vector<Wave> plan_waves(uint32_t pixel_count, uint32_t sample_begin, uint32
 
 namespace {
 
-StageOptions make_stage_options(const vk::Context& context, const PackedScene& scene, const RenderSettings& s) {
+StageOptions make_stage_options(const PackedScene& scene, const RenderSettings& s) {
     StageOptions o;
-    o.scene_in_uniform_buffers = fits_uniform_buffers(scene, context.properties().limits.maxUniformBufferRange);
     o.disabled_techniques = s.disabled_techniques;
     // The environment cannot be forced or switched off: it follows --env / --background.
     o.effects = select_effects(scene.effects.bits, s.forced_effects, s.disabled_effects);
@@ -105,7 +104,7 @@ Renderer::Renderer(const vk::Context& context, const PackedScene& scene, const S
     : context_(context),
       settings_(settings),
       frame_(make_frame(scene, camera, settings)),
-      stages_(context, make_stage_options(context, scene, settings)),
+      stages_(context, make_stage_options(scene, settings)),
       buffers_(create_gpu_buffers(context, scene, frame_, stages_.options().effects)),
       recorder_(context, MAX_DISPATCHES_PER_SUBMIT),
       has_lights_(!scene.emitters.empty()),

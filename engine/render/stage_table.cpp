@@ -22,21 +22,17 @@ const char* stage_name(Stage stage) {
 std::array<VkDescriptorType, gpu::BINDING_COUNT> binding_types() {
     std::array<VkDescriptorType, gpu::BINDING_COUNT> types;
     types.fill(VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
-    types[gpu::BINDING_BVH_NODES_UNIFORM] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-    types[gpu::BINDING_TRI_POSITIONS_UNIFORM] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-    types[gpu::BINDING_TRI_SHADING_UNIFORM] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-    types[gpu::BINDING_MATERIALS_UNIFORM] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-    types[gpu::BINDING_EMITTERS_UNIFORM] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     types[gpu::BINDING_GGX_ALBEDO_UNIFORM] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-    types[gpu::BINDING_BVH_NODE_TEXELS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
-    types[gpu::BINDING_TRI_POSITION_TEXELS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+    for (uint32_t texels : {gpu::BINDING_BVH_NODES, gpu::BINDING_TRI_POSITIONS, gpu::BINDING_TRI_SHADING,
+                            gpu::BINDING_MATERIALS, gpu::BINDING_EMITTERS, gpu::BINDING_PUNCTUAL_LIGHTS,
+                            gpu::BINDING_TRI_ATTRIBUTES, gpu::BINDING_INSTANCES, gpu::BINDING_MATERIAL_LAYERS})
+        types[texels] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;  // layout.h TEXELS bindings
     return types;
 }
 
 StageTable::StageTable(const vk::Context& context, const StageOptions& options)
     : options_(options), bindings_(context, binding_types(), sizeof(gpu::StagePush)) {
     std::array<uint32_t, gpu::SPEC_CONSTANT_COUNT> spec{};
-    spec[gpu::SPEC_SCENE_IN_UNIFORM_BUFFERS] = options.scene_in_uniform_buffers ? 1u : 0u;
     spec[gpu::SPEC_DISABLED_TECHNIQUES] = options.disabled_techniques;
     spec[gpu::SPEC_EFFECTS] = options.effects;
     spec[gpu::SPEC_HAS_INSTANCES] = options.instances ? 1u : 0u;

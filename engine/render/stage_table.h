@@ -13,7 +13,6 @@ const char* stage_name(Stage stage);
 
 // What the pipelines are specialised for (layout.h SPEC_*): branches a scene does not need compile away.
 struct StageOptions {
-    bool scene_in_uniform_buffers = false;  // traversal reads the uniform bindings (pack.h fits_uniform_buffers)
     uint32_t disabled_techniques = 0;       // layout.h TECHNIQUE_* bits switched off
     uint32_t effects = 0;                   // layout.h EFFECT_* bits (scene/effects.h)
     bool instances = false;                 // two-level BVH (pack.h PackedScene::instances)

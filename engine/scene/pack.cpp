@@ -139,13 +139,6 @@ std::vector<gpu::BvhPairNode> make_pair_nodes(const std::vector<gpu::BvhNode>& n
     return pairs;
 }
 
-bool fits_uniform_buffers(const PackedScene& scene, uint64_t max_uniform_buffer_range) {
-    return max_uniform_buffer_range >= gpu::UNIFORM_BUFFER_BYTES && scene.pair_nodes.size() <= gpu::UNIFORM_NODE_CAPACITY &&
-           scene.positions.size() <= gpu::UNIFORM_TRIANGLE_CAPACITY &&
-           scene.materials.size() <= gpu::UNIFORM_MATERIAL_CAPACITY &&
-           scene.emitters.size() <= gpu::UNIFORM_EMITTER_CAPACITY;
-}
-
 double mean_emitted_luminance(const Scene& scene, size_t t, const gpu::Material& m) {
     const double factor = luminance(m.emission);
     if (m.emissive_texture == gpu::INVALID_INDEX || m.emissive_texture >= scene.texture_slots.size() ||

@@ -39,9 +39,6 @@ std::vector<gpu::BvhPairNode> make_pair_nodes(const std::vector<gpu::BvhNode>& n
 // scene.material_layers, one per material (a scene built without them, as in the tests, gets none).
 std::vector<gpu::MaterialLayers> material_layers_of(const Scene& scene);
 
-// Whether every scene array (nodes, triangles, materials, emitters) fits its uniform-buffer binding (layout.h).
-bool fits_uniform_buffers(const PackedScene& scene, uint64_t max_uniform_buffer_range);
-
 // Throws std::invalid_argument when `bvh` was not built over `scene`'s triangles. `environment` (may be empty)
 // joins the lights NEE picks from, in proportion to its power over the scene's bounding disc.
 PackedScene pack_scene(const Scene& scene, const SceneBvh& bvh, EnvironmentMap environment = {});

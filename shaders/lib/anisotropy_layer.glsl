@@ -19,19 +19,19 @@ AnisotropyLayer eval_anisotropy_layer(uint material, uint triangle, float b1, fl
     a.strength = 0.0f;
     a.direction = vec3(0.0f);
     if (!effect_on(EFFECT_ANISOTROPY)) return a;
-    float strength = material_layers[material].anisotropy_strength;
+    float strength = load_material_layers(material).anisotropy_strength;
     if (!(strength > 0.0f)) return a;
     vec2 d = vec2(1.0f, 0.0f);
     bool set1 = false;
-    uint slot = material_layers[material].anisotropy_texture;
+    uint slot = load_material_layers(material).anisotropy_texture;
     if (effect_on(EFFECT_ANISOTROPY_TEXTURE) && slot != INVALID_INDEX) {
         vec3 texel = vec3(sample_texture(slot, interpolate_texcoords(triangle, b1, b2)));
         d = vec2(texel) * 2.0f - 1.0f;
         strength *= texel.z;
         set1 = (texture_slots[slot].addressing & SAMPLER_TEXCOORD_1) != 0u;
     }
-    float c = material_layers[material].anisotropy_cos;
-    float s = material_layers[material].anisotropy_sin;
+    float c = load_material_layers(material).anisotropy_cos;
+    float s = load_material_layers(material).anisotropy_sin;
     d = vec2(c * d.x - s * d.y, s * d.x + c * d.y);
     TangentFrame f = build_tangent_frame(set1, triangle, b1, b2, n);
     vec3 direction = f.t * d.x + f.b * d.y;

@@ -16,11 +16,11 @@ ClearcoatLayer eval_clearcoat_layer(uint material, uint triangle, float b1, floa
     c.weight = 0.0f;
     c.roughness = 0.0f;
     if (!effect_on(EFFECT_CLEARCOAT)) return c;
-    c.weight = material_layers[material].clearcoat;
-    c.roughness = material_layers[material].clearcoat_roughness;
+    c.weight = load_material_layers(material).clearcoat;
+    c.roughness = load_material_layers(material).clearcoat_roughness;
     if (effect_on(EFFECT_CLEARCOAT_TEXTURE) && c.weight > 0.0f) {
-        LayerTexels t = sample_layer_textures(material_layers[material].clearcoat_texture,
-                                              material_layers[material].clearcoat_roughness_texture, triangle, b1, b2);
+        LayerTexels t = sample_layer_textures(load_material_layers(material).clearcoat_texture,
+                                              load_material_layers(material).clearcoat_roughness_texture, triangle, b1, b2);
         c.weight *= t.first.x;
         c.roughness *= t.second.y;
     }
@@ -31,7 +31,7 @@ ClearcoatLayer eval_clearcoat_layer(uint material, uint triangle, float b1, floa
 // extension says) with the clearcoatNormalTexture applied when there is one.
 vec3 apply_clearcoat_normal_texture(uint material, uint triangle, float b1, float b2, vec3 n) {
     if (!effect_on(EFFECT_CLEARCOAT_NORMAL_TEXTURE)) return n;
-    uint slot = material_layers[material].clearcoat_normal_texture;
+    uint slot = load_material_layers(material).clearcoat_normal_texture;
     return slot == INVALID_INDEX ? n : apply_normal_map(slot, triangle, b1, b2, n);
 }
 #endif

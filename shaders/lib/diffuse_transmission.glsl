@@ -16,12 +16,12 @@ DiffuseTransmission eval_diffuse_transmission(uint material, uint triangle, floa
     d.factor = 0.0f;
     d.color = vec3(1.0f);
     if (!effect_on(EFFECT_DIFFUSE_TRANSMISSION)) return d;
-    vec4 factors = material_layers[material].diffuse_transmission;
+    vec4 factors = load_material_layers(material).diffuse_transmission;
     d.factor = factors.w;
     d.color = vec3(factors);
     if (effect_on(EFFECT_DIFFUSE_TRANSMISSION_TEXTURE) && d.factor > 0.0f) {
-        LayerTexels t = sample_layer_textures(material_layers[material].diffuse_transmission_texture,
-                                              material_layers[material].diffuse_transmission_color_texture, triangle,
+        LayerTexels t = sample_layer_textures(load_material_layers(material).diffuse_transmission_texture,
+                                              load_material_layers(material).diffuse_transmission_color_texture, triangle,
                                               b1, b2);
         d.factor *= t.first.w;
         d.color *= vec3(t.second);

@@ -21,19 +21,19 @@ IridescenceLayer eval_iridescence_layer(uint material, uint triangle, float b1, 
     f.ior = 1.0f;
     f.albedo_bound = vec2(0.0f);
     if (!effect_on(EFFECT_IRIDESCENCE)) return f;
-    f.weight = material_layers[material].iridescence;
+    f.weight = load_material_layers(material).iridescence;
     if (!(f.weight > 0.0f)) return f;
-    f.thickness = material_layers[material].iridescence_thickness_max;
-    f.ior = material_layers[material].iridescence_ior;
-    f.albedo_bound = vec2(material_layers[material].iridescence_albedo_f0,
-                          material_layers[material].iridescence_albedo_f90);
+    f.thickness = load_material_layers(material).iridescence_thickness_max;
+    f.ior = load_material_layers(material).iridescence_ior;
+    f.albedo_bound = vec2(load_material_layers(material).iridescence_albedo_f0,
+                          load_material_layers(material).iridescence_albedo_f90);
     if (effect_on(EFFECT_IRIDESCENCE_TEXTURE)) {
-        uint thickness_slot = material_layers[material].iridescence_thickness_texture;
-        LayerTexels t = sample_layer_textures(material_layers[material].iridescence_texture, thickness_slot,
+        uint thickness_slot = load_material_layers(material).iridescence_thickness_texture;
+        LayerTexels t = sample_layer_textures(load_material_layers(material).iridescence_texture, thickness_slot,
                                               triangle, b1, b2);
         f.weight *= t.first.x;
         if (thickness_slot != INVALID_INDEX)
-            f.thickness = mix(material_layers[material].iridescence_thickness_min, f.thickness, t.second.y);
+            f.thickness = mix(load_material_layers(material).iridescence_thickness_min, f.thickness, t.second.y);
     }
     return f;
 }

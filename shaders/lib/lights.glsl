@@ -31,8 +31,6 @@ Emitter pick_emitter(float u) {
     return (scaled - float(i) < e.alias_threshold) ? e : load_emitter(e.alias);
 }
 
-PunctualLight load_punctual_light(uint index) { return punctual_lights[index]; }
-
 LightConnection make_invalid_connection() {
     LightConnection c;
     c.wi = vec3(0.0f, 0.0f, 1.0f);

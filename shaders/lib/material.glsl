@@ -91,7 +91,7 @@ TangentFrame build_tangent_frame(bool set1, uint triangle, float b1, float b2, v
     vec3 t = tangent.xyz;
     float sign = tangent.w;
     if (sign == 0.0f) {
-        TriangleAttributes a = tri_attributes[triangle];
+        TriangleAttributes a = load_triangle_attributes(triangle);
         vec2 uv0 = set1 ? a.uv0_c2_uv1_c0.zw : a.uv0_c01.xy;
         vec2 uv1 = set1 ? a.uv1_c12.xy : a.uv0_c01.zw;
         vec2 uv2 = set1 ? a.uv1_c12.zw : a.uv0_c2_uv1_c0.xy;

@@ -16,12 +16,12 @@ SheenLayer eval_sheen_layer(uint material, uint triangle, float b1, float b2) {
     s.color = vec3(0.0f);
     s.roughness = 0.0f;
     if (!effect_on(EFFECT_SHEEN)) return s;
-    vec4 factors = material_layers[material].sheen;
+    vec4 factors = load_material_layers(material).sheen;
     s.color = vec3(factors);
     s.roughness = factors.w;
     if (effect_on(EFFECT_SHEEN_TEXTURE) && max_value(s.color) > 0.0f) {
-        LayerTexels t = sample_layer_textures(material_layers[material].sheen_color_texture,
-                                              material_layers[material].sheen_roughness_texture, triangle, b1, b2);
+        LayerTexels t = sample_layer_textures(load_material_layers(material).sheen_color_texture,
+                                              load_material_layers(material).sheen_roughness_texture, triangle, b1, b2);
         s.color *= vec3(t.first);
         s.roughness *= t.second.w;
     }

@@ -4,7 +4,6 @@
 #define FH_TEXTURE_GLSL
 #include "texture_address.glsl"
 
-layout(std430, binding = BINDING_TRI_ATTRIBUTES) readonly buffer AttributeBuffer { TriangleAttributes tri_attributes[]; };
 layout(std430, binding = BINDING_TEXTURE_SLOTS) readonly buffer SlotBuffer { TextureSlot texture_slots[]; };
 layout(std430, binding = BINDING_TEXTURE_IMAGES) readonly buffer ImageBuffer { TextureImage texture_images[]; };
 layout(std430, binding = BINDING_TEXELS) readonly buffer TexelBuffer { uint texels[]; };
@@ -16,7 +15,7 @@ struct Texcoords {
 };
 
 Texcoords interpolate_texcoords(uint triangle, float b1, float b2) {
-    TriangleAttributes a = tri_attributes[triangle];
+    TriangleAttributes a = load_triangle_attributes(triangle);
     float b0 = 1.0f - b1 - b2;
     Texcoords t;
     t.uv0 = b0 * a.uv0_c01.xy + b1 * a.uv0_c01.zw + b2 * a.uv0_c2_uv1_c0.xy;
@@ -29,14 +28,14 @@ vec4 unpack_half4(uint rg, uint ba) { return vec4(unpackHalf2x16(rg), unpackHalf
 // Written as c0 + b1 (c1 - c0) + b2 (c2 - c0): equal corners give exactly their colour (white stays 1, so forcing
 // the effect on for a scene without COLOR_0 changes no bit).
 vec4 interpolate_color(uint triangle, float b1, float b2) {
-    TriangleAttributes a = tri_attributes[triangle];
+    TriangleAttributes a = load_triangle_attributes(triangle);
     vec4 c0 = unpack_half4(a.color0_rg, a.color0_ba);
     return c0 + b1 * (unpack_half4(a.color1_rg, a.color1_ba) - c0) + b2 * (unpack_half4(a.color2_rg, a.color2_ba) - c0);
 }
 
 // Interpolated TANGENT (w = bitangent sign), or w = 0 when the mesh has none.
 vec4 interpolate_tangent(uint triangle, float b1, float b2) {
-    TriangleAttributes a = tri_attributes[triangle];
+    TriangleAttributes a = load_triangle_attributes(triangle);
     float b0 = 1.0f - b1 - b2;
     vec4 t0 = unpack_half4(a.tangent0_xy, a.tangent0_zw);
     vec4 t = b0 * t0 + b1 * unpack_half4(a.tangent1_xy, a.tangent1_zw) + b2 * unpack_half4(a.tangent2_xy, a.tangent2_zw);

@@ -10,9 +10,9 @@
 // transmissionFactor times the R channel of transmissionTexture at barycentrics (b1, b2) of `triangle`.
 float eval_transmission(uint material, uint triangle, float b1, float b2) {
     if (!effect_on(EFFECT_TRANSMISSION)) return 0.0f;
-    float transmission = material_layers[material].transmission;
+    float transmission = load_material_layers(material).transmission;
     if (effect_on(EFFECT_TRANSMISSION_TEXTURE) && transmission > 0.0f) {
-        uint slot = material_layers[material].transmission_texture;
+        uint slot = load_material_layers(material).transmission_texture;
         if (slot != INVALID_INDEX) transmission *= sample_texture(slot, interpolate_texcoords(triangle, b1, b2)).x;
     }
     return transmission;
@@ -20,7 +20,7 @@ float eval_transmission(uint material, uint triangle, float b1, float b2) {
 
 // Whether the material's mesh bounds a volume that light refracts into (else its transmission is thin-walled).
 bool encloses_volume(uint material) {
-    return effect_on(EFFECT_VOLUME) && (material_layers[material].flags & LAYERS_VOLUME) != 0u;
+    return effect_on(EFFECT_VOLUME) && (load_material_layers(material).flags & LAYERS_VOLUME) != 0u;
 }
 
 // Whether paths remember the volume they are in (layout.h BINDING_PATH_MEDIA): for absorption, and so that
@@ -42,7 +42,7 @@ float roulette_scale(uint medium) {
 // (INVALID_INDEX: outside every volume, 1). A channel that does not absorb stays 1 even for t = inf.
 vec3 eval_medium_transmittance(uint medium, float t) {
     if (!effect_on(EFFECT_ABSORPTION) || medium == INVALID_INDEX) return vec3(1.0f);
-    vec3 sigma = material_layers[medium].attenuation.xyz;
+    vec3 sigma = load_material_layers(medium).attenuation.xyz;
     return vec3(sigma.x > 0.0f ? exp(-sigma.x * t) : 1.0f, sigma.y > 0.0f ? exp(-sigma.y * t) : 1.0f,
                 sigma.z > 0.0f ? exp(-sigma.z * t) : 1.0f);
 }
@@ -51,7 +51,7 @@ vec3 eval_medium_transmittance(uint medium, float t) {
 vec4 eval_path_medium_transmittance(SpectralFrame f, uint medium, float t) {
     if (!effect_on(EFFECT_SPECTRAL)) return vec4(eval_medium_transmittance(medium, t), 0.0f);
     if (!effect_on(EFFECT_ABSORPTION) || medium == INVALID_INDEX) return vec4(1.0f);
-    vec4 sigma = upsample_rgb(f, material_layers[medium].attenuation.xyz);
+    vec4 sigma = upsample_rgb(f, load_material_layers(medium).attenuation.xyz);
     vec4 transmittance;
     for (int k = 0; k < 4; ++k) transmittance[k] = sigma[k] > 0.0f ? exp(-sigma[k] * t) : 1.0f;
     return transmittance;

@@ -85,7 +85,7 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin
         // Descend until this lane holds a leaf, or finds nothing below (index INVALID_INDEX, count 0).
         while ((count == 0u || (scene_has_instances && count == INSTANCE_LEAF)) && index != INVALID_INDEX) {
             if (scene_has_instances && count == INSTANCE_LEAF) {
-                Instance inst = instances[index];
+                Instance inst = load_instance(index);
                 instance = index;
                 instance_base = stack_size;
                 origin = map_point(inst.object_from_render_0, inst.object_from_render_1, inst.object_from_render_2,

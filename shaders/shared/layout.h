@@ -22,53 +22,47 @@ using vec4 = glm::vec4;
 // ---- Dispatch shape -------------------------------------------------------------------------------------
 FH_CONST uint WORKGROUP_SIZE = 64u;  // lavapipe: 8-lane subgroups, 64..256 per group measured best
 
-// ---- Descriptor bindings (set 0, storage buffers but for the *_UNIFORM ones, shared by every stage) --------
+// ---- Descriptor bindings (set 0, shared by every stage) ------------------------------------------------------
+// The scene's read-only arrays of structs (marked TEXELS) are uniform texel buffers of RGBA32UI texels, one per 16
+// bytes, read by the loaders make_texel_loaders.py writes from the structs below: on lavapipe a texel fetch is one
+// gather for all lanes, where a storage-buffer load loops over the lanes with a bounds check per word (the extend
+// stage measured 2.2x faster on a 1.3M-triangle mesh, and faster than uniform buffers on the Cornell box), and a
+// texel buffer reaches maxTexelBufferElements x 16 bytes (2 GiB on lavapipe) where a storage buffer stops at
+// maxStorageBufferRange (128 MiB). The others are storage buffers, but for the one uniform buffer.
 FH_CONST uint BINDING_PARAMS = 0u;          // FrameParams, one element
-FH_CONST uint BINDING_BVH_NODES = 1u;       // BvhPairNode[], depth-first, root at 0
-FH_CONST uint BINDING_TRI_POSITIONS = 2u;   // TrianglePositions[], in BVH leaf order
-FH_CONST uint BINDING_TRI_SHADING = 3u;     // TriangleShading[], same order
-FH_CONST uint BINDING_MATERIALS = 4u;       // Material[]
-FH_CONST uint BINDING_EMITTERS = 5u;        // Emitter[] (alias table over emissive triangles and punctual lights)
+FH_CONST uint BINDING_BVH_NODES = 1u;       // TEXELS BvhPairNode[], depth-first, root at 0
+FH_CONST uint BINDING_TRI_POSITIONS = 2u;   // TEXELS TrianglePositions[], in BVH leaf order
+FH_CONST uint BINDING_TRI_SHADING = 3u;     // TEXELS TriangleShading[], same order
+FH_CONST uint BINDING_MATERIALS = 4u;       // TEXELS Material[]
+FH_CONST uint BINDING_EMITTERS = 5u;        // TEXELS Emitter[] (alias table over emissive triangles and punctual lights)
 FH_CONST uint BINDING_COUNTERS = 6u;        // QueueCounters, one element (also the indirect-dispatch source)
 FH_CONST uint BINDING_PATHS = 7u;           // PathState[wave capacity]
 FH_CONST uint BINDING_RAYS = 8u;            // RayItem[2 * wave capacity]: two queues, by depth parity
 FH_CONST uint BINDING_HITS = 9u;            // HitItem[wave capacity], aligned with the current ray queue
 FH_CONST uint BINDING_SHADOW_RAYS = 10u;    // ShadowRayItem[wave capacity]
 FH_CONST uint BINDING_FILM = 11u;           // FilmPixel[width * height]
-// The first UNIFORM_BUFFER_BYTES of the scene buffers (bindings 1-5) again, as uniform buffers: lavapipe
-// reads a uniform buffer with one unrolled gather per word, a storage buffer with a per-lane loop of
-// branches and bounds checks (several times slower). The stages read them when every array fits.
-FH_CONST uint BINDING_BVH_NODES_UNIFORM = 12u;
-FH_CONST uint BINDING_TRI_POSITIONS_UNIFORM = 13u;
-FH_CONST uint BINDING_TRI_SHADING_UNIFORM = 14u;
-FH_CONST uint BINDING_MATERIALS_UNIFORM = 15u;
-FH_CONST uint BINDING_EMITTERS_UNIFORM = 16u;
-FH_CONST uint BINDING_GGX_ALBEDO_UNIFORM = 17u;  // the GGX albedo table (shaders/lib/ggx_albedo_table.glsl)
-FH_CONST uint BINDING_PUNCTUAL_LIGHTS = 18u;    // PunctualLight[] (KHR_lights_punctual), read by NEE only
-FH_CONST uint BINDING_TRI_ATTRIBUTES = 19u;     // TriangleAttributes[] (BVH leaf order), when EFFECT_ATTRIBUTES
-FH_CONST uint BINDING_TEXTURE_SLOTS = 20u;      // TextureSlot[]: a material's reference to a texture
-FH_CONST uint BINDING_TEXTURE_IMAGES = 21u;     // TextureImage[]: where each image's texels start
-FH_CONST uint BINDING_TEXELS = 22u;             // uint[]: RGBA8 texels of every image, rows top to bottom
-FH_CONST uint BINDING_ENV_RADIANCE = 23u;       // vec4[]: environment radiance (rgb), equirectangular rows
-FH_CONST uint BINDING_ENV_CDF = 24u;            // float[]: marginal CDF (height + 1), then one CDF per row
-FH_CONST uint BINDING_INSTANCES = 25u;       // Instance[] (two-level BVH), when the scene has instances
-FH_CONST uint BINDING_MATERIAL_LAYERS = 26u; // MaterialLayers[] (KHR material extensions), parallel to Material[]
-FH_CONST uint BINDING_PATH_MEDIA = 27u;      // uint[wave capacity]: the volume a path is in (EFFECT_VOLUME, _ABSORPTION)
-FH_CONST uint BINDING_PATH_SPECTRA = 28u;    // PathSpectrum[wave capacity]: a path's wavelengths (EFFECT_SPECTRAL)
-FH_CONST uint BINDING_GLASS_ALBEDO = 29u;    // float[]: glass_albedo_table.glsl (EFFECT_GLASS_MULTISCATTER; else one word)
-FH_CONST uint BINDING_BVH_NODE_TEXELS = 30u; // BvhPairNode[] again, as a uniform texel buffer of RGBA32UI (4 per node)
-FH_CONST uint BINDING_TRI_POSITION_TEXELS = 31u;  // TrianglePositions[] again, as RGBA32UI texels (3 per triangle)
-FH_CONST uint BINDING_COUNT = 32u;
-FH_CONST uint UNIFORM_BUFFER_BYTES = 65536u;  // declared size of each; Vulkan guarantees only 16 KiB of
-                                              // maxUniformBufferRange, so fits_uniform_buffers (pack.h) checks
+FH_CONST uint BINDING_GGX_ALBEDO_UNIFORM = 12u;  // uniform buffer: the BSDF's albedo tables (ggx_albedo_table.glsl, ...)
+FH_CONST uint BINDING_PUNCTUAL_LIGHTS = 13u;    // TEXELS PunctualLight[] (KHR_lights_punctual), read by NEE only
+FH_CONST uint BINDING_TRI_ATTRIBUTES = 14u;     // TEXELS TriangleAttributes[] (BVH leaf order), when EFFECT_ATTRIBUTES
+FH_CONST uint BINDING_TEXTURE_SLOTS = 15u;      // TextureSlot[]: a material's reference to a texture
+FH_CONST uint BINDING_TEXTURE_IMAGES = 16u;     // TextureImage[]: where each image's texels start
+FH_CONST uint BINDING_TEXELS = 17u;             // uint[]: RGBA8 texels of every image, rows top to bottom
+FH_CONST uint BINDING_ENV_RADIANCE = 18u;       // vec4[]: environment radiance (rgb), equirectangular rows
+FH_CONST uint BINDING_ENV_CDF = 19u;            // float[]: marginal CDF (height + 1), then one CDF per row
+FH_CONST uint BINDING_INSTANCES = 20u;       // TEXELS Instance[] (two-level BVH), when the scene has instances
+FH_CONST uint BINDING_MATERIAL_LAYERS = 21u; // TEXELS MaterialLayers[] (KHR material extensions), parallel to Material[]
+FH_CONST uint BINDING_PATH_MEDIA = 22u;      // uint[wave capacity]: the volume a path is in (EFFECT_VOLUME, _ABSORPTION)
+FH_CONST uint BINDING_PATH_SPECTRA = 23u;    // PathSpectrum[wave capacity]: a path's wavelengths (EFFECT_SPECTRAL)
+FH_CONST uint BINDING_GLASS_ALBEDO = 24u;    // float[]: glass_albedo_table.glsl (EFFECT_GLASS_MULTISCATTER; else one word)
+FH_CONST uint BINDING_COUNT = 25u;
+FH_CONST uint TEXEL_BYTES = 16u;             // one RGBA32UI texel of a TEXELS binding
 
 // ---- Specialization constants (constant_id) -------------------------------------------------------------
-FH_CONST uint SPEC_SCENE_IN_UNIFORM_BUFFERS = 0u;  // bool: every scene array fits its uniform binding
-FH_CONST uint SPEC_DISABLED_TECHNIQUES = 1u;       // TECHNIQUE_* bits switched off (cost measurements only)
-FH_CONST uint SPEC_EFFECTS = 2u;                   // EFFECT_* bits: what the scene calls for (scene/effects.h)
-FH_CONST uint SPEC_HAS_INSTANCES = 3u;             // bool: two-level BVH (meshes drawn by several nodes)
-FH_CONST uint SPEC_SAMPLER = 4u;                   // SAMPLER_*: where a path's random numbers come from
-FH_CONST uint SPEC_CONSTANT_COUNT = 5u;
+FH_CONST uint SPEC_DISABLED_TECHNIQUES = 0u;       // TECHNIQUE_* bits switched off (cost measurements only)
+FH_CONST uint SPEC_EFFECTS = 1u;                   // EFFECT_* bits: what the scene calls for (scene/effects.h)
+FH_CONST uint SPEC_HAS_INSTANCES = 2u;             // bool: two-level BVH (meshes drawn by several nodes)
+FH_CONST uint SPEC_SAMPLER = 3u;                   // SAMPLER_*: where a path's random numbers come from
+FH_CONST uint SPEC_CONSTANT_COUNT = 4u;
 
 // ---- Effects (engine/scene/effects.h decides them by value; a stage compiles only the code of those set) ----
 FH_CONST uint EFFECT_BASE_COLOR_TEXTURE = 1u;      // some visible material has a baseColorTexture
@@ -162,10 +156,6 @@ FH_CONST uint LIGHT_POINT = 0u;            // PunctualLight.type
 FH_CONST uint LIGHT_SPOT = 1u;
 FH_CONST uint LIGHT_DIRECTIONAL = 2u;
 
-FH_CONST uint UNIFORM_NODE_CAPACITY = UNIFORM_BUFFER_BYTES / 64u;      // BvhPairNode
-FH_CONST uint UNIFORM_TRIANGLE_CAPACITY = UNIFORM_BUFFER_BYTES / 48u;  // TrianglePositions, TriangleShading
-FH_CONST uint UNIFORM_MATERIAL_CAPACITY = UNIFORM_BUFFER_BYTES / 96u;  // Material
-FH_CONST uint UNIFORM_EMITTER_CAPACITY = UNIFORM_BUFFER_BYTES / 16u;   // Emitter
 
 // ---- Scene ---------------------------------------------------------------------------------------------
 // One node of the linear BVH (pbrt-v4 LinearBVHNode, 32 bytes). Interior nodes: first child is the next
@@ -204,7 +194,7 @@ struct Instance {
     uint pad0;
 };
 // World-space vertex positions of one triangle; only these are read during traversal (9 words). Padded to
-// 48 bytes so that std140 (uniform buffers) and std430 give the same array stride.
+// 48 bytes: three whole texels.
 struct TrianglePositions {
     float p0_x, p0_y, p0_z;
     float p1_x, p1_y, p1_z;

@@ -131,8 +131,7 @@ def main():
     agree_hit = float(np.mean(np.isfinite(fredholm_t) == np.isfinite(embree_t)))
     rel = np.abs(fredholm_t[both] - embree_t[both]) / np.maximum(embree_t[both], 1e-12)
     print(f"scene {os.path.basename(args.scene)}: {len(triangles)} triangles, {args.rays} diffuse-bounce rays")
-    print(f"fredholm extend: {fredholm_rate / 1e6:.3f} Mrays/s ({'uniform' if stats['uniform_scene'] else 'storage'}-buffer "
-          f"scene, median of {args.repeats})")
+    print(f"fredholm extend: {fredholm_rate / 1e6:.3f} Mrays/s (median of {args.repeats})")
     print(f"embree {args.threads} thread(s): {embree_rate / 1e6:.3f} Mrays/s (median of {args.repeats})")
     print(f"fredholm / embree: {fredholm_rate / embree_rate:.3f}; hit or miss agree on {100 * agree_hit:.4f}% of rays, "
           f"hit distance relative difference median {np.median(rel):.2e}, 99.9th percentile {np.quantile(rel, 0.999):.2e}")

@@ -25,9 +25,9 @@ Scene make_grey_scene(const std::vector<glm::vec3>& positions) {
     return make_single_material_scene(positions, material);
 }
 
-// Runs extend once, reading the scene from uniform buffers (the fast path) or from storage buffers.
+// Runs extend once over `rays`.
 ExtendResult run_extend_once(vk::Context& context, const PackedScene& packed, const Bvh& bvh,
-                             const std::vector<Ray>& rays, bool uniform_scene) {
+                             const std::vector<Ray>& rays) {
     std::vector<uint32_t> leaf_index_of(bvh.triangle_order.size());
     for (size_t i = 0; i < bvh.triangle_order.size(); ++i) leaf_index_of[bvh.triangle_order[i]] = uint32_t(i);
     std::vector<gpu::RayItem> items(rays.size());
@@ -37,7 +37,7 @@ ExtendResult run_extend_once(vk::Context& context, const PackedScene& packed, co
         items[i] = {rays[i].origin.x, rays[i].origin.y, rays[i].origin.z, uint32_t(i),
                     rays[i].dir.x,    rays[i].dir.y,    rays[i].dir.z,    from};
     }
-    RayTracer tracer(context, packed, uint32_t(rays.size()), uniform_scene);
+    RayTracer tracer(context, packed, uint32_t(rays.size()));
     TracedRays traced = tracer.trace(items);
     ExtendResult result;
     result.hits = std::move(traced.hits);
@@ -66,16 +66,7 @@ ExtendResult run_extend_stage(const std::vector<glm::vec3>& positions, const std
     Scene scene = make_grey_scene(positions);
     Bvh bvh = build_bvh(scene.positions, options);
     PackedScene packed = pack_scene(scene, bvh);
-    ExtendResult result = run_extend_once(context, packed, bvh, rays, false);
-    if (fits_uniform_buffers(packed, context.properties().limits.maxUniformBufferRange)) {
-        ExtendResult fast = run_extend_once(context, packed, bvh, rays, true);
-        size_t differing = 0;
-        for (size_t i = 0; i < rays.size(); ++i)
-            differing += fast.hits[i].triangle != result.hits[i].triangle || fast.hits[i].t != result.hits[i].t;
-        EXPECT_EQ(differing, 0u) << "uniform-buffer and storage-buffer scene paths disagree";
-        result.uniform_path_checked = true;
-    }
-    return result;
+    return run_extend_once(context, packed, bvh, rays);
 }
 
 }  // namespace fh::test

@@ -20,14 +20,12 @@ struct Ray {
 struct ExtendResult {
     std::vector<gpu::HitItem> hits;     // triangle = original triangle index (INVALID_INDEX: miss)
     uint32_t escaped_rays = 0;          // as counted by the device
-    bool uniform_path_checked = false;  // the scene fit the uniform buffers and that path gave the same hits
 };
 
 // One Vulkan context for the whole test binary (validation on when FREDHOLM_VALIDATION=1).
 vk::Context& shared_test_context();
 
-// Builds a BVH over `positions` (3 per triangle), queues `rays`, dispatches extend, reads the hits: with the
-// scene in storage buffers, and again from uniform buffers when it fits (both must agree bit for bit).
+// Builds a BVH over `positions` (3 per triangle), queues `rays`, dispatches extend, reads the hits.
 ExtendResult run_extend_stage(const std::vector<glm::vec3>& positions, const std::vector<Ray>& rays,
                               const BvhOptions& options = {});
 

@@ -34,15 +34,13 @@ FH_OFFSET(BvhPairNode, b_index, 44);
 FH_OFFSET(BvhPairNode, b_max_x, 48);
 FH_OFFSET(BvhPairNode, b_count, 60);
 
-// Uniform-buffer copies use std140, where an array stride rounds up to 16 bytes: these strides must not.
-static_assert(sizeof(BvhPairNode) % 16 == 0 && sizeof(TrianglePositions) % 16 == 0, "std140 stride");
-static_assert(UNIFORM_NODE_CAPACITY * sizeof(BvhPairNode) <= UNIFORM_BUFFER_BYTES, "node capacity");
-static_assert(UNIFORM_TRIANGLE_CAPACITY * sizeof(TrianglePositions) <= UNIFORM_BUFFER_BYTES, "triangle capacity");
-static_assert(UNIFORM_TRIANGLE_CAPACITY * sizeof(TriangleShading) <= UNIFORM_BUFFER_BYTES, "shading capacity");
-static_assert(UNIFORM_MATERIAL_CAPACITY * sizeof(Material) <= UNIFORM_BUFFER_BYTES, "material capacity");
-static_assert(UNIFORM_EMITTER_CAPACITY * sizeof(Emitter) <= UNIFORM_BUFFER_BYTES, "emitter capacity");
-static_assert(sizeof(TriangleShading) % 16 == 0 && sizeof(Material) % 16 == 0 && sizeof(Emitter) % 16 == 0,
-              "std140 stride");
+// The scene arrays bound as texel buffers (layout.h TEXELS) are read as whole 16-byte RGBA32UI texels.
+static_assert(sizeof(BvhPairNode) % TEXEL_BYTES == 0 && sizeof(TrianglePositions) % TEXEL_BYTES == 0 &&
+                  sizeof(TriangleShading) % TEXEL_BYTES == 0 && sizeof(Material) % TEXEL_BYTES == 0 &&
+                  sizeof(Emitter) % TEXEL_BYTES == 0 && sizeof(PunctualLight) % TEXEL_BYTES == 0 &&
+                  sizeof(TriangleAttributes) % TEXEL_BYTES == 0 && sizeof(Instance) % TEXEL_BYTES == 0 &&
+                  sizeof(MaterialLayers) % TEXEL_BYTES == 0,
+              "texel-buffer structs are whole texels");
 
 FH_SIZE(TrianglePositions, 48);
 FH_OFFSET(TrianglePositions, source_index, 36);

@@ -70,7 +70,6 @@ TEST(StabilityEdgesAndVertices, RaysThroughSharedVerticesAndEdgesAllHitFarAndTin
             };
             aim_at_vertices_and_edges(mesh, origin_for, keep, rays, distances);
             const ExtendResult result = run_extend_stage(mesh.flatten(), rays);
-            EXPECT_TRUE(result.uniform_path_checked);
             size_t misses = 0, wrong_distance = 0;
             for (size_t i = 0; i < rays.size(); ++i) {
                 if (result.hits[i].triangle == gpu::INVALID_INDEX) {

@@ -46,7 +46,6 @@ struct LeakCount {
     uint32_t escaped = 0;    // the device's escaped-ray counter
     size_t wrong_hits = 0;   // hits whose point is not on the sphere near the reported triangle
     std::vector<size_t> missed_rays;
-    bool uniform_path_checked = false;
     double seconds = 0.0;
 };
 
@@ -57,7 +56,6 @@ LeakCount trace_inside_rays(const Mesh& mesh, const std::vector<Ray>& rays) {
     LeakCount count;
     count.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     count.escaped = result.escaped_rays;
-    count.uniform_path_checked = result.uniform_path_checked;
     for (size_t i = 0; i < rays.size(); ++i) {
         const gpu::HitItem& hit = result.hits[i];
         if (hit.triangle == gpu::INVALID_INDEX) {
@@ -103,15 +101,13 @@ TEST(StabilityLeaks, ClosedSphereFarFromOriginMillionRays) {
     EXPECT_EQ(c.wrong_hits, 0u);
 }
 
-// The same far sphere with ~1300 triangles, small enough for the uniform-buffer scene path: the harness
-// traces every ray through both paths and requires bit-identical hits.
-TEST(StabilityLeaks, ClosedSphereFarFromOriginUniformBufferPath) {
+// The same far sphere with ~1300 triangles (a BVH a few levels deep: most rays end in the first leaves they meet).
+TEST(StabilityLeaks, ClosedSphereFarFromOriginCoarseMesh) {
     const Mesh sphere = make_icosphere(CENTRE, RADIUS, 3);
     ASSERT_TRUE(is_closed(sphere));
     const std::vector<Ray> rays = make_inside_rays(1 << 18, 7);
     const LeakCount c = trace_inside_rays(sphere, rays);
-    print_leaks("leaks, uniform-buffer sphere", sphere.indices.size() / 3, rays.size(), c);
-    EXPECT_TRUE(c.uniform_path_checked);
+    print_leaks("leaks, coarse sphere", sphere.indices.size() / 3, rays.size(), c);
     EXPECT_LE(double(c.misses), MAX_MISS_FRACTION * double(rays.size()));
     EXPECT_EQ(c.escaped, uint32_t(c.misses));
     EXPECT_EQ(c.wrong_hits, 0u);
