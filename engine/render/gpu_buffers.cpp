@@ -1,6 +1,7 @@
 // Allocates and fills the device buffers; empty arrays get one dummy element (Vulkan has no empty buffers).
 #include "render/gpu_buffers.h"
 
+#include <cstring>
 #include <span>
 #include <stdexcept>
 #include <vector>
@@ -60,6 +61,13 @@ vk::Buffer make_filled_buffer(const vk::Context& context, const std::vector<T>& 
     return make_buffer(context, items, STORAGE);
 }
 
+// The images' RGBA8 texels, four to an RGBA32UI texel: zeros after the last to fill it.
+std::vector<gpu::uvec4> pad_to_texels(const std::vector<uint32_t>& texels) {
+    std::vector<gpu::uvec4> packed((texels.size() + 3) / 4, gpu::uvec4(0u));
+    if (!texels.empty()) std::memcpy(packed.data(), texels.data(), texels.size() * sizeof(uint32_t));
+    return packed;
+}
+
 // A scene array read as RGBA32UI texels (layout.h TEXELS bindings): whole texels per element.
 template <typename T>
 vk::Buffer make_texel_buffer(const vk::Context& context, const std::vector<T>& items) {
@@ -107,9 +115,9 @@ GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& sce
                                                           make_default_attributes()));
     else
         b.tri_attributes = make_texel_buffer(context, scene.attributes);
-    b.texture_slots = make_filled_buffer(context, scene.texture_slots);
-    b.texture_images = make_filled_buffer(context, scene.texture_images);
-    b.texels = make_filled_buffer(context, scene.texels);
+    b.texture_slots = make_texel_buffer(context, scene.texture_slots);
+    b.texture_images = make_texel_buffer(context, scene.texture_images);
+    b.texels = make_texel_buffer(context, pad_to_texels(scene.texels));
     b.env_radiance = make_filled_buffer(context, scene.environment.texels);
     b.env_cdf = make_filled_buffer(context, scene.environment.cdf);
     b.instances = make_texel_buffer(context, scene.instances);

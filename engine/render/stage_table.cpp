@@ -25,7 +25,8 @@ std::array<VkDescriptorType, gpu::BINDING_COUNT> binding_types() {
     types[gpu::BINDING_GGX_ALBEDO_UNIFORM] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     for (uint32_t texels : {gpu::BINDING_BVH_NODES, gpu::BINDING_TRI_POSITIONS, gpu::BINDING_TRI_SHADING,
                             gpu::BINDING_MATERIALS, gpu::BINDING_EMITTERS, gpu::BINDING_PUNCTUAL_LIGHTS,
-                            gpu::BINDING_TRI_ATTRIBUTES, gpu::BINDING_INSTANCES, gpu::BINDING_MATERIAL_LAYERS})
+                            gpu::BINDING_TRI_ATTRIBUTES, gpu::BINDING_INSTANCES, gpu::BINDING_MATERIAL_LAYERS,
+                            gpu::BINDING_TEXTURE_SLOTS, gpu::BINDING_TEXTURE_IMAGES, gpu::BINDING_TEXELS})
         types[texels] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;  // layout.h TEXELS bindings
     return types;
 }

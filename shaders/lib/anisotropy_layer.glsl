@@ -28,7 +28,7 @@ AnisotropyLayer eval_anisotropy_layer(uint material, uint triangle, float b1, fl
         vec3 texel = vec3(sample_texture(slot, interpolate_texcoords(triangle, b1, b2)));
         d = vec2(texel) * 2.0f - 1.0f;
         strength *= texel.z;
-        set1 = (texture_slots[slot].addressing & SAMPLER_TEXCOORD_1) != 0u;
+        set1 = (load_texture_slot(slot).addressing & SAMPLER_TEXCOORD_1) != 0u;
     }
     float c = load_material_layers(material).anisotropy_cos;
     float s = load_material_layers(material).anisotropy_sin;

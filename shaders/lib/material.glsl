@@ -119,7 +119,7 @@ TangentFrame build_tangent_frame(bool set1, uint triangle, float b1, float b2, v
 // `ns` (the interpolated normal, on the geometric normal's side) with the tangent-space normal texture of
 // TextureSlot `slot_index` applied (spec 3.9.3), on the same side.
 vec3 apply_normal_map(uint slot_index, uint triangle, float b1, float b2, vec3 ns) {
-    TextureSlot slot = texture_slots[slot_index];
+    TextureSlot slot = load_texture_slot(slot_index);
     TangentFrame f = build_tangent_frame((slot.addressing & SAMPLER_TEXCOORD_1) != 0u, triangle, b1, b2, ns);
     if (!f.valid) return ns;  // leave the normal alone
     vec3 n_ts = sample_texture(slot_index, interpolate_texcoords(triangle, b1, b2)).xyz * 2.0f - 1.0f;

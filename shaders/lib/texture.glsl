@@ -4,9 +4,10 @@
 #define FH_TEXTURE_GLSL
 #include "texture_address.glsl"
 
-layout(std430, binding = BINDING_TEXTURE_SLOTS) readonly buffer SlotBuffer { TextureSlot texture_slots[]; };
-layout(std430, binding = BINDING_TEXTURE_IMAGES) readonly buffer ImageBuffer { TextureImage texture_images[]; };
-layout(std430, binding = BINDING_TEXELS) readonly buffer TexelBuffer { uint texels[]; };
+// The images' RGBA8 texels, four to a texel of the RGBA32UI texel buffer (layout.h BINDING_TEXELS).
+layout(binding = BINDING_TEXELS) uniform usamplerBuffer image_texels;
+
+uint load_image_texel(uint index) { return texelFetch(image_texels, int(index >> 2u))[index & 3u]; }
 
 // Both texture coordinate sets at barycentrics (b1, b2) of a triangle.
 struct Texcoords {
@@ -44,14 +45,14 @@ vec4 interpolate_tangent(uint triangle, float b1, float b2) {
 }
 
 uint load_texel(TextureImage image, int x, int y) {
-    return texels[image.texel_offset + uint(y) * image.width + uint(x)];
+    return load_image_texel(image.texel_offset + uint(y) * image.width + uint(x));
 }
 
 // Material slot `slot_index` at the hit's texture coordinates: linear RGBA (colour slots sRGB-decoded).
 vec4 sample_texture(uint slot_index, Texcoords tc) {
-    TextureSlot slot = texture_slots[slot_index];
+    TextureSlot slot = load_texture_slot(slot_index);
     vec2 uv = transform_texcoord(slot, (slot.addressing & SAMPLER_TEXCOORD_1) != 0u ? tc.uv1 : tc.uv0);
-    TextureImage image = texture_images[slot.image];
+    TextureImage image = load_texture_image(slot.image);
     uint wrap_s = slot.addressing & 3u;
     uint wrap_t = (slot.addressing >> 2u) & 3u;
     bool srgb = (slot.addressing & SAMPLER_SRGB) != 0u;

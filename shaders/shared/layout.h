@@ -14,6 +14,7 @@
 namespace fh::gpu {
 using uint = std::uint32_t;
 using vec4 = glm::vec4;
+using uvec4 = glm::uvec4;
 #define FH_CONST inline constexpr
 #else
 #define FH_CONST const
@@ -44,9 +45,10 @@ FH_CONST uint BINDING_FILM = 11u;           // FilmPixel[width * height]
 FH_CONST uint BINDING_GGX_ALBEDO_UNIFORM = 12u;  // uniform buffer: the BSDF's albedo tables (ggx_albedo_table.glsl, ...)
 FH_CONST uint BINDING_PUNCTUAL_LIGHTS = 13u;    // TEXELS PunctualLight[] (KHR_lights_punctual), read by NEE only
 FH_CONST uint BINDING_TRI_ATTRIBUTES = 14u;     // TEXELS TriangleAttributes[] (BVH leaf order), when EFFECT_ATTRIBUTES
-FH_CONST uint BINDING_TEXTURE_SLOTS = 15u;      // TextureSlot[]: a material's reference to a texture
-FH_CONST uint BINDING_TEXTURE_IMAGES = 16u;     // TextureImage[]: where each image's texels start
-FH_CONST uint BINDING_TEXELS = 17u;             // uint[]: RGBA8 texels of every image, rows top to bottom
+FH_CONST uint BINDING_TEXTURE_SLOTS = 15u;      // TEXELS TextureSlot[]: a material's reference to a texture
+FH_CONST uint BINDING_TEXTURE_IMAGES = 16u;     // TEXELS TextureImage[]: where each image's texels start
+FH_CONST uint BINDING_TEXELS = 17u;             // TEXELS uint[]: RGBA8 image texels, rows top to bottom, four per
+                                                // RGBA32UI texel (texture.glsl load_image_texel)
 FH_CONST uint BINDING_ENV_RADIANCE = 18u;       // vec4[]: environment radiance (rgb), equirectangular rows
 FH_CONST uint BINDING_ENV_CDF = 19u;            // float[]: marginal CDF (height + 1), then one CDF per row
 FH_CONST uint BINDING_INSTANCES = 20u;       // TEXELS Instance[] (two-level BVH), when the scene has instances

@@ -24,6 +24,8 @@ TEXEL_STRUCTS = [
     ("TriangleAttributes", "load_triangle_attributes", "triangle", "BINDING_TRI_ATTRIBUTES", "tri_attribute_texels"),
     ("Instance", "load_instance", "instance", "BINDING_INSTANCES", "instance_texels"),
     ("MaterialLayers", "load_material_layers", "material", "BINDING_MATERIAL_LAYERS", "material_layer_texels"),
+    ("TextureSlot", "load_texture_slot", "slot", "BINDING_TEXTURE_SLOTS", "texture_slot_texels"),
+    ("TextureImage", "load_texture_image", "image", "BINDING_TEXTURE_IMAGES", "texture_image_texels"),
 ]
 
 
