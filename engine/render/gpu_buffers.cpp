@@ -2,6 +2,7 @@
 #include "render/gpu_buffers.h"
 
 #include <cstring>
+#include <initializer_list>
 #include <span>
 #include <stdexcept>
 #include <vector>
@@ -19,31 +20,26 @@ namespace tables {
 }  // namespace tables
 namespace {
 
+// Tables one after the other, as one buffer's words.
+std::vector<float> concatenate(std::initializer_list<std::span<const float>> parts) {
+    std::vector<float> words;
+    for (const std::span<const float>& part : parts) words.insert(words.end(), part.begin(), part.end());
+    return words;
+}
+
 // The GGX albedo table in the order shaders/lib/ggx_albedo_table.glsl documents, then the sheen lobe's, then the
 // spectral path's (bindings.glsl reads all three from one uniform buffer).
 std::vector<float> flatten_albedo_tables() {
-    std::vector<float> words;
-    words.reserve(tables::GGX_ALBEDO_TABLE_SIZE + tables::SHEEN_ALBEDO_TABLE_SIZE + tables::SPECTRAL_TABLE_SIZE);
-    for (const auto& part : {std::span<const float>(tables::GGX_ALBEDO_A), std::span<const float>(tables::GGX_ALBEDO_B),
-                             std::span<const float>(tables::GGX_ALBEDO_AVERAGE_A),
-                             std::span<const float>(tables::GGX_ALBEDO_AVERAGE_B), std::span<const float>(tables::SHEEN_ALBEDO),
-                             std::span<const float>(tables::SPECTRAL_TABLE)})
-        words.insert(words.end(), part.begin(), part.end());
-    return words;
+    return concatenate({tables::GGX_ALBEDO_A, tables::GGX_ALBEDO_B, tables::GGX_ALBEDO_AVERAGE_A,
+                        tables::GGX_ALBEDO_AVERAGE_B, tables::SHEEN_ALBEDO, tables::SPECTRAL_TABLE});
 }
 
 // The glass albedo table in the order shaders/lib/glass_albedo_table.glsl documents (EFFECT_GLASS_MULTISCATTER),
 // else one word.
 std::vector<float> flatten_glass_albedo_table(uint32_t effects) {
     if (!(effects & gpu::EFFECT_GLASS_MULTISCATTER)) return {0.0f};
-    std::vector<float> words;
-    words.reserve(tables::GLASS_ALBEDO_TABLE_SIZE);
-    for (const auto& part : {std::span<const float>(tables::GLASS_ALBEDO_OUT), std::span<const float>(tables::GLASS_ALBEDO_IN),
-                             std::span<const float>(tables::GLASS_ALBEDO_AVERAGE_OUT),
-                             std::span<const float>(tables::GLASS_ALBEDO_AVERAGE_IN), std::span<const float>(tables::GLASS_ALBEDO_K),
-                             std::span<const float>(tables::GLASS_ALBEDO_F_AVERAGE)})
-        words.insert(words.end(), part.begin(), part.end());
-    return words;
+    return concatenate({tables::GLASS_ALBEDO_OUT, tables::GLASS_ALBEDO_IN, tables::GLASS_ALBEDO_AVERAGE_OUT,
+                        tables::GLASS_ALBEDO_AVERAGE_IN, tables::GLASS_ALBEDO_K, tables::GLASS_ALBEDO_F_AVERAGE});
 }
 
 constexpr VkBufferUsageFlags STORAGE = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
