@@ -14,6 +14,7 @@
 #include "io/atomic_write.h"
 #include "io/image.h"
 #include "render/camera_setup.h"
+#include "render/memory_estimate.h"
 #include "render/ray_tracer.h"
 #include "render/renderer.h"
 #include "render/techniques.h"
@@ -186,11 +187,36 @@ int trace_ray_file(const vk::Context& context, const PreparedScene& prepared, co
     }
     if (!c.json.empty()) {
         nlohmann::json j = {{"rays", count}, {"seconds", seconds}, {"median_seconds", median},
-                            {"rays_per_second", double(count) / median}, {"escaped_rays", traced.escaped_rays}};
+                            {"rays_per_second", double(count) / median}, {"escaped_rays", traced.escaped_rays},
+                            {"triangles_stored", prepared.scene.triangle_count()},
+                            {"bvh_build_seconds", prepared.bvh_build_seconds}};
         const std::string text = j.dump(1) + "\n";
         write_bytes_atomically(c.json, text.data(), text.size());
     }
     return 0;
+}
+
+// Device memory per path in flight (the wave's buffers, from the estimate at two wave sizes) and per stored triangle
+// (the scene's arrays: positions, shading, attributes and the BVH), and the scene's total: what a render needs
+// beyond its film.
+void print_memory_figures(const PreparedScene& prepared, const RenderSettings& settings) {
+    const uint32_t effects = select_effects(prepared.packed.effects.bits, settings.forced_effects, settings.disabled_effects);
+    const auto bytes = [&](uint32_t capacity) {
+        return estimate_render_memory(prepared.packed, 16, 16, capacity, effects).device_bytes();
+    };
+    const double per_path = double(bytes(1u << 16) - bytes(1u << 15)) / double(1u << 15);
+    uint64_t scene_bytes = 0, triangle_bytes = 0;
+    for (const BufferEstimate& b : estimate_render_memory(prepared.packed, 16, 16, 1, effects).buffers) {
+        if (b.name == "tri_positions" || b.name == "tri_shading" || b.name == "tri_attributes" || b.name == "nodes")
+            triangle_bytes += b.bytes;
+        if (b.binding == BufferBinding::texels) scene_bytes += b.bytes;
+    }
+    const size_t stored = std::max<size_t>(prepared.scene.triangle_count(), 1);
+    std::printf("memory: %.0f bytes per path in flight (%.1f MiB for the default wave of %u paths); %.1f bytes per "
+                "stored triangle (positions, shading, attributes, BVH; %zu stored); scene arrays %.1f MiB\n",
+                per_path, per_path * settings.wave_paths / double(1 << 20), settings.wave_paths,
+                double(triangle_bytes) / double(stored), stored,
+                double(scene_bytes) / double(1 << 20));
 }
 
 }  // namespace
@@ -211,6 +237,7 @@ int run_bench(const BenchCommand& c) {
                 scene_file.string().c_str(), prepared.scene.rendered_triangle_count(), prepared.scene.triangle_count(),
                 prepared.scene.instances.size(), prepared.load_seconds,
                 prepared.bvh_nodes, prepared.bvh_build_seconds, prepared.sah_cost);
+    print_memory_figures(prepared, base);
     if (!c.trace_rays.empty()) return trace_ray_file(*context, prepared, c);
     std::printf("device %s; %u spp, max depth %u, median of %u\n\n", context->device_name().c_str(), c.spp,
                 c.max_depth, c.repeats);

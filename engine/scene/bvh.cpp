@@ -6,10 +6,12 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <exception>
 #include <limits>
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <thread>
 
 namespace fh {
 namespace {
@@ -148,93 +150,188 @@ void write_bounds(gpu::BvhNode& node, const Box& b) {
     node.max_z = b.hi.z;
 }
 
-Bvh build_from_refs(std::vector<PrimRef> refs, const BvhOptions& options,
-                    std::chrono::steady_clock::time_point start) {
-    const uint32_t triangle_count = uint32_t(refs.size());
-    Bvh bvh;
-    bvh.nodes.reserve(2 * size_t(triangle_count));
+// How a node is built: its box, and where its range is split (axis < 0: it is a leaf).
+struct NodeSplit {
+    Box bounds;
+    double area = 0.0;
+    int axis = -1;
+    uint32_t mid = 0;
+};
+
+// Bounds the task's range and chooses: leaf, SAH split, or median split (coincident centroids or a zero-area
+// box), partitioning the range in place for a split.
+NodeSplit split_node(std::vector<PrimRef>& refs, const Task& task, const BvhOptions& options, BinScratch& bins) {
+    NodeSplit out;
+    Box centroids;
+    for (uint32_t i = task.begin; i < task.end; ++i) {
+        out.bounds.grow(refs[i].bounds);
+        centroids.grow(refs[i].centroid());
+    }
+    out.area = out.bounds.half_area();
+    out.mid = task.begin;
+    const uint32_t count = task.end - task.begin;
+    if (count <= 1) return out;
+    int& axis = out.axis;
+    uint32_t& mid = out.mid;
+    if (out.area > 0.0) {
+        const glm::vec3 extent = centroids.hi - centroids.lo;
+        Binner binner{centroids.lo, glm::vec3(0.0f), options.bin_count};
+        for (int a = 0; a < 3; ++a)
+            binner.scale[a] = extent[a] > 0.0f ? float(options.bin_count) * (1.0f - 1e-6f) / extent[a] : 0.0f;
+        const Split split = find_split(refs, task, centroids, binner, bins);
+        const double leaf_cost = INTERSECTION_COST * count;
+        const double split_cost = TRAVERSAL_COST + INTERSECTION_COST * split.cost / out.area;
+        const bool prefer_leaf = split.axis < 0 || leaf_cost <= split_cost;
+        if (split.axis >= 0 && !(prefer_leaf && count <= options.max_leaf_size)) {
+            axis = split.axis;
+            const uint32_t last = split.last_left_bin;
+            auto first_right = std::partition(refs.begin() + task.begin, refs.begin() + task.end,
+                                              [&](const PrimRef& r) { return binner.bin(r.centroid(), axis) <= last; });
+            mid = uint32_t(first_right - refs.begin());
+        }
+    }
+    // Children may hold at most max_leaf_size * 2^(levels left below them) triangles, so that median splits from
+    // there on still end within max_depth.
+    const uint32_t levels_left = options.max_depth - std::min(options.max_depth, task.depth + 1);
+    const double child_capacity = double(options.max_leaf_size) * std::ldexp(1.0, int(std::min(levels_left, 40u)));
+    const bool too_deep = axis >= 0 && double(std::max(mid - task.begin, task.end - mid)) > child_capacity;
+    if ((axis < 0 && count > options.max_leaf_size) || too_deep) {
+        // Object median along the longest centroid axis (or box side when the centroids coincide).
+        const glm::vec3 cd = centroids.hi - centroids.lo;
+        const glm::vec3 d = cd == glm::vec3(0.0f) ? out.bounds.hi - out.bounds.lo : cd;
+        axis = d.x >= d.y && d.x >= d.z ? 0 : (d.y >= d.z ? 1 : 2);
+        mid = task.begin + count / 2;
+        std::nth_element(refs.begin() + task.begin, refs.begin() + mid, refs.begin() + task.end,
+                         [a = axis](const PrimRef& l, const PrimRef& r) {
+                             const float cl = l.centroid()[a], cr = r.centroid()[a];
+                             return cl < cr || (cl == cr && l.triangle < r.triangle);
+                         });
+    }
+    return out;
+}
+
+// The nodes of one subtree in depth-first order, indexed from its root at 0, with its share of the statistics.
+struct Subtree {
+    std::vector<gpu::BvhNode> nodes;
     double root_area = 0.0;
     double weighted_cost = 0.0;  // sum over nodes of half_area * cost of the node itself
+    uint32_t leaf_count = 0;
+    uint32_t max_depth = 0;
+};
+
+// Builds the subtree of one task on this thread.
+Subtree build_serially(std::vector<PrimRef>& refs, const Task& root, const BvhOptions& options) {
+    Subtree out;
+    out.nodes.reserve(2 * size_t(root.end - root.begin));
     auto bins = std::make_unique<BinScratch>();
-    std::vector<Task> stack{{0, triangle_count, gpu::INVALID_INDEX, 0}};
+    std::vector<Task> stack{{root.begin, root.end, gpu::INVALID_INDEX, root.depth}};
     while (!stack.empty()) {
         const Task task = stack.back();
         stack.pop_back();
-        const uint32_t node_index = uint32_t(bvh.nodes.size());
-        bvh.nodes.emplace_back();
-        if (task.parent != gpu::INVALID_INDEX) bvh.nodes[task.parent].child_or_first = node_index;
-
-        Box bounds, centroids;
-        for (uint32_t i = task.begin; i < task.end; ++i) {
-            bounds.grow(refs[i].bounds);
-            centroids.grow(refs[i].centroid());
-        }
-        write_bounds(bvh.nodes[node_index], bounds);
-        const double area = bounds.half_area();
-        if (node_index == 0) root_area = area;
-        const uint32_t count = task.end - task.begin;
-
-        // Choose: leaf, SAH split, or median split (coincident centroids or a zero-area box).
-        int axis = -1;
-        uint32_t mid = task.begin;
-        if (count > 1) {
-            Split split;
-            if (area > 0.0) {
-                const glm::vec3 extent = centroids.hi - centroids.lo;
-                Binner binner{centroids.lo, glm::vec3(0.0f), options.bin_count};
-                for (int a = 0; a < 3; ++a)
-                    binner.scale[a] = extent[a] > 0.0f ? float(options.bin_count) * (1.0f - 1e-6f) / extent[a] : 0.0f;
-                split = find_split(refs, task, centroids, binner, *bins);
-                const double leaf_cost = INTERSECTION_COST * count;
-                const double split_cost = TRAVERSAL_COST + INTERSECTION_COST * split.cost / area;
-                const bool prefer_leaf = split.axis < 0 || leaf_cost <= split_cost;
-                if (split.axis >= 0 && !(prefer_leaf && count <= options.max_leaf_size)) {
-                    axis = split.axis;
-                    const uint32_t last = split.last_left_bin;
-                    auto first_right = std::partition(refs.begin() + task.begin, refs.begin() + task.end,
-                                                      [&](const PrimRef& r) { return binner.bin(r.centroid(), axis) <= last; });
-                    mid = uint32_t(first_right - refs.begin());
-                }
-            }
-            // Children may hold at most max_leaf_size * 2^(levels left below them) triangles, so that median
-            // splits from there on still end within max_depth.
-            const uint32_t levels_left = options.max_depth - std::min(options.max_depth, task.depth + 1);
-            const double child_capacity = double(options.max_leaf_size) * std::ldexp(1.0, int(std::min(levels_left, 40u)));
-            const bool too_deep = axis >= 0 && double(std::max(mid - task.begin, task.end - mid)) > child_capacity;
-            if ((axis < 0 && count > options.max_leaf_size) || too_deep) {
-                // Object median along the longest centroid axis (or box side when the centroids coincide).
-                const glm::vec3 cd = centroids.hi - centroids.lo;
-                const glm::vec3 d = cd == glm::vec3(0.0f) ? bounds.hi - bounds.lo : cd;
-                axis = d.x >= d.y && d.x >= d.z ? 0 : (d.y >= d.z ? 1 : 2);
-                mid = task.begin + count / 2;
-                std::nth_element(refs.begin() + task.begin, refs.begin() + mid, refs.begin() + task.end,
-                                 [axis](const PrimRef& l, const PrimRef& r) {
-                                     const float cl = l.centroid()[axis], cr = r.centroid()[axis];
-                                     return cl < cr || (cl == cr && l.triangle < r.triangle);
-                                 });
-            }
-        }
-
-        gpu::BvhNode& node = bvh.nodes[node_index];
-        if (axis < 0) {
+        const uint32_t node_index = uint32_t(out.nodes.size());
+        out.nodes.emplace_back();
+        if (task.parent != gpu::INVALID_INDEX) out.nodes[task.parent].child_or_first = node_index;
+        const NodeSplit split = split_node(refs, task, options, *bins);
+        if (node_index == 0) out.root_area = split.area;
+        gpu::BvhNode& node = out.nodes[node_index];
+        write_bounds(node, split.bounds);
+        if (split.axis < 0) {
+            const uint32_t count = task.end - task.begin;
             node.child_or_first = task.begin;
             node.count_and_axis = count;
-            weighted_cost += area * INTERSECTION_COST * count;
-            ++bvh.leaf_count;
-            bvh.max_depth = std::max(bvh.max_depth, task.depth);
+            out.weighted_cost += split.area * INTERSECTION_COST * count;
+            ++out.leaf_count;
+            out.max_depth = std::max(out.max_depth, task.depth);
         } else {
-            node.count_and_axis = uint32_t(axis) << gpu::BVH_LEAF_COUNT_BITS;
-            weighted_cost += area * TRAVERSAL_COST;
+            node.count_and_axis = uint32_t(split.axis) << gpu::BVH_LEAF_COUNT_BITS;
+            out.weighted_cost += split.area * TRAVERSAL_COST;
             // The first child is visited next, so it lands at node_index + 1 (depth-first layout).
-            stack.push_back({mid, task.end, node_index, task.depth + 1});
-            stack.push_back({task.begin, mid, gpu::INVALID_INDEX, task.depth + 1});
+            stack.push_back({split.mid, task.end, node_index, task.depth + 1});
+            stack.push_back({task.begin, split.mid, gpu::INVALID_INDEX, task.depth + 1});
         }
     }
+    return out;
+}
 
+Subtree join_subtrees(const NodeSplit& split, const Subtree& left, const Subtree& right);
+
+// Ranges smaller than this are not worth a thread.
+constexpr uint32_t PARALLEL_MIN_TRIANGLES = 1u << 14;
+
+// The top `levels` balanced splits are made here, their two children built on two threads; below, serially. The nodes come
+// out exactly as build_serially would lay them out (its depth-first order), whatever the threads' timing.
+Subtree build_in_parallel(std::vector<PrimRef>& refs, const Task& task, const BvhOptions& options, uint32_t levels) {
+    if (levels == 0 || task.end - task.begin < PARALLEL_MIN_TRIANGLES) return build_serially(refs, task, options);
+    auto bins = std::make_unique<BinScratch>();
+    const NodeSplit split = split_node(refs, task, options, *bins);
+    if (split.axis < 0) return build_serially(refs, task, options);
+    const Task first{task.begin, split.mid, gpu::INVALID_INDEX, task.depth + 1};
+    const Task second_task{split.mid, task.end, gpu::INVALID_INDEX, task.depth + 1};
+    Subtree left, right;
+    const uint32_t smaller = std::min(split.mid - task.begin, task.end - split.mid);
+    if (smaller < (task.end - task.begin) / 8) {
+        // A split that peels a few triangles off (a wall beside a detailed object) would leave one thread idle:
+        // build the small side here and keep the threads for the large one.
+        left = build_in_parallel(refs, first, options, levels);
+        right = build_in_parallel(refs, second_task, options, levels);
+        return join_subtrees(split, left, right);
+    }
+    // The children own disjoint ranges of refs, so the two threads never touch the same element.
+    std::exception_ptr failure;
+    std::thread second([&] {
+        try {
+            right = build_in_parallel(refs, second_task, options, levels - 1);
+        } catch (...) {
+            failure = std::current_exception();
+        }
+    });
+    try {
+        left = build_in_parallel(refs, first, options, levels - 1);
+    } catch (...) {
+        second.join();
+        throw;
+    }
+    second.join();
+    if (failure) std::rethrow_exception(failure);
+    return join_subtrees(split, left, right);
+}
+
+// A node over two subtrees, laid out depth first: the node, the first subtree, the second.
+Subtree join_subtrees(const NodeSplit& split, const Subtree& left, const Subtree& right) {
+    Subtree out;
+    out.root_area = split.area;
+    out.nodes.reserve(1 + left.nodes.size() + right.nodes.size());
+    gpu::BvhNode root{};
+    write_bounds(root, split.bounds);
+    root.count_and_axis = uint32_t(split.axis) << gpu::BVH_LEAF_COUNT_BITS;
+    root.child_or_first = uint32_t(1 + left.nodes.size());
+    out.nodes.push_back(root);
+    for (const Subtree* child : {&left, &right}) {
+        const uint32_t offset = uint32_t(out.nodes.size());
+        for (gpu::BvhNode node : child->nodes) {
+            const bool leaf = (node.count_and_axis & ((1u << gpu::BVH_LEAF_COUNT_BITS) - 1u)) != 0;
+            if (!leaf) node.child_or_first += offset;  // a leaf's first triangle is already global
+            out.nodes.push_back(node);
+        }
+    }
+    out.weighted_cost = split.area * TRAVERSAL_COST + left.weighted_cost + right.weighted_cost;
+    out.leaf_count = left.leaf_count + right.leaf_count;
+    out.max_depth = std::max(left.max_depth, right.max_depth);
+    return out;
+}
+
+Bvh build_from_refs(std::vector<PrimRef> refs, const BvhOptions& options,
+                    std::chrono::steady_clock::time_point start) {
+    const uint32_t triangle_count = uint32_t(refs.size());
+    Subtree tree = build_in_parallel(refs, {0, triangle_count, gpu::INVALID_INDEX, 0}, options, options.parallel_levels);
+    Bvh bvh;
+    bvh.nodes = std::move(tree.nodes);
+    bvh.leaf_count = tree.leaf_count;
+    bvh.max_depth = tree.max_depth;
     bvh.triangle_order.resize(triangle_count);
     for (uint32_t i = 0; i < triangle_count; ++i) bvh.triangle_order[i] = refs[i].triangle;
     // A scene whose root box has no area (all triangles on one line or point) reports unnormalized cost.
-    bvh.sah_cost = root_area > 0.0 ? weighted_cost / root_area : weighted_cost;
+    bvh.sah_cost = tree.root_area > 0.0 ? tree.weighted_cost / tree.root_area : tree.weighted_cost;
     bvh.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return bvh;
 }

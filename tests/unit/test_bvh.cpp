@@ -109,6 +109,26 @@ TEST(Bvh, IsDeterministic) {
     EXPECT_EQ(a.sah_cost, b.sah_cost);
 }
 
+// The subtrees built on threads are laid out where one thread would put them: the same nodes, order and cost.
+TEST(Bvh, ThreadsBuildTheSameTree) {
+    const auto p = fh::test::make_random_soup(150000, 11);
+    BvhOptions serial;
+    serial.parallel_levels = 0;
+    const Bvh a = fh::build_bvh(p, serial);
+    for (uint32_t levels : {1u, 3u, 6u}) {
+        BvhOptions parallel;
+        parallel.parallel_levels = levels;
+        const Bvh b = fh::build_bvh(p, parallel);
+        check_bvh(b, p, parallel);
+        ASSERT_EQ(a.nodes.size(), b.nodes.size()) << levels << " levels";
+        EXPECT_EQ(std::memcmp(a.nodes.data(), b.nodes.data(), a.nodes.size() * sizeof(BvhNode)), 0) << levels;
+        EXPECT_EQ(a.triangle_order, b.triangle_order) << levels;
+        EXPECT_EQ(a.leaf_count, b.leaf_count);
+        EXPECT_EQ(a.max_depth, b.max_depth);
+        EXPECT_NEAR(a.sah_cost, b.sah_cost, 1e-9 * a.sah_cost);  // summed in another order
+    }
+}
+
 TEST(Bvh, HandlesDegenerateTriangles) {
     // 1000 copies of one triangle: coincident centroids force median splits.
     std::vector<glm::vec3> same;
