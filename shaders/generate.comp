@@ -34,13 +34,13 @@ void main() {
     // Sample-major order inside the wave: path i is sample i / pixel_count of pixel i % pixel_count.
     uint pixel = path_pixel(i);
     uint rng = init_rng(pixel, path_sample_index(i), params.seed);
-    vec3 camera_u = draw_camera_samples(i, rng);
+    CameraSamples camera_u = draw_camera_samples(i, rng);
 
-    vec2 u = camera_u.xy;
+    vec2 u = camera_u.film;
     vec2 offset = (params.filter_type == FILTER_GAUSSIAN) ? sample_gaussian_filter(u, params.filter_radius)
                                                            : u - vec2(0.5f);
     vec2 film = vec2(float(pixel % params.width), float(pixel / params.width)) + vec2(0.5f) + offset;
-    CameraRay ray = make_camera_ray(film);
+    CameraRay ray = make_camera_ray(film, camera_u.lens);
 
     RayItem item;
     item.origin_x = ray.origin.x;
@@ -66,7 +66,7 @@ void main() {
     if (effect_on(EFFECT_VOLUME) || effect_on(EFFECT_ABSORPTION)) path_media[i] = INVALID_INDEX;
     if (effect_on(EFFECT_SPECTRAL)) {
         PathSpectrum spectrum;
-        spectrum.wavelength_u = camera_u.z;
+        spectrum.wavelength_u = camera_u.wavelength;
         spectrum.throughput_3 = 1.0f;
         spectrum.flags = 0u;
         spectrum.pad = 0.0f;

@@ -1,6 +1,7 @@
 // Runs `fredholm converge`: reference, then per configuration one film grown at doubling spp, then the report.
 #include "app/render_options.h"
 #include "app/converge_command.h"
+#include "render/lens.h"
 
 #include <CLI/CLI.hpp>
 #include <chrono>
@@ -31,6 +32,18 @@ bool parse_on_off(const std::string& key, const std::string& v) {
     throw std::invalid_argument(key + ": '" + v + "' is not on or off");
 }
 
+double parse_number(const std::string& key, const std::string& v) {
+    size_t used = 0;
+    double x = 0.0;
+    try {
+        x = std::stod(v, &used);
+    } catch (const std::exception&) {
+        used = 0;
+    }
+    if (used != v.size() || v.empty()) throw std::invalid_argument(key + ": '" + v + "' is not a number");
+    return x;
+}
+
 void apply_vary(const std::string& key, const std::string& v, RenderSettings& s) {
     if (key == "max-depth") {
         size_t used = 0;
@@ -59,6 +72,16 @@ void apply_vary(const std::string& key, const std::string& v, RenderSettings& s)
     } else if (key == "sampler") {
         if (v != "independent" && v != "sobol") throw std::invalid_argument("sampler: '" + v + "' is not independent or sobol");
         s.sampler = v == "sobol" ? Sampler::sobol : Sampler::independent;
+    } else if (key == "aperture") {  // an f-number; 0: the pinhole
+        const double n = parse_number(key, v);
+        if (!(n == 0.0 || (n >= 0.1 && n <= 1e6))) throw std::invalid_argument("aperture: '" + v + "' is not 0 or an f-number");
+        s.lens.f_number = n;
+        s.lens.aperture_radius = 0.0;
+    } else if (key == "aperture-radius") {
+        const double r = parse_number(key, v);
+        if (!(r >= 0.0 && r <= 1e30)) throw std::invalid_argument("aperture-radius: '" + v + "' is not a radius >= 0");
+        s.lens.aperture_radius = r;
+        s.lens.f_number = 0.0;
     } else if (key.rfind("effect:", 0) == 0) {
         // on: compiled in whether or not the scene uses it; off: compiled out although the scene uses it.
         const uint32_t bit = find_switchable_effect(key.substr(7));
@@ -66,7 +89,8 @@ void apply_vary(const std::string& key, const std::string& v, RenderSettings& s)
         s.forced_effects = on ? s.forced_effects | bit : s.forced_effects & ~bit;
         s.disabled_effects = on ? s.disabled_effects & ~bit : s.disabled_effects | bit;
     } else {
-        throw std::invalid_argument("unknown key '" + key + "' (max-depth, nee, mis, rr, rr-start-depth, filter, sampler, effect:NAME)");
+        throw std::invalid_argument("unknown key '" + key + "' (max-depth, nee, mis, rr, rr-start-depth, filter, sampler, "
+                                    "aperture, aperture-radius, effect:NAME)");
     }
 }
 
@@ -75,7 +99,7 @@ bool same_settings(const RenderSettings& a, const RenderSettings& b) {
            a.russian_roulette == b.russian_roulette && a.rr_start_depth == b.rr_start_depth && a.filter == b.filter &&
            a.sampler == b.sampler &&
            a.forced_effects == b.forced_effects &&
-           a.disabled_effects == b.disabled_effects;
+           a.disabled_effects == b.disabled_effects && describe_lens(a.lens) == describe_lens(b.lens);
 }
 
 std::string slug(const std::string& name) {
@@ -122,7 +146,8 @@ struct Session {
     Film make_film(RenderSettings settings, uint32_t spp_total) const {
         settings.spp = spp_total;
         Film f;
-        f.renderer = std::make_unique<Renderer>(*context, prepared.packed, camera, settings);
+        f.renderer = std::make_unique<Renderer>(*context, prepared.packed,
+                                                apply_lens(*context, prepared.packed, camera, settings), settings);
         f.renderer->clear_film();
         return f;
     }
@@ -217,6 +242,7 @@ std::string describe_command(const ConvergeCommand& c) {
     if (s.rr_start_depth != RenderSettings{}.rr_start_depth) line += " --rr-start-depth " + std::to_string(s.rr_start_depth);
     if (s.forced_effects) line += " --force-effect " + describe_effects(s.forced_effects);
     if (s.disabled_effects) line += " --disable-effect " + describe_effects(s.disabled_effects);
+    if (s.lens.on()) line += " " + format_lens_options(s.lens);
     return line;
 }
 
@@ -259,7 +285,7 @@ void add_converge_options(CLI::App& app, ConvergeCommand& c) {
     two->excludes(ref_spp);
     app.add_option("--max-seconds", c.max_seconds, "render-time budget per configuration")->check(CLI::PositiveNumber);
     app.add_option("--max-spp", c.max_spp, "largest spp of the doubling sequence")->check(CLI::Range(1u, 1u << 20));
-    app.add_option("--vary", c.vary, "KEY=V1,V2,...: one curve per value (max-depth, nee, mis, rr, rr-start-depth, filter, sampler; effect:NAME=on,off compiles "
+    app.add_option("--vary", c.vary, "KEY=V1,V2,...: one curve per value (max-depth, nee, mis, rr, rr-start-depth, filter, sampler, aperture (0: pinhole), aperture-radius; effect:NAME=on,off compiles "
                    "a material effect in or out, e.g. effect:transmission=on,off)")
         ->check(CLI::Validator(
             [](std::string& spec) {
@@ -281,6 +307,7 @@ void add_converge_options(CLI::App& app, ConvergeCommand& c) {
     add_sampling_options(app, s);
     add_robustness_options(app, s);
     add_environment_options(app, s);
+    add_lens_options(app, s);
     app.add_flag("--validate", c.validation, "enable Vulkan validation layers (also FREDHOLM_VALIDATION=1)");
     app.add_option("--device", c.device, "use the first Vulkan device whose name contains this");
 }

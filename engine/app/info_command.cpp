@@ -26,6 +26,7 @@ void add_info_options(CLI::App& app, InfoCommand& c) {
     app.add_option("scene", c.scene, "glTF 2.0 scene (.gltf or .glb)")->required()->check(CLI::ExistingFile);
     app.add_flag("--json", c.json, "print one JSON object instead of text");
     add_environment_options(app, c.settings);
+    add_lens_options(app, c.settings);
     add_effect_options(app, c.settings);
 }
 

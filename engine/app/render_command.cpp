@@ -17,6 +17,7 @@
 #include "io/exr.h"
 #include "io/png.h"
 #include "render/camera_setup.h"
+#include "render/lens.h"
 #include "render/memory_estimate.h"
 #include "render/techniques.h"
 
@@ -63,12 +64,13 @@ ImageMetadata make_metadata(const RenderCommand& c, uint32_t spp_done, uint32_t 
             {"fredholm:disabled_effects", describe_effects(s.disabled_effects)},
             {"fredholm:forced_effects", describe_effects(s.forced_effects)},
             {"fredholm:environment", describe_environment(s)},
+            {"fredholm:lens", describe_lens(s.lens)},
             {"fredholm:variant", s.variant.empty() ? "default" : s.variant},
             {"fredholm:colorspace", "scene-linear Rec.709"}};
 }
 
 void write_stats(const std::filesystem::path& file, const RenderCommand& c, const PreparedScene& prepared,
-                 const RenderStats& stats, uint32_t first_sample, const std::string& device) {
+                 const SceneCamera& camera, const RenderStats& stats, uint32_t first_sample, const std::string& device) {
     const RenderSettings& s = c.settings;
     double samples = double(s.width) * s.height * (stats.spp_done - first_sample);
     double rays = double(stats.traced_rays + stats.traced_shadow_rays);
@@ -104,6 +106,11 @@ void write_stats(const std::filesystem::path& file, const RenderCommand& c, cons
     j["disabled_effects"] = describe_effects(s.disabled_effects);
     j["forced_effects"] = describe_effects(s.forced_effects);
     j["environment"] = describe_environment(s);
+    j["lens"] = describe_lens(s.lens);
+    if (camera.has_lens()) {  // as resolved: the f-number's radius, the distance --focus-on or the centre found
+        j["aperture_radius"] = camera.aperture_radius;
+        j["focus_distance"] = camera.focus_distance;
+    }
     j["variant"] = s.variant.empty() ? "default" : s.variant;
     j["variants"] = prepared.scene.variants;
     j["textures"] = prepared.packed.texture_images.size();
@@ -143,6 +150,7 @@ void add_render_options(CLI::App& app, RenderCommand& c) {
     add_sampling_options(app, s);
     add_robustness_options(app, s);
     add_environment_options(app, s);
+    add_lens_options(app, s);
     app.add_flag("--validate", c.validation, "enable Vulkan validation layers (also FREDHOLM_VALIDATION=1)");
     app.add_option("--device", c.device, "use the first Vulkan device whose name contains this");
     app.add_flag("-q,--quiet", c.quiet, "no summary line");
@@ -181,8 +189,10 @@ int run_render(const RenderCommand& c) {
     install_interrupt_handlers();
 
     PreparedScene prepared = prepare_scene(c.scene, settings);
-    SceneCamera camera = apply_camera_pose(choose_camera(prepared.scene, settings.camera), c.pose);
     auto context = make_compute_context(c.validation, c.device);
+    const SceneCamera camera = apply_lens(*context, prepared.packed,
+                                          apply_camera_pose(choose_camera(prepared.scene, settings.camera), c.pose),
+                                          settings);
     try {
         check_render_memory(estimate_render_memory(prepared.packed, settings), query_memory_limits(*context));
     } catch (const std::runtime_error& e) {
@@ -208,7 +218,7 @@ int run_render(const RenderCommand& c) {
     const Image image = renderer.read_film();
     write_exr(c.output, image, make_metadata(c, stats.spp_done, prepared.packed.effects.bits), film_channels(renderer.read_film_state()));
     if (!c.png.empty()) write_png(c.png, image, c.exposure_ev, c.tone_curve);
-    if (!c.stats.empty()) write_stats(c.stats, c, prepared, stats, saved.spp, context->device_name());
+    if (!c.stats.empty()) write_stats(c.stats, c, prepared, camera, stats, saved.spp, context->device_name());
 
     const uint32_t rendered = stats.spp_done - saved.spp;
     if (!c.quiet)

@@ -117,4 +117,38 @@ void add_environment_options(CLI::App& app, RenderSettings& s) {
         ->excludes(env);
 }
 
+void add_lens_options(CLI::App& app, RenderSettings& s) {
+    LensSettings& lens = s.lens;
+    auto* f_number = app.add_option("--aperture", lens.f_number,
+                                    "thin lens: f-number (focal length from the camera's yfov over --sensor-height); "
+                                    "default none, a pinhole")
+                         ->check(CLI::Range(0.1, 1.0e6));
+    app.add_option("--aperture-radius", lens.aperture_radius, "thin lens: aperture radius in scene units (0: pinhole)")
+        ->check(CLI::Range(0.0, 1.0e30))
+        ->excludes(f_number);
+    app.add_option("--sensor-height", lens.sensor_height_mm,
+                   "film height in mm that the vertical field of view spans, for --aperture (default 24: 35 mm full frame)")
+        ->check(CLI::Range(0.01, 10000.0));
+    auto* distance = app.add_option("--focus-distance", lens.focus_distance,
+                                    "distance in focus along the view direction, scene units (default: the surface "
+                                    "seen at the image centre)")
+                         ->check(CLI::Range(1.0e-9, 1.0e30));
+    app.add_option_function<std::vector<double>>(
+           "--focus-on",
+           [&lens](const std::vector<double>& xy) {
+               lens.focus_on_given = true;
+               lens.focus_on[0] = xy[0];
+               lens.focus_on[1] = xy[1];
+           },
+           "focus on the surface seen at pixel X,Y (0,0: top left)")
+        ->delimiter(',')
+        ->expected(2)
+        ->check(CLI::Range(0.0, 65536.0))
+        ->excludes(distance);
+    app.add_option("--aperture-blades", lens.blades, "aperture shape: 0 a disk (default), 3 or more a regular polygon")
+        ->check(CLI::IsMember({0u, 3u, 4u, 5u, 6u, 7u, 8u, 9u, 10u, 11u, 12u, 13u, 14u, 15u, 16u}));
+    app.add_option("--aperture-rotation", lens.rotation_degrees, "turn the polygonal aperture, degrees")
+        ->check(CLI::Range(-360.0, 360.0));
+}
+
 }  // namespace fh

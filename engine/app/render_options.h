@@ -23,4 +23,8 @@ void add_effect_options(CLI::App& app, RenderSettings& settings);
 // --env FILE, --env-intensity, --env-rotation, --background R,G,B; and --variant NAME (what the scene shows).
 void add_environment_options(CLI::App& app, RenderSettings& settings);
 
+// --aperture N | --aperture-radius R, --sensor-height, --focus-distance D | --focus-on X,Y, --aperture-blades,
+// --aperture-rotation: the thin lens (RenderSettings::lens).
+void add_lens_options(CLI::App& app, RenderSettings& settings);
+
 }  // namespace fh

@@ -45,6 +45,7 @@ PreparedScene prepare_scene(const std::filesystem::path& file, const RenderSetti
     prepared.bvh_nodes = bvh.node_count;
     prepared.bvh_depth = bvh.max_depth;
     prepared.packed = pack_scene(prepared.scene, bvh, load_environment(settings));
+    decide_camera_effects(prepared.packed.effects, settings.lens.on());
     return prepared;
 }
 

@@ -19,6 +19,7 @@
 #include "io/exr.h"
 #include "io/png.h"
 #include "render/camera_setup.h"
+#include "render/lens.h"
 #include "render/renderer.h"
 #include "vk/check.h"
 #include "vk/swapchain.h"
@@ -78,6 +79,13 @@ void run_script_action(const std::string& action, ViewerWindow& window, WindowIn
     else if (action == "tonemap") input.pressed.push_back(GLFW_KEY_T);
     else if (action == "print") input.pressed.push_back(GLFW_KEY_C);
     else if (action == "reset") input.pressed.push_back(GLFW_KEY_R);
+    else if (action == "aperture") input.pressed.push_back(GLFW_KEY_F);
+    else if (action == "focus") {  // a click at the middle of the window
+        const VkExtent2D size = window.framebuffer_size();
+        input.clicked = true;
+        input.click_x = 0.5 * size.width;
+        input.click_y = 0.5 * size.height;
+    }
     else throw CLI::ValidationError("--script", "unknown action '" + action + "'");
 }
 
@@ -90,6 +98,7 @@ void write_screenshot(const std::filesystem::path& exr, const Renderer& renderer
                            {"fredholm:max_depth", std::to_string(s.settings.max_depth)},
                            {"fredholm:nee", s.settings.nee ? "on" : "off"},
                            {"fredholm:rr", s.settings.russian_roulette ? "on" : "off"},
+                           {"fredholm:lens", describe_lens(s.settings.lens)},
                            {"fredholm:colorspace", "scene-linear Rec.709"}};
     write_exr(exr, image, metadata);
     std::filesystem::path png = exr;
@@ -131,6 +140,7 @@ void add_view_options(CLI::App& app, ViewCommand& c) {
         ->check(CLI::Range(0u, 100000u));
     app.add_option("--seed", s.seed, "random seed");
     add_environment_options(app, s);  // --env, --background, --variant, --instancing: as render
+    add_lens_options(app, s);
     app.add_option("--spp-per-frame", c.spp_per_frame,
                    "whole samples per pixel added each frame (default: a slice of a pass sized to --frame-ms)")
         ->check(CLI::Range(1u, 1024u));
@@ -173,11 +183,37 @@ int run_view(const ViewCommand& c) {
     s.settings.spp = std::max(c.spp_per_frame, 1u);  // bounds the wave size: one frame's samples
     FrameSlicer slicer{c.frame_ms * 1e-3};
     std::unique_ptr<Renderer> renderer;
+    // Distance in focus for the surface seen at (x, y); where no surface is there, the orbit target's.
+    auto focus_or_target = [&](double x, double y) {
+        const SceneCamera camera = s.camera.scene_camera();
+        try {
+            return find_focus_distance(*context, prepared.packed, camera, s.settings.width, s.settings.height, x, y);
+        } catch (const std::runtime_error& e) {
+            const glm::dvec3 forward = -glm::normalize(glm::dvec3(camera.world_from_camera[2]));
+            const double d = std::max(glm::dot(s.camera.target() - s.camera.eye(), forward), 1e-6);
+            std::fprintf(stderr, "fredholm view: %s; focusing on the orbit target at %g\n", e.what(), d);
+            return d;
+        }
+    };
+    // The view's camera with its lens: a focus distance not yet known (autofocus) is found once and then kept, as
+    // a camera's focus ring stays where it was set while the camera moves.
+    auto lens_camera = [&] {
+        const SceneCamera camera = s.camera.scene_camera();
+        LensSettings& lens = s.settings.lens;
+        if (!lens.on()) return camera;
+        if (lens.focus_distance <= 0.0) {
+            const double x = lens.focus_on_given ? lens.focus_on[0] + 0.5 : 0.5 * s.settings.width;
+            const double y = lens.focus_on_given ? lens.focus_on[1] + 0.5 : 0.5 * s.settings.height;
+            lens.focus_distance = focus_or_target(x, y);
+            lens.focus_on_given = false;
+        }
+        return apply_lens(*context, prepared.packed, camera, s.settings);
+    };
     auto build = [&] {
         renderer.reset();
         s.settings.width = swapchain->extent().width;
         s.settings.height = swapchain->extent().height;
-        renderer = std::make_unique<Renderer>(*context, prepared.packed, s.camera.scene_camera(), s.settings);
+        renderer = std::make_unique<Renderer>(*context, prepared.packed, lens_camera(), s.settings);
         renderer->clear_film();
         s.spp = 0;
         slicer.cursor = 0;
@@ -205,9 +241,17 @@ int run_view(const ViewCommand& c) {
             swapchain->recreate(size);
             s.rebuild = true;
         }
+        if (s.focus_request) {
+            s.settings.lens.focus_distance = focus_or_target(s.focus_x, s.focus_y);
+            s.settings.lens.focus_on_given = false;
+            std::fprintf(stderr, "fredholm view: focus distance %g%s\n", s.settings.lens.focus_distance,
+                         s.settings.lens.on() ? "" : " (open the aperture with F to see it)");
+            s.focus_request = false;
+            s.restart = true;
+        }
         if (s.rebuild) build();
         else if (s.restart) {
-            renderer->set_camera(s.camera.scene_camera());
+            renderer->set_camera(lens_camera());
             renderer->clear_film();
             s.spp = 0;
             slicer.cursor = 0;

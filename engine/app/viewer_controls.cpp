@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "app/camera_options.h"
+#include "render/lens.h"
 
 namespace fh {
 namespace {
@@ -18,6 +19,31 @@ const char* on_off(bool value) { return value ? "on" : "off"; }
 const char* curve_name(ToneCurve curve) { return curve == ToneCurve::aces ? "aces" : "clamp"; }
 
 std::string depth_text(uint32_t depth) { return depth == 0 ? "inf" : std::to_string(depth); }
+
+// F steps through these f-numbers; 0 is the pinhole.
+constexpr double F_STOPS[] = {0.0, 16.0, 8.0, 4.0, 2.0, 1.0};
+
+// The next f-number after the lens's (from a pinhole or an --aperture-radius: the first f-stop).
+double next_f_stop(const LensSettings& lens) {
+    if (lens.aperture_radius > 0.0) return F_STOPS[1];
+    const size_t count = std::size(F_STOPS);
+    for (size_t i = 0; i < count; ++i)
+        if (lens.f_number == F_STOPS[i]) return F_STOPS[(i + 1) % count];
+    return F_STOPS[0];
+}
+
+std::string lens_text(const LensSettings& lens) {
+    if (!lens.on()) return "pinhole";
+    char text[64];
+    if (lens.f_number > 0.0) std::snprintf(text, sizeof text, "f/%g", lens.f_number);
+    else std::snprintf(text, sizeof text, "r %g", lens.aperture_radius);
+    std::string out = text;
+    if (lens.focus_distance > 0.0) {
+        std::snprintf(text, sizeof text, " @ %.3g", lens.focus_distance);
+        out += text;
+    }
+    return out;
+}
 
 }  // namespace
 
@@ -61,6 +87,16 @@ void apply_input(ViewerState& s, const WindowInput& input, const ViewerWindow& w
             case GLFW_KEY_N: s.settings.nee = !s.settings.nee; s.rebuild = true; break;
             case GLFW_KEY_U: s.settings.russian_roulette = !s.settings.russian_roulette; s.rebuild = true; break;
             case GLFW_KEY_P: s.screenshot = true; break;
+            case GLFW_KEY_F: {
+                LensSettings& lens = s.settings.lens;
+                const bool was_on = lens.on();
+                lens.f_number = next_f_stop(lens);
+                lens.aperture_radius = 0.0;
+                if (lens.on() != was_on) s.rebuild = true;  // the stages compile the lens in or out
+                else s.restart = true;
+                std::fprintf(stderr, "fredholm view: aperture %s\n", lens_text(lens).c_str());
+                break;
+            }
             case GLFW_KEY_C:
                 std::printf("%s\n", make_render_command(s, scene, camera_index, pose_given).c_str());
                 std::fflush(stdout);
@@ -69,6 +105,11 @@ void apply_input(ViewerState& s, const WindowInput& input, const ViewerWindow& w
             case GLFW_KEY_ESCAPE: s.quit = true; break;
             default: break;
         }
+    }
+    if (input.clicked) {
+        s.focus_request = true;
+        s.focus_x = input.click_x;
+        s.focus_y = input.click_y;
     }
     // Without roulette and without a depth limit a path in a closed scene never ends: cap it.
     if (!s.settings.russian_roulette && s.settings.max_depth == 0) {
@@ -80,11 +121,11 @@ void apply_input(ViewerState& s, const WindowInput& input, const ViewerWindow& w
 std::string make_title(const ViewerState& s, double samples_per_second, double ms_per_frame) {
     char title[512];
     std::snprintf(title, sizeof(title),
-                  "fredholm view | %.2f spp | %.2f Msamples/s | %.0f ms/frame | %ux%u depth %s NEE %s RR %s | "
+                  "fredholm view | %.2f spp | %.2f Msamples/s | %.0f ms/frame | %ux%u depth %s NEE %s RR %s %s | "
                   "EV %+.1f %s | drag orbit, shift/right drag pan, wheel zoom, WASDQE fly, H help",
                   s.spp + s.pass_fraction, samples_per_second * 1e-6, ms_per_frame, s.settings.width, s.settings.height,
                   depth_text(s.settings.max_depth).c_str(), on_off(s.settings.nee), on_off(s.settings.russian_roulette),
-                  s.exposure_ev, curve_name(s.tone_curve));
+                  lens_text(s.settings.lens).c_str(), s.exposure_ev, curve_name(s.tone_curve));
     return title;
 }
 
@@ -100,6 +141,8 @@ void print_help() {
                  "  + -                 exposure up / down by half a stop (display only)\n"
                  "  T                   tone curve: aces / clamp (display only)\n"
                  "  N  U                toggle next-event estimation / Russian roulette\n"
+                 "  F                   aperture: pinhole, f/16, f/8, f/4, f/2, f/1 (depth of field)\n"
+                 "  click               focus on the surface under the cursor\n"
                  "  P                   screenshot: linear EXR of the accumulated film + PNG\n"
                  "  C                   print this view as a `fredholm render` command line\n"
                  "  H  F1               this help;  Esc quits\n"
@@ -120,6 +163,7 @@ std::string make_render_command(const ViewerState& s, const std::filesystem::pat
     if (camera_index >= 0) command += " --camera " + std::to_string(camera_index);
     if (!s.camera.unchanged() || pose_given)
         command.append(" ").append(format_camera_pose(s.camera.eye(), s.camera.target(), s.camera.up(), s.camera.yfov_degrees()));
+    if (r.lens.on()) command.append(" ").append(format_lens_options(r.lens));
     return command;
 }
 

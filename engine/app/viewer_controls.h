@@ -21,6 +21,8 @@ struct ViewerState {
     bool restart = false;      // camera moved: clear the film
     bool rebuild = false;      // a setting the renderer is built with changed
     bool screenshot = false;   // P pressed
+    bool focus_request = false;  // clicked: focus on the surface at (focus_x, focus_y), framebuffer pixels
+    double focus_x = 0, focus_y = 0;
     bool quit = false;
 };
 

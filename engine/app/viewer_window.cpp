@@ -4,6 +4,8 @@
 
 #include "app/viewer_window.h"
 
+#include <cmath>
+
 #include "vk/check.h"
 
 namespace fh {
@@ -38,6 +40,7 @@ ViewerWindow::ViewerWindow(uint32_t width, uint32_t height, const std::string& t
     glfwSetCursorPosCallback(window_, on_cursor);
     glfwSetScrollCallback(window_, on_scroll);
     glfwSetKeyCallback(window_, on_key);
+    glfwSetMouseButtonCallback(window_, on_button);
 }
 
 ViewerWindow::~ViewerWindow() {
@@ -91,6 +94,7 @@ void ViewerWindow::on_cursor(GLFWwindow* window, double x, double y) {
     self->last_y_ = y;
     self->have_cursor_ = true;
     const bool left = glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
+    if (left) self->dragged_ += std::abs(dx) + std::abs(dy);
     const bool shift = glfwGetKey(window, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS ||
                        glfwGetKey(window, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
     const bool pan = glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_MIDDLE) == GLFW_PRESS ||
@@ -102,6 +106,24 @@ void ViewerWindow::on_cursor(GLFWwindow* window, double x, double y) {
         self->input_.orbit_dx += dx;
         self->input_.orbit_dy += dy;
     }
+}
+
+void ViewerWindow::on_button(GLFWwindow* window, int button, int action, int mods) {
+    auto* self = static_cast<ViewerWindow*>(glfwGetWindowUserPointer(window));
+    if (button != GLFW_MOUSE_BUTTON_LEFT || (mods & GLFW_MOD_SHIFT)) return;
+    if (action == GLFW_PRESS) {
+        self->dragged_ = 0;
+        return;
+    }
+    if (action != GLFW_RELEASE || self->dragged_ > 3.0) return;  // a drag orbits; only a click focuses
+    double x = 0, y = 0;
+    int window_w = 0, window_h = 0;
+    glfwGetCursorPos(window, &x, &y);
+    glfwGetWindowSize(window, &window_w, &window_h);
+    const VkExtent2D fb = self->framebuffer_size();
+    self->input_.clicked = true;
+    self->input_.click_x = window_w > 0 ? x * fb.width / window_w : x;  // framebuffer pixels (HiDPI)
+    self->input_.click_y = window_h > 0 ? y * fb.height / window_h : y;
 }
 
 void ViewerWindow::on_scroll(GLFWwindow* window, double, double dy) {

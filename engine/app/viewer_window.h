@@ -21,6 +21,8 @@ struct WindowInput {
     double pan_dx = 0, pan_dy = 0;      // middle or right drag, or shift + left drag
     double wheel = 0;
     std::vector<int> pressed;           // key presses (repeats included), in order
+    bool clicked = false;               // a left click without a drag (focus there)
+    double click_x = 0, click_y = 0;    // where, in framebuffer pixels from the top left
     bool shift = false;
 };
 
@@ -50,11 +52,13 @@ private:
     static void on_cursor(GLFWwindow* window, double x, double y);
     static void on_scroll(GLFWwindow* window, double dx, double dy);
     static void on_key(GLFWwindow* window, int key, int scancode, int action, int mods);
+    static void on_button(GLFWwindow* window, int button, int action, int mods);
 
     GLFWwindow* window_ = nullptr;
     WindowInput input_;
     double last_x_ = 0, last_y_ = 0;
     bool have_cursor_ = false;
+    double dragged_ = 0;  // cursor travel since the left button went down, window pixels
 };
 
 }  // namespace fh

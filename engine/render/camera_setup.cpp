@@ -22,6 +22,10 @@ void set_frame_camera(gpu::FrameParams& frame, const SceneCamera& camera, uint32
     frame.camera_up = glm::vec4(glm::vec3(up * half_h), 0.0f);
     frame.camera_forward = glm::vec4(glm::vec3(forward), 0.0f);
     frame.camera_type = camera.orthographic ? gpu::CAMERA_ORTHOGRAPHIC : gpu::CAMERA_PERSPECTIVE;
+    frame.lens_radius = float(camera.aperture_radius);
+    frame.focus_distance = float(camera.focus_distance);
+    frame.aperture_blades = camera.aperture_blades;
+    frame.aperture_rotation = float(camera.aperture_rotation);
 }
 
 SceneCamera choose_camera(const Scene& scene, int index) {

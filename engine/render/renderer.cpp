@@ -87,11 +87,13 @@ std::vector<Wave> plan_waves(uint32_t pixel_count, uint32_t sample_begin, uint32
 
 namespace {
 
-StageOptions make_stage_options(const PackedScene& scene, const RenderSettings& s) {
+StageOptions make_stage_options(const PackedScene& scene, const RenderSettings& s, const SceneCamera& camera) {
     StageOptions o;
     o.disabled_techniques = s.disabled_techniques;
-    // The environment cannot be forced or switched off: it follows --env / --background.
-    o.effects = select_effects(scene.effects.bits, s.forced_effects, s.disabled_effects);
+    // The environment cannot be forced or switched off: it follows --env / --background. The thin lens follows
+    // the camera: a pinhole compiles no lens code.
+    o.effects = select_effects(scene.effects.bits, s.forced_effects, s.disabled_effects) & ~gpu::EFFECT_THIN_LENS;
+    if (camera.has_lens()) o.effects |= gpu::EFFECT_THIN_LENS;
     o.instances = !scene.instances.empty();
     o.sampler = s.sampler == Sampler::sobol ? gpu::SAMPLER_SOBOL : gpu::SAMPLER_INDEPENDENT;
     return o;
@@ -104,7 +106,7 @@ Renderer::Renderer(const vk::Context& context, const PackedScene& scene, const S
     : context_(context),
       settings_(settings),
       frame_(make_frame(scene, camera, settings)),
-      stages_(context, make_stage_options(scene, settings)),
+      stages_(context, make_stage_options(scene, settings, camera)),
       buffers_(create_gpu_buffers(context, scene, frame_, stages_.options().effects)),
       recorder_(context, MAX_DISPATCHES_PER_SUBMIT),
       has_lights_(!scene.emitters.empty()),
@@ -212,6 +214,8 @@ void Renderer::submit(RenderStats& stats) {
 }
 
 void Renderer::set_camera(const SceneCamera& camera) {
+    if (camera.has_lens() != ((stages_.options().effects & gpu::EFFECT_THIN_LENS) != 0))
+        throw std::logic_error("Renderer::set_camera: a lens added or removed needs a new Renderer (EFFECT_THIN_LENS)");
     set_frame_camera(frame_, camera, settings_.width, settings_.height, origin_);
     vk::upload_to_buffer(context_, buffers_.params, &frame_, sizeof(frame_));
 }

@@ -60,7 +60,9 @@ public:
     std::vector<gpu::FilmPixel> read_film_state() const;
     void write_film_state(const std::vector<gpu::FilmPixel>& film);
 
-    // Moves the camera (same film size); the film keeps its samples, so clear it to start afresh.
+    // Moves the camera (same film size); the film keeps its samples, so clear it to start afresh. Its lens may
+    // change but not appear or vanish (the stages are compiled with or without EFFECT_THIN_LENS): throws
+    // std::logic_error then.
     void set_camera(const SceneCamera& camera);
     // The film buffer (gpu::FilmPixel[width * height]), e.g. for a display pass that reads it in place.
     const vk::Buffer& film_buffer() const { return buffers_.film; }

@@ -8,6 +8,19 @@
 namespace fh {
 
 enum class PixelFilter { box, gaussian };
+
+// The thin lens the command line asks for (README "Depth of field"); glTF cameras have none. All zero: a pinhole.
+struct LensSettings {
+    double f_number = 0.0;          // --aperture N: radius = focal length / (2 N), focal length from yfov and the sensor
+    double aperture_radius = 0.0;   // --aperture-radius R, world units (instead of --aperture)
+    double sensor_height_mm = 24.0; // --sensor-height: the film height yfov spans (35 mm full frame: 24)
+    double focus_distance = 0.0;    // --focus-distance D, world units along the view; 0: --focus-on or the centre
+    bool focus_on_given = false;    // --focus-on X,Y: focus on the surface seen at that pixel
+    double focus_on[2] = {0.0, 0.0};
+    uint32_t blades = 0;            // --aperture-blades: 0 a disk, 3 or more a regular polygon
+    double rotation_degrees = 0.0;  // --aperture-rotation
+    bool on() const { return f_number > 0.0 || aperture_radius > 0.0; }
+};
 // Where a path's random numbers come from (shaders/lib/path_sampler.glsl).
 enum class Sampler { independent, sobol };
 
@@ -38,6 +51,7 @@ struct RenderSettings {
     float environment_rotation = 0.0f;    // --env-rotation, degrees about +Y
     bool has_background = false;          // --background R,G,B
     float background[3] = {0.0f, 0.0f, 0.0f};
+    LensSettings lens;                    // depth of field (EFFECT_THIN_LENS when on())
 };
 
 const char* to_string(PixelFilter filter);

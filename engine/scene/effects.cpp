@@ -49,6 +49,18 @@ void add_decision(SceneEffects& effects, uint32_t bit, bool on, std::string why)
         if (e.bit == bit) effects.decisions.push_back({bit, e.name, on, std::move(why)});
 }
 
+// Keeps the table in list_effects() order.
+void sort_decisions(SceneEffects& effects) {
+    auto rank = [](uint32_t bit) {
+        const std::vector<EffectInfo>& all = list_effects();
+        for (size_t i = 0; i < all.size(); ++i)
+            if (all[i].bit == bit) return i;
+        return all.size();
+    };
+    std::stable_sort(effects.decisions.begin(), effects.decisions.end(),
+                     [&](const EffectDecision& a, const EffectDecision& b) { return rank(a.bit) < rank(b.bit); });
+}
+
 }  // namespace
 
 const std::vector<EffectInfo>& list_effects() {
@@ -81,6 +93,7 @@ const std::vector<EffectInfo>& list_effects() {
         {gpu::EFFECT_IRIDESCENCE, "iridescence"},
         {gpu::EFFECT_IRIDESCENCE_TEXTURE, "iridescence-texture"},
         {gpu::EFFECT_SPECTRAL, "spectral"},
+        {gpu::EFFECT_THIN_LENS, "thin-lens"},
     };
     return effects;
 }
@@ -276,15 +289,15 @@ void decide_light_effects(SceneEffects& effects, const std::set<uint32_t>& emitt
     decide(gpu::EFFECT_PUNCTUAL_LIGHTS, punctual_lights > 0,
            punctual_lights > 0 ? std::to_string(punctual_lights) + " KHR_lights_punctual lights"
                                : "no KHR_lights_punctual light of non-zero power");
-    // Keep the table in list_effects() order.
-    auto rank = [](uint32_t bit) {
-        const std::vector<EffectInfo>& all = list_effects();
-        for (size_t i = 0; i < all.size(); ++i)
-            if (all[i].bit == bit) return i;
-        return all.size();
-    };
-    std::stable_sort(effects.decisions.begin(), effects.decisions.end(),
-                     [&](const EffectDecision& a, const EffectDecision& b) { return rank(a.bit) < rank(b.bit); });
+    sort_decisions(effects);
+}
+
+void decide_camera_effects(SceneEffects& effects, bool thin_lens) {
+    effects.bits &= ~gpu::EFFECT_THIN_LENS;
+    std::erase_if(effects.decisions, [](const EffectDecision& d) { return d.bit == gpu::EFFECT_THIN_LENS; });
+    add_decision(effects, gpu::EFFECT_THIN_LENS, thin_lens,
+                 thin_lens ? "--aperture or --aperture-radius above 0" : "a pinhole camera (no --aperture)");
+    sort_decisions(effects);
 }
 
 uint32_t select_effects(uint32_t analysed, uint32_t forced, uint32_t disabled) {

@@ -39,8 +39,11 @@ SceneEffects analyse_effects(const Scene& scene, bool environment);
 void decide_light_effects(SceneEffects& effects, const std::set<uint32_t>& emitting_materials, size_t emitting_triangles,
                           size_t punctual_lights);
 
+// Sets the camera's decision (thin-lens: the render asks for an aperture above 0), replacing an earlier one.
+void decide_camera_effects(SceneEffects& effects, bool thin_lens);
+
 // The effect set the stages are compiled with: the analysed one, with --force-effect and --disable-effect
-// applied to the switchable effects (EFFECT_SWITCHABLE; the environment follows the command line).
+// applied to the switchable effects (EFFECT_SWITCHABLE; the environment and the thin lens follow the command line).
 uint32_t select_effects(uint32_t analysed, uint32_t forced, uint32_t disabled);
 
 // The bit of a switchable effect (EFFECT_SWITCHABLE) named as list_effects() names it; throws

@@ -262,6 +262,7 @@ PackedScene pack_scene(const Scene& scene, const SceneBvh& bvh, EnvironmentMap e
         power.push_back(w);
     }
     decide_light_effects(packed.effects, emitting_materials, triangle_lights, packed.punctual_lights.size());
+    decide_camera_effects(packed.effects, false);  // a pinhole unless the render asks for a lens (prepare_scene)
     // The environment as a light over the scene's bounding disc: pi r^2 times the integral of its radiance
     // (a directional light's pi r^2 E, summed over directions; pbrt-v4 ImageInfiniteLight::Phi likewise).
     const bool environment_light = !environment.empty() && environment.luminance_integral > 0.0;

@@ -26,6 +26,12 @@ struct SceneCamera {
     bool orthographic = false;
     double yfov = 0.0;             // radians, perspective only
     double xmag = 0.0, ymag = 0.0;  // half extents, orthographic only
+    // Thin lens (glTF has none: set from the command line, app/lens_options.h). A radius of 0 is the pinhole.
+    double aperture_radius = 0.0;   // world units
+    double focus_distance = 1.0;    // world units, along the view direction: the plane in focus
+    uint32_t aperture_blades = 0;   // 0: a disk; 3 or more: a regular polygon
+    double aperture_rotation = 0.0; // radians, the polygon's turn about the view direction
+    bool has_lens() const { return aperture_radius > 0.0; }
 };
 
 // A KHR_lights_punctual light placed by its node (world space; it shines down its node's local -Z).

@@ -1,14 +1,19 @@
-// Camera rays for a film position: perspective (pinhole, glTF yfov) and orthographic (glTF xmag/ymag).
+// Camera rays for a film position: perspective (pinhole, glTF yfov) and orthographic (glTF xmag/ymag), and with
+// EFFECT_THIN_LENS a thin lens in front of either (pbrt-v4's model): the ray through the lens centre is the
+// pinhole's; a ray from another point of the aperture aims at where that one meets the plane in focus, so the field
+// of view stays glTF's and points on that plane stay sharp.
 #ifndef FH_CAMERA_GLSL
 #define FH_CAMERA_GLSL
+#include "effects.glsl"
+#include "sampling.glsl"
 
 struct CameraRay {
     vec3 origin;
     vec3 dir;  // unit length
 };
 
-// film: position in pixels, (0,0) = top-left corner of the image.
-CameraRay make_camera_ray(vec2 film) {
+// film: position in pixels, (0,0) = top-left corner of the image; lens_u: the aperture's two numbers (thin lens).
+CameraRay make_camera_ray(vec2 film, vec2 lens_u) {
     float ndc_x = 2.0f * film.x / float(params.width) - 1.0f;
     float ndc_y = 1.0f - 2.0f * film.y / float(params.height);
     vec3 right = params.camera_right.xyz;
@@ -21,6 +26,13 @@ CameraRay make_camera_ray(vec2 film) {
     } else {
         ray.origin = params.camera_origin.xyz;
         ray.dir = normalize(forward + ndc_x * right + ndc_y * up);
+    }
+    if (effect_on(EFFECT_THIN_LENS)) {
+        // The pinhole ray meets the plane in focus at the distance focus_distance along forward.
+        vec3 focus = ray.origin + (params.focus_distance / dot(ray.dir, forward)) * ray.dir;
+        vec2 lens = params.lens_radius * sample_aperture(lens_u, params.aperture_blades, params.aperture_rotation);
+        ray.origin += lens.x * normalize(right) + lens.y * normalize(up);
+        ray.dir = normalize(focus - ray.origin);
     }
     return ray;
 }

@@ -9,6 +9,7 @@ const float PI = 3.14159265358979f;
 const float TWO_PI = 6.28318530717959f;
 const float INV_PI = 0.318309886183791f;
 const float FLOAT_MAX = 3.402823466e38f;
+const float ONE_BELOW_ONE = 0.99999994f;  // the largest float below 1
 
 // An orthonormal basis around `n`; to_local maps world vectors to (t, b, n) coordinates (z = n).
 struct Frame {
@@ -82,6 +83,22 @@ vec2 sample_uniform_triangle(vec2 u) {
         b0 = u.x - b1;
     }
     return vec2(b0, b1);
+}
+
+// Uniform point on a camera aperture of circumradius 1, by area: the unit disk (blades < 3, concentric map) or the
+// regular polygon with `blades` corners, the first at angle `rotation` (radians) from +x. The polygon is split into
+// one triangle per blade, u.x picks the blade and, rescaled, places the point in it with u.y (Heitz 2019).
+vec2 sample_aperture(vec2 u, uint blades, float rotation) {
+    if (blades < 3u) {
+        return sample_concentric_disk(u);
+    }
+    float n = float(blades);
+    float scaled = u.x * n;
+    float k = min(floor(scaled), n - 1.0f);
+    vec2 b = sample_uniform_triangle(vec2(min(scaled - k, ONE_BELOW_ONE), u.y));
+    float a0 = rotation + TWO_PI * k / n;
+    float a1 = rotation + TWO_PI * (k + 1.0f) / n;
+    return b.x * vec2(cos(a0), sin(a0)) + b.y * vec2(cos(a1), sin(a1));
 }
 
 // Inverse error function for |x| < 1 in single precision (Giles 2010, "Approximating the erfinv function",

@@ -98,6 +98,8 @@ FH_CONST uint EFFECT_GLASS_MULTISCATTER = 67108864u;  // rough glass: the energy
                                                       // back (shaders/lib/glass_multiscatter.glsl)
 FH_CONST uint EFFECT_SPECULAR = 134217728u;  // the base's GGX reflection (dielectric specular layer, metal): off when
                                              // every visible material is Lambertian (metallic 0, specularFactor 0)
+FH_CONST uint EFFECT_THIN_LENS = 268435456u;  // --aperture / --aperture-radius > 0: camera rays from a lens disk or
+                                              // polygon, focused on a plane (lib/camera.glsl); else the pinhole
 FH_CONST uint EFFECT_ATTRIBUTES = EFFECT_BASE_COLOR_TEXTURE | EFFECT_METALLIC_ROUGHNESS_TEXTURE |
                                   EFFECT_NORMAL_TEXTURE | EFFECT_EMISSIVE_TEXTURE | EFFECT_VERTEX_COLORS |
                                   EFFECT_ALPHA | EFFECT_TRANSMISSION_TEXTURE | EFFECT_CLEARCOAT_TEXTURE |
@@ -346,7 +348,12 @@ struct FrameParams {
     uint env_height;
     float env_rotation;     // radians about +Y (--env-rotation)
     float env_pick_pdf;     // probability that NEE picks the environment
-    uint pad0, pad1, pad2, pad3;
+    // Thin lens (EFFECT_THIN_LENS): the aperture in render units, the distance of the plane in focus along the view
+    // direction, the blades of a polygonal aperture (0: a disk) and its rotation in radians.
+    float lens_radius;
+    float focus_distance;
+    uint aperture_blades;
+    float aperture_rotation;
 };
 
 // Push constants: what changes per wave and per depth.

@@ -25,6 +25,7 @@ constexpr const char* USAGE = R"(usage:
   fh_compare TEST.exr --finite [--diff-out DIFF.exr]
   fh_compare TEST.exr --elongated-along x|y [--min-ratio 2]
   fh_compare TEST.exr --dispersed-along x|-x|y|-y [--min-separation 1]
+  fh_compare TEST.exr --blur-diameter SHARP.exr --expect-px D [--tolerance-px 1]
   fh_compare T1.exr,T2.exr,... --same-distribution R1.exr,R2.exr,... [--alpha 0.01] [--diff-out DIFF.exr]
 Exit status: 0 pass; 1 fail (one line per failing criterion, difference image written to --diff-out,
 default TEST.diff.exr; --z-out adds each tile's z-score) or an unreadable image; 2 bad usage.
@@ -43,6 +44,7 @@ const std::map<std::string, std::vector<std::string>> MODE_OPTIONS = {
     {"--finite", {"--diff-out"}},
     {"--elongated-along", {"--min-ratio"}},
     {"--dispersed-along", {"--min-separation"}},
+    {"--blur-diameter", {"--expect-px", "--tolerance-px"}},
     {"--same-distribution", {"--alpha", "--diff-out"}},
 };
 
@@ -53,6 +55,7 @@ const std::map<std::string, std::string> DIFFERENCE_CONTENT = {
     {"--finite", "1 where a value is NaN or infinite"},
     {"--elongated-along", "none"},
     {"--dispersed-along", "none"},
+    {"--blur-diameter", "none"},
     {"--same-distribution", "mean of test batches minus mean of reference batches"},
 };
 
@@ -110,7 +113,7 @@ Arguments parse_arguments(int argc, char** argv) {
     if (args.test.empty()) throw UsageError("no test image given");
     if (args.mode.empty())
         throw UsageError("choose one of --reference, --expect-constant, --identical, --finite, --same-distribution, "
-                         "--elongated-along, --dispersed-along");
+                         "--elongated-along, --dispersed-along, --blur-diameter");
     for (const auto& [name, value] : args.options) {
         if (name == args.mode) continue;
         bool known = false;
@@ -205,6 +208,12 @@ fh::CheckResult run_check(const Arguments& args) {
         const double min_separation = args.number("--min-separation", 1.0);
         if (!(min_separation >= 0)) throw UsageError("--min-separation must not be negative");
         return fh::check_dispersion(test, direction, min_separation);
+    }
+    if (args.mode == "--blur-diameter") {
+        if (!args.has("--expect-px")) throw UsageError("--blur-diameter needs --expect-px");
+        const double expected = args.number("--expect-px", 0.0), tolerance = args.number("--tolerance-px", 1.0);
+        if (!(expected >= 0) || !(tolerance >= 0)) throw UsageError("--expect-px and --tolerance-px must not be negative");
+        return fh::check_blur_diameter(test, fh::read_exr(args.options.at("--blur-diameter")), expected, tolerance);
     }
     if (args.mode == "--identical") return fh::check_identical(test, fh::read_exr(args.options.at("--identical")));
     return fh::check_finite(test);

@@ -154,6 +154,48 @@ CheckResult check_elongation(const Image& test, char axis, double min_ratio) {
     return result;
 }
 
+namespace {
+
+// Luminance-weighted mean squared distance of the pixels from their centroid, px^2 (pixel centres); -1: black.
+double second_moment(const Image& image) {
+    double weight = 0.0, mx = 0.0, my = 0.0, m2 = 0.0;
+    for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < image.width; ++x) {
+            const float* p = &image.rgb[(std::size_t(y) * image.width + x) * 3];
+            const double w = luminance(p[0], p[1], p[2]);
+            if (!(w > 0.0) || !std::isfinite(w)) continue;
+            weight += w;
+            mx += w * x;
+            my += w * y;
+            m2 += w * (double(x) * x + double(y) * y);
+        }
+    if (!(weight > 0.0)) return -1.0;
+    mx /= weight;
+    my /= weight;
+    return m2 / weight - mx * mx - my * my;
+}
+
+}  // namespace
+
+CheckResult check_blur_diameter(const Image& test, const Image& sharp, double expected_px, double tolerance_px) {
+    CheckResult result;
+    const std::string mismatch =
+        test.width != sharp.width || test.height != sharp.height ? size_mismatch(test, sharp) : std::string();
+    const double m_test = second_moment(test), m_sharp = second_moment(sharp);
+    if (!mismatch.empty() || m_test < 0.0 || m_sharp < 0.0) {
+        result.failures.push_back(!mismatch.empty() ? mismatch : "blur: an image is black");
+        result.summary = result.failures.back();
+        return result;
+    }
+    const double diameter = std::sqrt(std::max(8.0 * (m_test - m_sharp), 0.0));
+    if (!(std::abs(diameter - expected_px) <= tolerance_px))
+        result.failures.push_back(format_text("blur: the light spreads over a disk of %.3f px, expected %.3f +- %.3f",
+                                              diameter, expected_px, tolerance_px));
+    result.summary = format_text("blur disk %.3f px (expected %.3f +- %.3f; second moments %.3f and %.3f px^2)", diameter,
+                                 expected_px, tolerance_px, m_test, m_sharp);
+    return result;
+}
+
 CheckResult check_dispersion(const Image& test, const std::string& direction, double min_separation) {
     CheckResult result;
     const int axis = direction.back() == 'x' ? 0 : 1;

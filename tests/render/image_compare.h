@@ -103,6 +103,13 @@ CheckResult check_elongation(const Image& test, char axis, double min_ratio);
 // red (a prism's spectrum: shorter wavelengths bend more). No difference image.
 CheckResult check_dispersion(const Image& test, const std::string& direction, double min_separation);
 
+// A point of light blurred by a lens: the test image is `sharp` (the same light through a pinhole) spread over a
+// disk of diameter `expected_px` pixels, within `tolerance_px`. Luminance-weighted second moments about each image's
+// centroid add under convolution, and a uniform disk of diameter c has E[r^2] = c^2 / 8, so the measured diameter is
+// sqrt(8 (m2(test) - m2(sharp))). A polygonal aperture's blur has the same E[r^2] as the disk whose diameter the test
+// expects (the caller converts). No difference image.
+CheckResult check_blur_diameter(const Image& test, const Image& sharp, double expected_px, double tolerance_px);
+
 // ---- Same distribution, pixel by pixel -----------------------------------------------------------------
 //
 // test and reference are K >= 2 independent renders each (different seeds) of images that should have the

@@ -152,6 +152,19 @@ TEST(Resume, ChunkedRenderEqualsStraightRender) {
     expect_identical(final_file, dir / "straight.exr");
 }
 
+// A thin-lens render resumes bit-exactly too (the lens and its focus, found by --focus-on, are the same each time).
+TEST(Resume, LensRenderResumesBitExactly) {
+    const fs::path dir = work_dir();
+    const std::vector<std::string> settings = {"--width", "32", "--height", "32", "--aperture", "1.4", "--focus-on",
+                                               "10,20", "--aperture-blades", "7", "-q"};
+    ASSERT_EQ(run_fredholm(with({CORNELL, "-o", (dir / "straight.exr").string(), "--spp", "4"}, settings)).exit_code, 0);
+    const std::string chunked = (dir / "chunked.exr").string();
+    ASSERT_EQ(run_fredholm(with({CORNELL, "-o", chunked, "--spp", "2"}, settings)).exit_code, 0);
+    const Outcome resumed = run_fredholm(with({CORNELL, "-o", chunked, "--spp", "4", "--resume"}, settings));
+    ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+    expect_identical(chunked, dir / "straight.exr");
+}
+
 TEST(Resume, RejectsMismatchedSettingsWithOneLine) {
     const fs::path dir = work_dir();
     const std::string partial = (dir / "partial.exr").string();
@@ -170,6 +183,8 @@ TEST(Resume, RejectsMismatchedSettingsWithOneLine) {
         {args("16", "4", {"--resume", "--max-depth", "3"}), "max_depth is 0 in the file but 3"},
         {args("16", "4", {"--resume", "--nee", "off"}), "nee is on in the file but off"},
         {args("16", "4", {"--resume", "--filter", "gaussian"}), "filter is box in the file but gaussian"},
+        {args("16", "4", {"--resume", "--aperture", "2", "--focus-distance", "3"}),
+         "lens is pinhole in the file but f/2 sensor 24 mm, focus 3"},
         {args("17", "4", {"--resume"}), "the image is 16x16 but this render is 17x16"},
         {args("16", "1", {"--resume"}), "already has 2 spp, more than --spp 1"},
     };

@@ -2,7 +2,10 @@
 // (Mitsuba 3 style), the frame's orthonormality, the MIS weight's limits, and finiteness at the edges of u.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cfloat>
+#include <cmath>
 #include <random>
 
 #include "chi_square.h"
@@ -101,6 +104,77 @@ TEST(Sampling, UniformTriangleChiSquare) {
             expected[i * res + j] = SAMPLES * 2.0 * area;  // pdf 2 on the triangle of area 1/2
         }
     expect_pass(chi_square_test(observed, expected), "uniform triangle");
+}
+
+// Area of the square [x0,x1]x[y0,y1] inside the convex polygon `poly` (counter-clockwise): the square clipped by
+// each edge's half-plane (Sutherland-Hodgman), then the shoelace formula.
+double clipped_area(const std::vector<std::array<double, 2>>& poly, double x0, double y0, double x1, double y1) {
+    std::vector<std::array<double, 2>> shape = {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
+    for (size_t e = 0; e < poly.size() && !shape.empty(); ++e) {
+        const auto a = poly[e], b = poly[(e + 1) % poly.size()];
+        auto side = [&](const std::array<double, 2>& p) {
+            return (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]);  // >= 0: inside
+        };
+        std::vector<std::array<double, 2>> kept;
+        for (size_t i = 0; i < shape.size(); ++i) {
+            const auto p = shape[i], q = shape[(i + 1) % shape.size()];
+            const double sp = side(p), sq = side(q);
+            if (sp >= 0) kept.push_back(p);
+            if ((sp >= 0) != (sq >= 0)) {
+                const double t = sp / (sp - sq);
+                kept.push_back({p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])});
+            }
+        }
+        shape = kept;
+    }
+    double area = 0;
+    for (size_t i = 0; i < shape.size(); ++i) {
+        const auto p = shape[i], q = shape[(i + 1) % shape.size()];
+        area += p[0] * q[1] - q[0] * p[1];
+    }
+    return 0.5 * std::abs(area);
+}
+
+// The aperture's points are uniform over the polygon (or, with many blades, close to the disk): the counts in a grid
+// over [-1,1]^2 against each cell's area inside the polygon, divided by the polygon's area.
+void check_aperture(uint32_t blades, float rotation, const char* what) {
+    const int res = 48;
+    std::vector<std::array<double, 2>> poly;
+    for (uint32_t k = 0; k < blades; ++k)
+        poly.push_back({std::cos(rotation + 2 * M_PI * k / blades), std::sin(rotation + 2 * M_PI * k / blades)});
+    const double poly_area = 0.5 * blades * std::sin(2 * M_PI / blades);
+    std::vector<double> observed(res * res, 0.0), expected(res * res);
+    std::mt19937 rng(5 + blades);
+    for (int i = 0; i < SAMPLES; ++i) {
+        const vec2 p = sample_aperture(random_u2(rng), blades, rotation);
+        ASSERT_LE(double(p.x) * p.x + double(p.y) * p.y, 1.0 + 1e-6);
+        const int cx = std::clamp(int((p.x + 1.0f) * 0.5f * res), 0, res - 1);
+        const int cy = std::clamp(int((p.y + 1.0f) * 0.5f * res), 0, res - 1);
+        observed[cy * res + cx] += 1.0;
+    }
+    for (int cy = 0; cy < res; ++cy)
+        for (int cx = 0; cx < res; ++cx) {
+            const double x0 = -1.0 + 2.0 * cx / res, y0 = -1.0 + 2.0 * cy / res;
+            expected[cy * res + cx] = SAMPLES * clipped_area(poly, x0, y0, x0 + 2.0 / res, y0 + 2.0 / res) / poly_area;
+        }
+    expect_pass(chi_square_test(observed, expected), what);
+}
+
+TEST(Sampling, PolygonalApertureChiSquare) {
+    check_aperture(3, 0.0f, "aperture, 3 blades");
+    check_aperture(6, 0.3f, "aperture, 6 blades rotated");
+    check_aperture(16, 1.0f, "aperture, 16 blades");
+}
+
+// Fewer than 3 blades is the disk: the concentric map itself.
+TEST(Sampling, ApertureWithoutBladesIsTheDisk) {
+    std::mt19937 rng(9);
+    for (int i = 0; i < 1000; ++i) {
+        const vec2 u = random_u2(rng);
+        const vec2 a = sample_aperture(u, 0u, 0.7f), d = sample_concentric_disk(u);
+        EXPECT_EQ(a.x, d.x);
+        EXPECT_EQ(a.y, d.y);
+    }
 }
 
 double erfinv_reference(double x) {  // Newton on erf, from a good start

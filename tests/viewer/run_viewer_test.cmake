@@ -13,6 +13,7 @@ function(run_checked)  # run_checked(EXPECT rc COMMAND ...): runs, requires the 
     message(FATAL_ERROR "${MODE}: exit code ${rc}, expected ${R_EXPECT}\n  reproduce: ${printable}")
   endif()
   set(stderr_text "${err}" PARENT_SCOPE)
+  set(stdout_text "${out}" PARENT_SCOPE)
   set(printable "${printable}" PARENT_SCOPE)
 endfunction()
 
@@ -59,6 +60,28 @@ elseif(MODE STREQUAL "script")
   execute_process(COMMAND ${COMPARE} ${shot} --finite RESULT_VARIABLE rc)
   if(NOT rc EQUAL 0)
     message(FATAL_ERROR "script: non-finite pixels in ${shot}\n  reproduce: ${printable}")
+  endif()
+elseif(MODE STREQUAL "lens")
+  # The viewer with a lens (options as render's) accumulates the same bits as `fredholm render` with that lens; then
+  # F twice (f/16, f/8), a click at the centre to focus there, and C prints the lens with its focus distance.
+  set(shot ${OUT}/viewer_lens.exr)
+  set(ref ${OUT}/viewer_lens_render.exr)
+  set(lens --aperture 2 --focus-on 40,90 --aperture-blades 6)
+  run_checked(EXPECT 0 COMMAND ${xvfb} ${FREDHOLM} view ${SCENE} --width 128 --height 128 --frames 16
+              --spp-per-frame 1 ${lens} --screenshot ${shot})
+  set(view_command "${printable}")
+  run_checked(EXPECT 0 COMMAND ${FREDHOLM} render ${SCENE} --width 128 --height 128 --spp 16 ${lens} -o ${ref} --quiet)
+  execute_process(COMMAND ${COMPARE} ${shot} --identical ${ref} RESULT_VARIABLE rc)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "lens: the viewer's lens image differs from render's; images kept in ${OUT}\n"
+                        "  reproduce: ${view_command}\n  and: ${printable}")
+  endif()
+  run_checked(EXPECT 0 COMMAND ${CMAKE_COMMAND} -E env FREDHOLM_VALIDATION=1 ${xvfb} ${FREDHOLM} view ${SCENE}
+              --width 128 --height 128 --frames 20 --script aperture,aperture,focus,print --screenshot ${shot})
+  if(stderr_text MATCHES "validation" OR NOT stderr_text MATCHES " 0 non-finite samples" OR
+     NOT stdout_text MATCHES "--aperture 8 --focus-distance [0-9.]+")
+    message(FATAL_ERROR "lens: validation messages, non-finite samples, or no lens in the printed command\n"
+                        "  reproduce: ${printable}")
   endif()
 else()
   message(FATAL_ERROR "unknown MODE ${MODE}")
