@@ -243,6 +243,12 @@ std::string describe_command(const ConvergeCommand& c) {
     if (s.forced_effects) line += " --force-effect " + describe_effects(s.forced_effects);
     if (s.disabled_effects) line += " --disable-effect " + describe_effects(s.disabled_effects);
     if (s.lens.on()) line += " " + format_lens_options(s.lens);
+    if (s.animate) {
+        char time[48];
+        std::snprintf(time, sizeof time, " --time %.9g", s.time);
+        line += time;
+        if (!s.animation.empty()) line += " --animation '" + s.animation + "'";
+    }
     return line;
 }
 
@@ -308,6 +314,7 @@ void add_converge_options(CLI::App& app, ConvergeCommand& c) {
     add_robustness_options(app, s);
     add_environment_options(app, s);
     add_lens_options(app, s);
+    add_animation_options(app, s);
     app.add_flag("--validate", c.validation, "enable Vulkan validation layers (also FREDHOLM_VALIDATION=1)");
     app.add_option("--device", c.device, "use the first Vulkan device whose name contains this");
 }

@@ -27,6 +27,7 @@ void add_info_options(CLI::App& app, InfoCommand& c) {
     app.add_flag("--json", c.json, "print one JSON object instead of text");
     add_environment_options(app, c.settings);
     add_lens_options(app, c.settings);
+    add_animation_options(app, c.settings);
     add_effect_options(app, c.settings);
 }
 
@@ -47,6 +48,12 @@ int run_info(const InfoCommand& c) {
     j["punctual_lights"] = p.packed.punctual_lights.size();
     j["cameras"] = p.scene.cameras.size();
     j["variants"] = p.scene.variants;
+    j["animations"] = p.scene.animations;
+    if (!p.scene.animation.empty()) {
+        j["animation"] = p.scene.animation;
+        j["animation_start"] = p.scene.animation_start;
+        j["animation_end"] = p.scene.animation_end;
+    }
     j["bounds_min"] = {p.scene.bounds_min.x, p.scene.bounds_min.y, p.scene.bounds_min.z};
     j["bounds_max"] = {p.scene.bounds_max.x, p.scene.bounds_max.y, p.scene.bounds_max.z};
     j["bvh_nodes"] = p.bvh_nodes;
@@ -71,6 +78,14 @@ int run_info(const InfoCommand& c) {
     std::printf("  lights             %zu in the light table (%zu punctual)\n", p.packed.emitters.size(),
                 p.packed.punctual_lights.size());
     std::printf("  cameras            %zu\n", p.scene.cameras.size());
+    if (!p.scene.animations.empty()) {
+        std::string names;
+        for (const std::string& a : p.scene.animations) names += (names.empty() ? "" : ", ") + a;
+        std::printf("  animations         %s\n", names.c_str());
+    }
+    if (!p.scene.animation.empty())
+        std::printf("  posed at           t = %g s by %s (keys from %g to %g s)\n", c.settings.time,
+                    p.scene.animation.c_str(), p.scene.animation_start, p.scene.animation_end);
     std::printf("  bounds             (%g, %g, %g) to (%g, %g, %g)\n", p.scene.bounds_min.x, p.scene.bounds_min.y,
                 p.scene.bounds_min.z, p.scene.bounds_max.x, p.scene.bounds_max.y, p.scene.bounds_max.z);
     std::printf("  BVH                %zu nodes, depth %u (load %.3f s, build %.3f s)\n", p.bvh_nodes, p.bvh_depth,

@@ -40,6 +40,14 @@ std::string describe_environment(const RenderSettings& s) {
     return std::filesystem::path(s.environment_file).filename().string() + text;
 }
 
+// The time the scene is posed at ("static": the file's transforms).
+std::string format_seconds(const RenderSettings& s) {
+    if (!s.animate) return "static";
+    char text[32];
+    std::snprintf(text, sizeof text, "%.9g", s.time);
+    return text;
+}
+
 // The settings that decide every sample's value (what a resume must match), plus the samples done.
 ImageMetadata make_metadata(const RenderCommand& c, uint32_t spp_done, uint32_t effects) {
     const RenderSettings& s = c.settings;
@@ -65,6 +73,8 @@ ImageMetadata make_metadata(const RenderCommand& c, uint32_t spp_done, uint32_t 
             {"fredholm:forced_effects", describe_effects(s.forced_effects)},
             {"fredholm:environment", describe_environment(s)},
             {"fredholm:lens", describe_lens(s.lens)},
+            {"fredholm:animation", !s.animate ? "none" : s.animation.empty() ? "first" : s.animation},
+            {"fredholm:time", format_seconds(s)},
             {"fredholm:variant", s.variant.empty() ? "default" : s.variant},
             {"fredholm:colorspace", "scene-linear Rec.709"}};
 }
@@ -107,6 +117,13 @@ void write_stats(const std::filesystem::path& file, const RenderCommand& c, cons
     j["forced_effects"] = describe_effects(s.forced_effects);
     j["environment"] = describe_environment(s);
     j["lens"] = describe_lens(s.lens);
+    j["animations"] = prepared.scene.animations;
+    if (s.animate) {
+        j["animation"] = prepared.scene.animation;
+        j["time"] = s.time;
+        j["animation_start"] = prepared.scene.animation_start;
+        j["animation_end"] = prepared.scene.animation_end;
+    }
     if (camera.has_lens()) {  // as resolved: the f-number's radius, the distance --focus-on or the centre found
         j["aperture_radius"] = camera.aperture_radius;
         j["focus_distance"] = camera.focus_distance;
@@ -151,6 +168,11 @@ void add_render_options(CLI::App& app, RenderCommand& c) {
     add_robustness_options(app, s);
     add_environment_options(app, s);
     add_lens_options(app, s);
+    add_animation_options(app, s);
+    auto* frames = app.add_option("--frames", c.frames,
+                                  "render frames A:B of the animation, frame f at time f / --fps; -o, --png and --stats "
+                                  "need a run of # for the frame number (out_####.exr)");
+    app.add_option("--fps", c.fps, "frames per second of --frames (default 24)")->check(CLI::Range(1e-3, 1e6));
     app.add_flag("--validate", c.validation, "enable Vulkan validation layers (also FREDHOLM_VALIDATION=1)");
     app.add_option("--device", c.device, "use the first Vulkan device whose name contains this");
     app.add_flag("-q,--quiet", c.quiet, "no summary line");
@@ -161,10 +183,86 @@ void add_render_options(CLI::App& app, RenderCommand& c) {
                c.resume_file = file;
            },
            "continue a render written by fredholm render (default: the -o file) up to --spp samples")
-        ->expected(0, 1);
+        ->expected(0, 1)
+        ->excludes(frames);
 }
 
+namespace {
+
+struct FrameRange {
+    long first = 0, last = 0;
+};
+
+FrameRange parse_frames(const std::string& text) {
+    FrameRange r;
+    const size_t colon = text.find(':');
+    try {
+        size_t used_a = 0, used_b = 0;
+        r.first = std::stol(text.substr(0, colon), &used_a);
+        r.last = colon == std::string::npos ? r.first : std::stol(text.substr(colon + 1), &used_b);
+        if (used_a != (colon == std::string::npos ? text.size() : colon) ||
+            (colon != std::string::npos && used_b != text.size() - colon - 1))
+            throw std::invalid_argument(text);
+    } catch (const std::exception&) {
+        throw CLI::ValidationError("--frames", "'" + text + "' is not A:B (frame numbers)");
+    }
+    if (r.first < 0 || r.last < r.first || r.last > 10000000)
+        throw CLI::ValidationError("--frames", "'" + text + "' needs 0 <= A <= B <= 10000000");
+    return r;
+}
+
+// The file of frame `frame`: the last run of '#' in the file name replaced by the number, zero-padded to its length.
+std::filesystem::path frame_file(const std::filesystem::path& pattern, long frame, const char* option) {
+    std::string name = pattern.filename().string();
+    const size_t end = name.find_last_of('#');
+    if (end == std::string::npos)
+        throw CLI::ValidationError(option, pattern.string() + " has no # for the frame number (e.g. out_####.exr)");
+    size_t begin = end;
+    while (begin > 0 && name[begin - 1] == '#') --begin;
+    std::string number = std::to_string(frame);
+    if (number.size() < end + 1 - begin) number.insert(0, end + 1 - begin - number.size(), '0');
+    name.replace(begin, end + 1 - begin, number);
+    return pattern.parent_path() / name;
+}
+
+// One image; `shared_context`: the Vulkan device a sequence keeps for all its frames (null: its own).
+int run_frame(const RenderCommand& c, vk::Context* shared_context = nullptr);
+
+}  // namespace
+
 int run_render(const RenderCommand& c) {
+    if (c.frames.empty()) return run_frame(c);
+    const FrameRange range = parse_frames(c.frames);
+    // Every output name is checked before the first frame renders.
+    for (long f : {range.first, range.last}) {
+        check_writable(frame_file(c.output, f, "-o"));
+        if (!c.png.empty()) check_writable(frame_file(c.png, f, "--png"));
+        if (!c.stats.empty()) check_writable(frame_file(c.stats, f, "--stats"));
+    }
+    const auto start = std::chrono::steady_clock::now();
+    const auto context = make_compute_context(c.validation, c.device);  // one device for every frame
+    for (long f = range.first; f <= range.last; ++f) {
+        RenderCommand frame = c;
+        frame.frames.clear();
+        frame.settings.animate = true;
+        frame.settings.time = double(f) / c.fps;
+        frame.output = frame_file(c.output, f, "-o");
+        if (!c.png.empty()) frame.png = frame_file(c.png, f, "--png");
+        if (!c.stats.empty()) frame.stats = frame_file(c.stats, f, "--stats");
+        const int rc = run_frame(frame, context.get());
+        if (rc != 0) return rc;
+        if (!c.quiet)
+            std::fprintf(stderr, "fredholm: frame %ld (%ld of %ld, t = %.6g s) done, %.1f s elapsed\n", f, f - range.first + 1,
+                         range.last - range.first + 1, frame.settings.time,
+                         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+        if (interrupt_requested()) return 130;
+    }
+    return 0;
+}
+
+namespace {
+
+int run_frame(const RenderCommand& c, vk::Context* shared_context) {
     // Without roulette and without a depth limit a path in a closed scene never ends.
     if (!c.settings.russian_roulette && c.settings.max_depth == 0) {
         std::fprintf(stderr, "fredholm: usage error: --rr off needs a finite --max-depth (paths that never escape "
@@ -189,7 +287,9 @@ int run_render(const RenderCommand& c) {
     install_interrupt_handlers();
 
     PreparedScene prepared = prepare_scene(c.scene, settings);
-    auto context = make_compute_context(c.validation, c.device);
+    std::unique_ptr<vk::Context> owned;
+    if (!shared_context) owned = make_compute_context(c.validation, c.device);
+    vk::Context* context = shared_context ? shared_context : owned.get();
     const SceneCamera camera = apply_lens(*context, prepared.packed,
                                           apply_camera_pose(choose_camera(prepared.scene, settings.camera), c.pose),
                                           settings);
@@ -240,5 +340,7 @@ int run_render(const RenderCommand& c) {
     }
     return 0;
 }
+
+}  // namespace
 
 }  // namespace fh

@@ -28,10 +28,14 @@ struct RenderCommand {
     bool resume = false;                // continue a render written by fredholm render instead of starting afresh
     std::filesystem::path resume_file;  // ... this one; empty: the output file itself
     CameraPoseOptions pose;             // --look-from/--look-at/--up/--yfov (as printed by the viewer)
+    std::string frames;                 // --frames A:B: a sequence, frame f at time f / fps; "" one image
+    double fps = 24.0;                  // --fps
 };
 
 void add_render_options(CLI::App& app, RenderCommand& command);
-// Returns the process exit code (0, or 130 when interrupted after writing the partial image).
+// Returns the process exit code (0, or 130 when interrupted after writing the partial image). With --frames, renders
+// each frame in turn (the scene reloaded, posed and its BVH rebuilt per frame) and stops after the frame in progress
+// when interrupted.
 int run_render(const RenderCommand& command);
 
 }  // namespace fh

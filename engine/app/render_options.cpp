@@ -151,4 +151,16 @@ void add_lens_options(CLI::App& app, RenderSettings& s) {
         ->check(CLI::Range(-360.0, 360.0));
 }
 
+void add_animation_options(CLI::App& app, RenderSettings& s) {
+    app.add_option("--animation", s.animation, "glTF animation to pose the scene by, index or name (default the first)");
+    app.add_option_function<double>(
+           "--time",
+           [&s](double t) {
+               s.animate = true;
+               s.time = t;
+           },
+           "pose the scene at this time, seconds, by --animation (default: the file's static transforms)")
+        ->check(CLI::Range(-1.0e9, 1.0e9));
+}
+
 }  // namespace fh

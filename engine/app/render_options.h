@@ -27,4 +27,7 @@ void add_environment_options(CLI::App& app, RenderSettings& settings);
 // --aperture-rotation: the thin lens (RenderSettings::lens).
 void add_lens_options(CLI::App& app, RenderSettings& settings);
 
+// --animation N|NAME, --time T: the scene posed by a glTF animation (RenderSettings::animate).
+void add_animation_options(CLI::App& app, RenderSettings& settings);
+
 }  // namespace fh

@@ -29,6 +29,9 @@ PreparedScene prepare_scene(const std::filesystem::path& file, const RenderSetti
     load.rebase = (settings.disabled_techniques & gpu::TECHNIQUE_REBASE) == 0;
     load.variant = settings.variant;
     load.instancing = settings.instancing;
+    load.animate = settings.animate;
+    load.animation = settings.animation;
+    load.time = settings.time;
     prepared.scene = load_gltf(file, load);
     prepared.load_seconds = seconds_since(start);
     for (const std::string& warning : prepared.scene.warnings)

@@ -141,6 +141,7 @@ void add_view_options(CLI::App& app, ViewCommand& c) {
     app.add_option("--seed", s.seed, "random seed");
     add_environment_options(app, s);  // --env, --background, --variant, --instancing: as render
     add_lens_options(app, s);
+    add_animation_options(app, s);
     app.add_option("--spp-per-frame", c.spp_per_frame,
                    "whole samples per pixel added each frame (default: a slice of a pass sized to --frame-ms)")
         ->check(CLI::Range(1u, 1024u));

@@ -52,6 +52,10 @@ struct RenderSettings {
     bool has_background = false;          // --background R,G,B
     float background[3] = {0.0f, 0.0f, 0.0f};
     LensSettings lens;                    // depth of field (EFFECT_THIN_LENS when on())
+    // glTF animation (README "Animation"): --time poses the scene at that time by --animation (default the first).
+    bool animate = false;
+    std::string animation;
+    double time = 0.0;                    // seconds
 };
 
 const char* to_string(PixelFilter filter);

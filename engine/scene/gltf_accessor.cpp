@@ -2,6 +2,7 @@
 #include "scene/gltf_accessor.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <string>
 
@@ -142,6 +143,24 @@ std::vector<glm::vec3> read_float3(const tinygltf::Model& model, int index, cons
     visit_elements(model, index, role, 12, [&](size_t i, const unsigned char* p) {
         std::memcpy(&out[i], p, 12);
     });
+    return out;
+}
+
+std::vector<glm::dmat4> read_matrices(const tinygltf::Model& model, int index, const std::string& role) {
+    const tinygltf::Accessor& accessor = find_accessor(model, index, role);
+    if (accessor.type != TINYGLTF_TYPE_MAT4 || accessor.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
+        fail(index, role, "expected a float MAT4 accessor");
+    std::vector<glm::dmat4> out(accessor.count, glm::dmat4(1.0));
+    visit_elements(model, index, role, 64, [&](size_t i, const unsigned char* p) {
+        float m[16];
+        std::memcpy(m, p, 64);
+        for (int c = 0; c < 4; ++c)
+            for (int r = 0; r < 4; ++r) out[i][c][r] = m[4 * c + r];
+    });
+    for (const glm::dmat4& m : out)
+        for (int c = 0; c < 4; ++c)
+            for (int r = 0; r < 4; ++r)
+                if (!std::isfinite(m[c][r])) fail(index, role, "a matrix is not finite");
     return out;
 }
 

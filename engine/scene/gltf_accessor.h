@@ -27,6 +27,10 @@ std::vector<glm::vec3> read_float3(const tinygltf::Model& model, int index, cons
 std::vector<glm::vec4> read_vectors(const tinygltf::Model& model, int index, const std::string& role,
                                     int min_components, int max_components, bool integers_allowed);
 
+// Reads accessor `index` as float MAT4 elements (column-major, as glTF stores them), e.g. a skin's inverse bind
+// matrices.
+std::vector<glm::dmat4> read_matrices(const tinygltf::Model& model, int index, const std::string& role);
+
 // Components of a tinygltf accessor type (SCALAR 1 .. VEC4 4; 0 for matrices and unknown types).
 int component_count(int type);
 

@@ -24,6 +24,7 @@
 #include <tiny_gltf.h>
 
 #include "scene/gltf_accessor.h"
+#include "scene/gltf_animation.h"
 #include "scene/gltf_material.h"
 #include "scene/thin_film_bound.h"
 #include "scene/gltf_draco.h"
@@ -316,6 +317,25 @@ public:
                 keep_attributes_ = keep_attributes_ || prim.attributes.count("COLOR_0") != 0;
     }
 
+    // World transform of every node reached from the roots (the first path where a node is shared), the joints'
+    // included: skins need them before the walk reaches the joints.
+    void compute_node_worlds(const std::vector<int>& roots) {
+        node_world_.assign(model_.nodes.size(), glm::dmat4(1.0));
+        std::vector<uint8_t> seen(model_.nodes.size(), 0);
+        std::vector<std::pair<int, glm::dmat4>> stack;
+        for (int root : roots) stack.push_back({root, glm::dmat4(1.0)});
+        while (!stack.empty()) {
+            const auto [index, parent] = stack.back();
+            stack.pop_back();
+            if (index < 0 || size_t(index) >= model_.nodes.size() || seen[size_t(index)]) continue;  // visit_node reports
+            seen[size_t(index)] = 1;
+            const tinygltf::Node& node = model_.nodes[size_t(index)];
+            node_world_[size_t(index)] = parent * local_transform(node);
+            for (int child : node.children) stack.push_back({child, node_world_[size_t(index)]});
+            if (node.skin >= 0 && node.mesh >= 0) skinned_meshes_.insert(node.mesh);
+        }
+    }
+
     void visit_node(int index, const glm::dmat4& parent_world, int depth) {
         if (index < 0 || size_t(index) >= model_.nodes.size())
             throw SceneError("root " + describe_node(model_, index) + " does not exist");
@@ -335,7 +355,6 @@ public:
         if (!is_finite(world))
             throw SceneError("the world transform of " + describe_node(model_, index) +
                              " is not finite (its transform or an ancestor's overflows)");
-        if (node.skin >= 0) warn_once("skins are not supported: skinned meshes are drawn in their bind pose");
         if (node.mesh >= 0) record_mesh_uses(node, index, world);
         if (node.camera >= 0) add_camera(node.camera, index, world);
         if (const auto it = node.extensions.find("KHR_lights_punctual"); it != node.extensions.end())
@@ -454,7 +473,7 @@ private:
     void record_mesh_uses(const tinygltf::Node& node, int index, const glm::dmat4& world) {
         const auto it = node.extensions.find("EXT_mesh_gpu_instancing");
         if (it == node.extensions.end() || !it->second.IsObject()) {
-            uses_.push_back({node.mesh, world});
+            uses_.push_back({node.mesh, world, index});
             return;
         }
         const std::string where = "EXT_mesh_gpu_instancing of " + describe_node(model_, index);
@@ -499,7 +518,7 @@ private:
             if (!columns[2].empty()) local = glm::scale(local, glm::dvec3(glm::vec3(columns[2][i])));
             const glm::dmat4 placed = world * local;
             if (!is_finite(placed)) throw SceneError(where + ": instance " + std::to_string(i) + " has a transform that is not finite");
-            uses_.push_back({node.mesh, placed});
+            uses_.push_back({node.mesh, placed, index});
         }
     }
 
@@ -543,18 +562,18 @@ private:
         for (const MeshUse& use : uses_) ++uses_of[stored_as[use.mesh]];
         std::map<int, uint32_t> instanced;  // stored glTF mesh -> pending mesh index
         for (const auto& [mesh, count] : uses_of) {
-            if (count < 2 || instancing == Instancing::never || mesh_emits(mesh)) continue;
+            if (count < 2 || instancing == Instancing::never || mesh_emits(mesh) || deforms(mesh)) continue;
             if (instancing == Instancing::always ||
                 double(count - 1) * double(estimate_triangles(mesh)) >= double(MIN_TRIANGLES_SAVED_BY_INSTANCING))
                 instanced.emplace(mesh, 0u);
         }
         for (const MeshUse& use : uses_)
-            if (!instanced.count(stored_as[use.mesh])) add_mesh(use.mesh, use.world);
+            if (!instanced.count(stored_as[use.mesh])) add_mesh(use.mesh, use.world, use.node);
         world_triangle_end_ = triangle_material_.size();
         for (auto& [mesh, pending] : instanced) {
             pending = uint32_t(pending_meshes_.size());
             const size_t begin = triangle_material_.size();
-            add_mesh(mesh, glm::dmat4(1.0));
+            add_mesh(mesh, glm::dmat4(1.0), -1);
             pending_meshes_.push_back({begin, triangle_material_.size()});
         }
         for (const MeshUse& use : uses_) {
@@ -577,7 +596,7 @@ private:
     // accessors, and its material unless the mesh is one primitive with an opaque, non-emitting material (an
     // instance can then carry the material). Emitting meshes are never shared (mesh_emits).
     std::string geometry_key(int mesh_index) {
-        if (mesh_index < 0 || size_t(mesh_index) >= model_.meshes.size() || mesh_emits(mesh_index))
+        if (mesh_index < 0 || size_t(mesh_index) >= model_.meshes.size() || mesh_emits(mesh_index) || deforms(mesh_index))
             return "mesh " + std::to_string(mesh_index);  // add_mesh reports a missing mesh
         const tinygltf::Mesh& mesh = model_.meshes[size_t(mesh_index)];
         std::string key;
@@ -594,14 +613,24 @@ private:
         return key;
     }
 
-    void add_mesh(int mesh_index, const glm::dmat4& world) {
+    // A mesh is deformed where it has morph targets or a skinned node draws it: such meshes are copied per use.
+    bool deforms(int mesh_index) const {
+        if (mesh_index < 0 || size_t(mesh_index) >= model_.meshes.size()) return false;
+        if (skinned_meshes_.count(mesh_index)) return true;
+        for (const tinygltf::Primitive& prim : model_.meshes[size_t(mesh_index)].primitives)
+            if (!prim.targets.empty()) return true;
+        return false;
+    }
+
+    // `node`: the node drawing the mesh (its skin and morph weights), -1 for an instanced mesh's stored copy.
+    void add_mesh(int mesh_index, const glm::dmat4& world, int node) {
         if (size_t(mesh_index) >= model_.meshes.size())
             throw SceneError("mesh " + std::to_string(mesh_index) + " does not exist");
         const tinygltf::Mesh& mesh = model_.meshes[size_t(mesh_index)];
         for (size_t p = 0; p < mesh.primitives.size(); ++p) {
             const tinygltf::Primitive& prim = mesh.primitives[p];
             const size_t before = triangle_material_.size();
-            add_primitive(prim, mesh_index, int(p), world);
+            add_primitive(prim, mesh_index, int(p), world, node);
             // Unique triangles: a primitive's geometry (its POSITION and index accessors and mode) counted at its
             // first use, however many nodes or meshes draw it (before degenerate ones are dropped).
             const auto position = prim.attributes.find("POSITION");
@@ -624,7 +653,8 @@ private:
         return default_material_;
     }
 
-    void add_primitive(const tinygltf::Primitive& prim, int mesh_index, int prim_index, const glm::dmat4& world) {
+    void add_primitive(const tinygltf::Primitive& prim, int mesh_index, int prim_index, const glm::dmat4& node_world,
+                       int node) {
         const std::string where = "mesh " + std::to_string(mesh_index) + " primitive " + std::to_string(prim_index);
         const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
         if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
@@ -632,10 +662,9 @@ private:
             ++skipped_modes_[mode_name(mode)];
             return;
         }
-        if (!prim.targets.empty()) warn_once("morph targets are not supported: meshes are drawn unmorphed");
         const auto position_it = prim.attributes.find("POSITION");
         if (position_it == prim.attributes.end()) throw SceneError("primitive has no POSITION (" + where + ")");
-        const std::vector<glm::vec3> positions = read_vec3(position_it->second, "POSITION of " + where);
+        std::vector<glm::vec3> positions = read_vec3(position_it->second, "POSITION of " + where);
         std::vector<glm::vec3> normals;
         if (const auto it = prim.attributes.find("NORMAL"); it != prim.attributes.end()) {
             normals = read_vec3(it->second, "NORMAL of " + where);
@@ -646,6 +675,14 @@ private:
         }
         VertexAttributes attributes;
         if (keep_attributes_) attributes = read_attributes(prim, positions.size(), where);
+        glm::dmat4 world = node_world;
+        if (node >= 0) {
+            apply_morph_targets(prim, mesh_index, node, where, positions, normals, attributes.tangents);
+            if (model_.nodes[size_t(node)].skin >= 0) {
+                apply_skin(prim, node, where, positions, normals, attributes.tangents);
+                world = glm::dmat4(1.0);  // skinned vertices are in world space already (spec 3.7.3.3)
+            }
+        }
         std::vector<uint32_t> indices;
         if (prim.indices >= 0) {
             indices = gltf::read_indices(model_, prim.indices, "indices of " + where);
@@ -705,6 +742,96 @@ private:
             if (keep_attributes_) add_triangle_attributes(attributes, tri, linear, mirrored);
             triangle_material_.push_back(material);
             triangle_has_normals_.push_back(has_normals ? 1 : 0);
+        }
+    }
+
+    // Morph targets (spec 3.7.2.2): each target's POSITION, NORMAL and TANGENT displacements times its weight, the
+    // node's weights or else the mesh's (or an animation's, posed into the node before flattening).
+    void apply_morph_targets(const tinygltf::Primitive& prim, int mesh_index, int node, const std::string& where,
+                             std::vector<glm::vec3>& positions, std::vector<glm::vec3>& normals,
+                             std::vector<glm::vec4>& tangents) {
+        if (prim.targets.empty()) return;
+        const std::vector<double>& node_weights = model_.nodes[size_t(node)].weights;
+        const std::vector<double>& weights = !node_weights.empty() ? node_weights : model_.meshes[size_t(mesh_index)].weights;
+        for (size_t t = 0; t < prim.targets.size() && t < weights.size(); ++t) {
+            const float w = float(weights[t]);
+            if (w == 0.0f) continue;
+            if (!std::isfinite(w)) throw SceneError("morph weight " + std::to_string(t) + " is not finite (" + where + ")");
+            auto displace = [&](const char* name, auto& values) {
+                const auto it = prim.targets[t].find(name);
+                if (it == prim.targets[t].end() || values.empty()) return;
+                const std::string role = std::string(name) + " of morph target " + std::to_string(t) + " of " + where;
+                const std::vector<glm::vec4> delta = gltf::read_vectors(model_, it->second, role, 3, 3, true);
+                if (delta.size() != values.size())
+                    throw SceneError(role + " has " + std::to_string(delta.size()) + " elements, the primitive " +
+                                     std::to_string(values.size()));
+                for (size_t i = 0; i < values.size(); ++i)
+                    for (int c = 0; c < 3; ++c) values[i][c] += w * delta[i][c];
+            };
+            displace("POSITION", positions);
+            displace("NORMAL", normals);
+            displace("TANGENT", tangents);
+        }
+    }
+
+    // Skinning (spec 3.7.3): each vertex placed by the weighted sum of its joints' world transforms times their
+    // inverse bind matrices; normals by the inverse transpose of that sum, tangents by the sum itself. The joints'
+    // world transforms come from the posed hierarchy (node_world_). Vertices whose weights sum to 0 stay with the node.
+    void apply_skin(const tinygltf::Primitive& prim, int node, const std::string& where, std::vector<glm::vec3>& positions,
+                    std::vector<glm::vec3>& normals, std::vector<glm::vec4>& tangents) {
+        const int skin_index = model_.nodes[size_t(node)].skin;
+        if (size_t(skin_index) >= model_.skins.size())
+            throw SceneError(describe_node(model_, node) + " has skin " + std::to_string(skin_index) + ", which does not exist");
+        const tinygltf::Skin& skin = model_.skins[size_t(skin_index)];
+        std::vector<glm::dmat4> joint_matrices(skin.joints.size(), glm::dmat4(1.0));
+        std::vector<glm::dmat4> inverse_bind;
+        if (skin.inverseBindMatrices >= 0) {
+            inverse_bind = gltf::read_matrices(model_, skin.inverseBindMatrices, "inverseBindMatrices of skin " +
+                                                                                   std::to_string(skin_index));
+            if (inverse_bind.size() < skin.joints.size())
+                throw SceneError("skin " + std::to_string(skin_index) + " has " + std::to_string(skin.joints.size()) +
+                                 " joints but " + std::to_string(inverse_bind.size()) + " inverse bind matrices");
+        }
+        for (size_t j = 0; j < skin.joints.size(); ++j) {
+            const int joint = skin.joints[j];
+            if (joint < 0 || size_t(joint) >= model_.nodes.size())
+                throw SceneError("skin " + std::to_string(skin_index) + " joint " + std::to_string(j) + " does not exist");
+            joint_matrices[j] = node_world_[size_t(joint)] * (inverse_bind.empty() ? glm::dmat4(1.0) : inverse_bind[j]);
+        }
+        const glm::dmat4 node_world = node_world_[size_t(node)];
+        std::vector<glm::vec4> joints, weights;
+        for (int set = 0;; ++set) {
+            const auto j = prim.attributes.find("JOINTS_" + std::to_string(set));
+            const auto w = prim.attributes.find("WEIGHTS_" + std::to_string(set));
+            if (j == prim.attributes.end() || w == prim.attributes.end()) break;
+            const std::vector<glm::vec4> js = gltf::read_vectors(model_, j->second, j->first + " of " + where, 4, 4, true);
+            const std::vector<glm::vec4> ws = gltf::read_vectors(model_, w->second, w->first + " of " + where, 4, 4, true);
+            if (js.size() != positions.size() || ws.size() != positions.size())
+                throw SceneError(j->first + " or " + w->first + " does not have one element per vertex (" + where + ")");
+            joints.insert(joints.end(), js.begin(), js.end());
+            weights.insert(weights.end(), ws.begin(), ws.end());
+        }
+        const size_t sets = positions.empty() ? 0 : joints.size() / positions.size();
+        for (size_t i = 0; i < positions.size(); ++i) {
+            glm::dmat4 m(0.0);
+            double total = 0.0;
+            for (size_t set = 0; set < sets; ++set)
+                for (int k = 0; k < 4; ++k) {
+                    const double w = weights[set * positions.size() + i][k];
+                    if (w == 0.0) continue;
+                    const float joint_value = joints[set * positions.size() + i][k];
+                    if (!(joint_value >= 0.0f && joint_value < float(joint_matrices.size())))
+                        throw SceneError("vertex " + std::to_string(i) + " names joint " + std::to_string(joint_value) +
+                                         " of " + std::to_string(joint_matrices.size()) + " (" + where + ")");
+                    const size_t joint = size_t(joint_value);
+                    m += w * joint_matrices[joint];
+                    total += w;
+                }
+            m = total > 0.0 ? m / total : node_world;  // weights should sum to 1; renormalised where they do not
+            positions[i] = glm::vec3(glm::dvec3(m * glm::dvec4(glm::dvec3(positions[i]), 1.0)));
+            const glm::dmat3 linear(m);
+            if (!normals.empty()) normals[i] = glm::vec3(glm::transpose(glm::inverse(linear)) * glm::dvec3(normals[i]));
+            if (!tangents.empty()) tangents[i] = glm::vec4(glm::vec3(linear * glm::dvec3(tangents[i])), tangents[i].w);
         }
     }
 
@@ -881,8 +1008,11 @@ private:
     struct MeshUse {
         int mesh;
         glm::dmat4 world;
+        int node;  // whose skin and morph weights deform it
     };
     std::vector<MeshUse> uses_;  // in walk order
+    std::vector<glm::dmat4> node_world_;  // compute_node_worlds
+    std::set<int> skinned_meshes_;        // meshes drawn by a node with a skin
     size_t world_triangle_end_ = std::numeric_limits<size_t>::max();  // before dropping: object space from here
     std::vector<std::pair<size_t, size_t>> pending_meshes_;         // before dropping: [first, end) triangles
     struct PendingInstance {
@@ -987,6 +1117,16 @@ Scene load_unprefixed(const std::filesystem::path& file, const LoadOptions& opti
     scene.source = file;
     tinygltf::Model model = read_model(file, scene.warnings);
     check_extensions(model, scene.warnings);
+    if (options.animate) {
+        const int animation = gltf::choose_animation(model, options.animation);
+        if (animation < 0) throw SceneError("--time: the file has no animations");
+        scene.animation = gltf::animation_name(model, animation);
+        const gltf::AnimationRange range = gltf::animation_range(model, animation);
+        scene.animation_start = range.start;
+        scene.animation_end = range.end;
+        gltf::pose_model(model, animation, options.time);
+    }
+    for (size_t a = 0; a < model.animations.size(); ++a) scene.animations.push_back(gltf::animation_name(model, int(a)));
     scene.images = gltf::take_images(model);
     for (size_t m = 0; m < model.materials.size(); ++m) {
         scene.materials.push_back(gltf::convert_material(model, int(m), scene));
@@ -1000,6 +1140,7 @@ Scene load_unprefixed(const std::filesystem::path& file, const LoadOptions& opti
     Flattener flattener(model, scene, choose_variant(model, options.variant, scene.variants));
     const std::vector<int> roots = find_root_nodes(model, scene.warnings);
     check_node_instances(model, roots);
+    flattener.compute_node_worlds(roots);
     for (int root : roots) flattener.visit_node(root, glm::dmat4(1.0), 0);
     flattener.finish(options.rebase, options.instancing);
     if (scene.triangle_count() == 0) throw SceneError("no triangles in the scene");

@@ -74,6 +74,11 @@ struct LoadOptions {
     // KHR_materials_variants: the variant whose materials primitives use (empty: the file's default materials).
     std::string variant;
     Instancing instancing = Instancing::automatic;  // scene/instancing.h
+    // glTF animation: with `animate`, the scene is posed at `time` seconds by the animation `animation` names ("": the
+    // first; an index or a name). Without it the nodes keep the file's transforms and weights.
+    bool animate = false;
+    std::string animation;
+    double time = 0.0;
 };
 
 struct Scene {
@@ -95,6 +100,9 @@ struct Scene {
     std::vector<SceneLight> lights;            // punctual lights, world space
     glm::dvec3 bounds_min{0.0}, bounds_max{0.0};  // world space, of the triangles
     std::vector<std::string> variants;         // KHR_materials_variants names, in file order
+    std::vector<std::string> animations;       // "animation N 'name'", in file order
+    std::string animation;                     // the one posed (LoadOptions::animate), else empty
+    double animation_start = 0.0, animation_end = 0.0;  // its first and last keyframe times, seconds
     // Triangles of each primitive's geometry (POSITION and index accessors) counted once however many nodes or
     // meshes draw it; the flattened arrays hold every copy.
     size_t unique_triangle_count = 0;

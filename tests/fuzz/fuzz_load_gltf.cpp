@@ -49,5 +49,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         (void)fh::load_gltf(input_path());
     } catch (const fh::SceneError&) {
     }
+    // Posed by its first animation too (glTF animation, skins and morph weights at a time inside and past the keys).
+    for (double time : {0.37, 1e6}) {
+        fh::LoadOptions posed;
+        posed.animate = true;
+        posed.time = time;
+        try {
+            (void)fh::load_gltf(input_path(), posed);
+        } catch (const fh::SceneError&) {
+        }
+    }
     return 0;
 }

@@ -62,9 +62,11 @@ def main():
     out.mkdir(parents=True, exist_ok=True)
     count = 0
     # The textured, alpha and emitter scenes of the render tests (embedded PNGs: seeds for the image decoders).
-    with tempfile.TemporaryDirectory() as generated:
-        subprocess.run([sys.executable, str(source / "tests/render/scenes/make_asset_scenes.py"), generated], check=True)
-        count += add_seeds(source, out, [str(p) for p in sorted(pathlib.Path(generated).glob("*.gltf"))], generated)
+    # The animated square of the camera scenes: a seed for the animation sampler.
+    for script in ("make_asset_scenes.py", "make_camera_scenes.py"):
+        with tempfile.TemporaryDirectory() as generated:
+            subprocess.run([sys.executable, str(source / "tests/render/scenes" / script), generated], check=True)
+            count += add_seeds(source, out, [str(p) for p in sorted(pathlib.Path(generated).glob("*.gltf"))], generated)
     count += add_seeds(source, out, SEED_GLOBS, None)
     print(f"{count} seeds in {out}")
 

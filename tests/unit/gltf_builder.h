@@ -122,14 +122,20 @@ private:
     }
 };
 
-// Expects load_gltf to refuse `file` with a message containing `needle`.
-inline void expect_load_refused(const std::filesystem::path& file, const std::string& needle) {
+// Expects load_gltf with `options` to refuse `file` with a message containing `needle`.
+inline void expect_load_refused_with(const std::filesystem::path& file, const fh::LoadOptions& options,
+                                     const std::string& needle) {
     try {
-        fh::load_gltf(file);
+        fh::load_gltf(file, options);
         ADD_FAILURE() << "loaded " << file;
     } catch (const fh::SceneError& e) {
         EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
     }
+}
+
+// Expects load_gltf to refuse `file` with a message containing `needle`.
+inline void expect_load_refused(const std::filesystem::path& file, const std::string& needle) {
+    expect_load_refused_with(file, fh::LoadOptions{}, needle);
 }
 
 }  // namespace fh::test

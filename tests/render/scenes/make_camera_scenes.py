@@ -9,6 +9,11 @@ z = 2 looks down -Z (yfov 0.7 rad) at black emitters (base colour 0, so nothing 
                      focused anywhere (every ray from the lens meets the same radiance; no vignetting term).
   lens_checker.gltf  an 8 x 8 checker of emitters (radiance 1 and 0, cells 0.25 wide) at z = 0, 2 units ahead: in
                      focus (focus distance 2) a lens images it as the pinhole does.
+  anim_square.gltf   an emitter of radiance 1, 0.5 wide, sliding along x from -1 at t = 0 to 1 at t = 1 (LINEAR):
+                     posed at t = 0.5 it is where static_square.gltf has it, at x = 0.
+  static_square.gltf the same square, not animated, at x = 0.
+  skinned_square.gltf the square skinned to a joint that slides like anim_square's node (and a morph target of weight
+                     0, animated to 0): posed at t = 0.5 it is where static_square.gltf has it.
   lens_point.gltf    a 0.15 x 0.15 emitter at z = -6, 8 units ahead: out of focus it spreads into the aperture's
                      shape, of the thin-lens diameter c = A |d - s| / (d s) x H / (2 tan(yfov / 2)) pixels.
 """
@@ -41,6 +46,51 @@ def checker():
     return scene_with([(cells[0], 0.0), (cells[1], 1.0)])
 
 
+def square(animated):
+    g = scene_with([])
+    material = g.add_material(base=(0.0, 0.0, 0.0), emission=1.0)
+    node = g.add_node({"mesh": g.add_mesh(quad(-0.25, -0.25, 0.25, 0.25, 0.0), material)})
+    if animated:
+        times = g.add_floats([0.0, 1.0], "SCALAR", 2)
+        values = g.add_floats([-1.0, 0.0, 0.0, 1.0, 0.0, 0.0])
+        g.doc["animations"] = [{"name": "slide", "samplers": [{"input": times, "output": values}],
+                                "channels": [{"sampler": 0, "target": {"node": node, "path": "translation"}}]}]
+    return g
+
+
+def skinned_square():
+    g = scene_with([])
+    material = g.add_material(base=(0.0, 0.0, 0.0), emission=1.0)
+    triangles = quad(-0.25, -0.25, 0.25, 0.25, 0.0)
+    mesh = g.add_mesh(triangles, material)
+    vertices = 3 * len(triangles)
+    prim = g.doc["meshes"][mesh]["primitives"][0]
+    while len(g.blob) % 4:
+        g.blob.append(0)
+    offset = len(g.blob)
+    g.blob += bytes([1, 0, 0, 0] * vertices)  # every vertex on joint 1 (unsigned byte JOINTS_0)
+    g.doc["bufferViews"].append({"buffer": 0, "byteOffset": offset, "byteLength": 4 * vertices})
+    g.doc["accessors"].append({"bufferView": len(g.doc["bufferViews"]) - 1, "componentType": 5121,
+                               "count": vertices, "type": "VEC4"})
+    prim["attributes"]["JOINTS_0"] = len(g.doc["accessors"]) - 1
+    prim["attributes"]["WEIGHTS_0"] = g.add_floats([1.0, 0.0, 0.0, 0.0] * vertices, "VEC4", vertices)
+    prim["targets"] = [{"POSITION": g.add_floats([0.0, 0.0, 5.0] * vertices)}]
+    identity = [1.0, 0, 0, 0, 0, 1.0, 0, 0, 0, 0, 1.0, 0, 0, 0, 0, 1.0]
+    joint0 = g.add_node({}, root=False)
+    joint1 = g.add_node({"translation": [-3.0, 0.0, 0.0]}, root=False)  # at rest elsewhere: the pose must move it
+    g.add_node({"children": [joint0, joint1]})
+    g.doc["skins"] = [{"joints": [joint0, joint1], "inverseBindMatrices": g.add_floats(identity * 2, "MAT4", 2)}]
+    skinned = g.add_node({"mesh": mesh, "skin": 0, "translation": [7.0, 0.0, 0.0]})
+    times = g.add_floats([0.0, 1.0], "SCALAR", 2)
+    slide = g.add_floats([-1.0, 0.0, 0.0, 1.0, 0.0, 0.0])
+    weights = g.add_floats([0.0, 0.0], "SCALAR", 2)
+    g.doc["animations"] = [{"name": "slide", "samplers": [{"input": times, "output": slide},
+                                                          {"input": times, "output": weights}],
+                            "channels": [{"sampler": 0, "target": {"node": joint1, "path": "translation"}},
+                                         {"sampler": 1, "target": {"node": skinned, "path": "weights"}}]}]
+    return g
+
+
 def main():
     if len(sys.argv) != 2:
         sys.exit(__doc__)
@@ -49,6 +99,9 @@ def main():
     scenes = {
         "lens_wall": scene_with([(quad(-100.0, -100.0, 100.0, 100.0, 0.0), 1.0)]),
         "lens_checker": checker(),
+        "anim_square": square(True),
+        "static_square": square(False),
+        "skinned_square": skinned_square(),
         "lens_point": scene_with([(quad(-0.075, -0.075, 0.075, 0.075, -6.0), 1.0)]),
     }
     for name, g in scenes.items():

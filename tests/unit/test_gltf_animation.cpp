@@ -1,0 +1,184 @@
+// glTF animation, morph targets and skins: a scene posed at a time by load_gltf (LoadOptions::animate), checked on
+// the bounds of a triangle moved by hand-computed amounts (the loader may rotate a triangle's vertex order).
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "gltf_builder.h"
+#include "scene/scene.h"
+
+namespace {
+using fh::Scene;
+using fh::test::GltfBuilder;
+using nlohmann::json;
+
+const std::vector<glm::vec3> UNIT_TRIANGLE = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+
+fh::LoadOptions at_time(double time, const std::string& animation = "") {
+    fh::LoadOptions o;
+    o.rebase = false;
+    o.animate = true;
+    o.time = time;
+    o.animation = animation;
+    return o;
+}
+const fh::LoadOptions STATIC{.rebase = false};
+
+int add_floats(GltfBuilder& b, const std::vector<float>& v, const std::string& type, size_t components) {
+    return b.add_accessor(b.add_view(v.data(), v.size() * 4), 5126, v.size() / components, type);
+}
+
+// One animation with one channel on `node`.
+void animate(GltfBuilder& b, int node, const std::string& path, const std::vector<float>& times,
+             const std::vector<float>& values, const std::string& type, size_t components,
+             const std::string& interpolation = "LINEAR", const std::string& name = "") {
+    const int input = add_floats(b, times, "SCALAR", 1);
+    const int output = add_floats(b, values, type, components);
+    json animation = {{"samplers", {{{"input", input}, {"output", output}, {"interpolation", interpolation}}}},
+                      {"channels", {{{"sampler", 0}, {"target", {{"node", node}, {"path", path}}}}}}};
+    if (!name.empty()) animation["name"] = name;
+    if (!b.doc.contains("animations")) b.doc["animations"] = json::array();
+    b.doc["animations"].push_back(animation);
+}
+
+// A triangle node translated along x by keys (0, 0, 0) at t = 0 and (2, 0, 0) at t = 1.
+std::filesystem::path translated_triangle(const std::string& interpolation) {
+    GltfBuilder b;
+    const int node = b.add_node({{"mesh", b.add_simple_mesh(UNIT_TRIANGLE)}});
+    b.set_scene({node});
+    animate(b, node, "translation", {0.0f, 1.0f}, {0, 0, 0, 2, 0, 0}, "VEC3", 3, interpolation, "slide");
+    return b.write_gltf();
+}
+
+double min_x(const std::filesystem::path& file, const fh::LoadOptions& options) {
+    return fh::load_gltf(file, options).bounds_min.x;
+}
+
+TEST(GltfAnimation, LinearInterpolatesAndClampsOutsideTheKeys) {
+    const auto file = translated_triangle("LINEAR");
+    EXPECT_NEAR(min_x(file, at_time(0.25)), 0.5, 1e-6);
+    EXPECT_NEAR(min_x(file, at_time(-3.0)), 0.0, 1e-6);  // before the first key: its value
+    EXPECT_NEAR(min_x(file, at_time(7.0)), 2.0, 1e-6);   // after the last: its value
+    EXPECT_NEAR(min_x(file, at_time(0.25, "slide")), 0.5, 1e-6);
+    EXPECT_NEAR(min_x(file, at_time(0.25, "0")), 0.5, 1e-6);
+    const Scene s = fh::load_gltf(file, at_time(0.5));
+    EXPECT_EQ(s.animation, "animation 0 'slide'");
+    EXPECT_EQ(s.animation_start, 0.0);
+    EXPECT_EQ(s.animation_end, 1.0);
+    // Without --time the file's own transforms: no translation.
+    EXPECT_NEAR(min_x(file, STATIC), 0.0, 1e-12);
+}
+
+TEST(GltfAnimation, StepHoldsEachKeyUntilTheNext) {
+    const auto file = translated_triangle("STEP");
+    EXPECT_NEAR(min_x(file, at_time(0.99)), 0.0, 1e-12);
+    EXPECT_NEAR(min_x(file, at_time(1.0)), 2.0, 1e-6);
+}
+
+// Hermite with tangents scaled by the interval: keys at t = 0 and 2, values 0 and 1, out-tangent 1 at the first key,
+// in-tangent 0 at the second: at s = 1/2, p = h10 dt 1 + h01 1 = 0.125 x 2 + 0.5 = 0.75.
+TEST(GltfAnimation, CubicSplineUsesTheScaledTangents) {
+    GltfBuilder b;
+    const int node = b.add_node({{"mesh", b.add_simple_mesh(UNIT_TRIANGLE)}});
+    b.set_scene({node});
+    animate(b, node, "translation", {0.0f, 2.0f},
+            {9, 9, 9, 0, 0, 0, 1, 0, 0,    // key 0: in-tangent (unused), value, out-tangent
+             0, 0, 0, 1, 0, 0, 9, 9, 9},   // key 1: in-tangent, value, out-tangent (unused)
+            "VEC3", 3, "CUBICSPLINE");
+    EXPECT_NEAR(min_x(b.write_gltf(), at_time(1.0)), 0.75, 1e-6);
+}
+
+// Identity to 90 degrees about z, the second key written as the negated quaternion (the same rotation): slerp takes
+// the shorter arc, so half-way is 45 degrees and the vertex (1, 0, 0) lands at (cos 45, sin 45, 0).
+TEST(GltfAnimation, RotationSlerpsAlongTheShorterArc) {
+    GltfBuilder b;
+    const int node = b.add_node({{"mesh", b.add_simple_mesh({{1, 0, 0}, {1, 0, 1}, {1, 0.001f, 0}})}});
+    b.set_scene({node});
+    const float h = float(std::sqrt(0.5));
+    animate(b, node, "rotation", {0.0f, 1.0f}, {0, 0, 0, 1, 0, 0, -h, -h}, "VEC4", 4);
+    const Scene s = fh::load_gltf(b.write_gltf(), at_time(0.5));
+    const double c = std::cos(M_PI / 4);
+    EXPECT_NEAR(s.bounds_max.x, c, 1e-5);
+    EXPECT_NEAR(s.bounds_min.y, c, 1e-5);
+}
+
+// A morph target raising every vertex by 1 in z: the mesh's default weight, a node's override, and an animated weight.
+TEST(GltfAnimation, MorphTargetsFollowTheirWeights) {
+    auto make = [](const json& node_weights, bool animated) {
+        GltfBuilder b;
+        const std::vector<glm::vec3> up(3, glm::vec3(0, 0, 1));
+        json prim = {{"attributes", {{"POSITION", b.add_vec3(UNIT_TRIANGLE)}}},
+                     {"targets", {{{"POSITION", b.add_vec3(up)}}}}};
+        const int mesh = b.add_mesh(prim);
+        b.doc["meshes"][mesh]["weights"] = {0.25};
+        json node = {{"mesh", mesh}};
+        if (!node_weights.is_null()) node["weights"] = node_weights;
+        const int n = b.add_node(node);
+        b.set_scene({n});
+        if (animated) animate(b, n, "weights", {0.0f, 1.0f}, {0.0f, 1.0f}, "SCALAR", 1);
+        return b.write_gltf();
+    };
+    EXPECT_NEAR(fh::load_gltf(make(nullptr, false), STATIC).bounds_min.z, 0.25, 1e-6);
+    EXPECT_NEAR(fh::load_gltf(make({0.5}, false), STATIC).bounds_min.z, 0.5, 1e-6);
+    EXPECT_NEAR(fh::load_gltf(make({0.5}, true), at_time(0.8)).bounds_min.z, 0.8, 1e-6);
+}
+
+// Two joints; joint 1 moves up by 5 over a second. A triangle bound wholly to joint 1 follows it; one bound half to
+// each moves half as far; the skinned node's own translation (100 in x) is ignored, as the spec says.
+TEST(GltfAnimation, SkinsPlaceVerticesByTheirJoints) {
+    auto make = [](float weight1) {
+        GltfBuilder b;
+        const std::vector<uint8_t> joints = {0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0};
+        const std::vector<float> weights = {1 - weight1, weight1, 0, 0, 1 - weight1, weight1, 0, 0,
+                                            1 - weight1, weight1, 0, 0};
+        json prim = {{"attributes",
+                      {{"POSITION", b.add_vec3(UNIT_TRIANGLE)},
+                       {"JOINTS_0", b.add_accessor(b.add_view(joints.data(), joints.size()), 5121, 3, "VEC4")},
+                       {"WEIGHTS_0", add_floats(b, weights, "VEC4", 4)}}}};
+        const int mesh = b.add_mesh(prim);
+        const int j0 = b.add_node(json::object());
+        const int j1 = b.add_node(json::object());
+        const int root = b.add_node({{"children", {j0, j1}}});
+        const std::vector<float> identity = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+        std::vector<float> bind = identity;
+        bind.insert(bind.end(), identity.begin(), identity.end());
+        b.doc["skins"] = {{{"joints", {j0, j1}}, {"inverseBindMatrices", add_floats(b, bind, "MAT4", 16)}}};
+        const int skinned = b.add_node({{"mesh", mesh}, {"skin", 0}, {"translation", {100, 0, 0}}});
+        b.set_scene({root, skinned});
+        animate(b, j1, "translation", {0.0f, 1.0f}, {0, 0, 0, 0, 5, 0}, "VEC3", 3);
+        return b.write_gltf();
+    };
+    EXPECT_NEAR(fh::load_gltf(make(1.0f), at_time(1.0)).bounds_min.y, 5.0, 1e-5);
+    EXPECT_NEAR(fh::load_gltf(make(0.5f), at_time(1.0)).bounds_min.y, 2.5, 1e-5);
+    const Scene rest = fh::load_gltf(make(1.0f), STATIC);
+    EXPECT_NEAR(rest.bounds_min.y, 0.0, 1e-6);
+    EXPECT_NEAR(rest.bounds_min.x, 0.0, 1e-6);  // not at the node's x = 100
+}
+
+TEST(GltfAnimation, RefusesBadInputNamingTheProblem) {
+    {
+        GltfBuilder b;
+        const int node = b.add_node({{"mesh", b.add_simple_mesh(UNIT_TRIANGLE)}});
+        b.set_scene({node});
+        animate(b, node, "translation", {1.0f, 0.5f}, {0, 0, 0, 1, 0, 0}, "VEC3", 3);
+        fh::test::expect_load_refused_with(b.write_gltf(), at_time(0.2), "keyframe times do not increase");
+    }
+    {
+        GltfBuilder b;
+        const int node = b.add_node({{"mesh", b.add_simple_mesh(UNIT_TRIANGLE)}});
+        b.set_scene({node});
+        animate(b, node, "translation", {0.0f, 1.0f}, {0, 0, 0}, "VEC3", 3);
+        fh::test::expect_load_refused_with(b.write_gltf(), at_time(0.2), "1 outputs for 2 keyframes");
+    }
+    fh::test::expect_load_refused_with(translated_triangle("LINEAR"), at_time(0.2, "walk"),
+                                       "no animation 'walk' (the file has animation 0 'slide')");
+    {
+        GltfBuilder b;
+        b.set_scene({b.add_node({{"mesh", b.add_simple_mesh(UNIT_TRIANGLE)}})});
+        fh::test::expect_load_refused_with(b.write_gltf(), at_time(0.2), "--time: the file has no animations");
+    }
+}
+
+}  // namespace
