@@ -232,6 +232,9 @@ def main():
     ap.add_argument("--without", choices=sorted(LAYER_WEIGHTS), action="append", default=[],
                     help="leave a layer out of both renders (Fredholm --disable-effect, Cycles' weight 0), to isolate "
                          "what it contributes to a difference; repeatable")
+    ap.add_argument("--time", type=float,
+                    help="pose animated models at this time, seconds: Fredholm --time T, Blender's frame T x fps "
+                         "(Blender's glTF importer keys time t at frame t x fps)")
     ap.add_argument("--keep-punctual-lights", action="store_true",
                     help="keep the models' KHR_lights_punctual lights (their units differ between the renderers)")
     args = ap.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else sys.argv[1:])
@@ -249,6 +252,8 @@ def main():
                str(args.size), "--spp", str(args.spp), "--env", str(env), "--seed", str(args.seed),
                "--look-from", ",".join(f"{v:.9g}" for v in eye), "--look-at", ",".join(f"{v:.9g}" for v in target),
                "--up", "0,1,0", "--yfov", str(args.yfov), "--stats", str(out / f"{name}_fredholm.json"), "--quiet"]
+        if args.time is not None:
+            cmd += ["--time", f"{args.time:.9g}"]
         for layer in args.without:
             cmd += ["--disable-effect", layer]
         if not args.keep_punctual_lights:
@@ -265,6 +270,9 @@ def main():
             remove_layer(layer)
         # The model's pixels: Cycles' alpha with a transparent film (4 samples), then the real render.
         scene = bpy.context.scene
+        if args.time is not None:
+            frame = args.time * scene.render.fps * scene.render.fps_base  # as the importer keys it
+            scene.frame_set(int(math.floor(frame)), subframe=frame - math.floor(frame))
         scene.render.film_transparent = True
         scene.cycles.samples = 4
         scene.render.filepath = str(out / f"{name}_mask.exr")
