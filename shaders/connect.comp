@@ -1,5 +1,6 @@
 // Stage "connect": visibility of every shadow ray pushed by shade; unoccluded ones add their light
-// contribution to their path. Reads: shadow_rays, counters.shadow_count_active, BVH. Writes: paths[].radiance.
+// contribution to their path. Reads: shadow_rays, counters.shadow_count_active, BVH (with EFFECT_MOTION_BLUR the
+// path's time: a shadow ray is traced at its path's time). Writes: paths[].radiance.
 // A path pushes at most one shadow ray per depth, so the read-modify-write needs no atomics.
 #version 460
 #extension GL_GOOGLE_include_directive : require
@@ -16,7 +17,7 @@ void main() {
     // A key other than extend's for the same path state: the shadow ray's alpha decisions are its own.
     uint alpha_seed = effect_on(EFFECT_ALPHA) ? pcg_hash(paths[s.path].rng ^ 0x5ad0e11fu) : 0u;
     TraceHit hit = trace_ray(vec3(s.origin_x, s.origin_y, s.origin_z), vec3(s.dir_x, s.dir_y, s.dir_z), s.t_max, true,
-                             s.origin_triangle, alpha_seed);
+                             s.origin_triangle, alpha_seed, load_path_time(s.path));
     COUNT_IN_SUBGROUP(counters.traced_shadow_rays, 1u);
     if (hit.triangle != INVALID_INDEX) return;
     paths[s.path].radiance_r += s.contrib_r;

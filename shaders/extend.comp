@@ -1,6 +1,6 @@
 // Stage "extend": finds the closest hit of every ray in the current queue.
 // Reads: rays[queue depth & 1], counters.ray_count, BVH nodes, triangle positions (with EFFECT_ALPHA also
-// paths[].rng, materials and textures).
+// paths[].rng, materials and textures; with EFFECT_MOTION_BLUR the path's time and the instances' motion).
 // Writes: hits[i] for ray i; counters.escaped_rays.
 #version 460
 #extension GL_GOOGLE_include_directive : require
@@ -18,7 +18,8 @@ void main() {
     // Stochastic alpha keys on the path's RNG state, which differs for every path, sample and depth.
     uint alpha_seed = effect_on(EFFECT_ALPHA) ? pcg_hash(paths[ray.path].rng ^ 0x0a1fa0e5u) : 0u;
     TraceHit hit = trace_ray(vec3(ray.origin_x, ray.origin_y, ray.origin_z), vec3(ray.dir_x, ray.dir_y, ray.dir_z),
-                             uintBitsToFloat(0x7f800000u), false, ray.origin_triangle, alpha_seed);
+                             uintBitsToFloat(0x7f800000u), false, ray.origin_triangle, alpha_seed,
+                             load_path_time(ray.path));
     hits[i].t = hit.t;
     hits[i].triangle = hit.triangle;
     hits[i].b1 = hit.b1;

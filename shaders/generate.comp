@@ -1,6 +1,7 @@
 // Stage "generate": starts one path per (pixel, sample) of the wave.
 // Reads: params, push (wave's pixel and sample ranges). Writes: rays[queue 0], paths, path media (cameras
-// start outside every volume), path spectra (a spectral render's wavelengths, EFFECT_SPECTRAL), counters (queue 0 length, indirect size of the first extend/shade).
+// start outside every volume), path spectra (a spectral render's wavelengths, EFFECT_SPECTRAL), path times (when
+// in the shutter, EFFECT_MOTION_BLUR), counters (queue 0 length, indirect size of the first extend/shade).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "lib/bindings.glsl"
@@ -40,7 +41,8 @@ void main() {
     vec2 offset = (params.filter_type == FILTER_GAUSSIAN) ? sample_gaussian_filter(u, params.filter_radius)
                                                            : u - vec2(0.5f);
     vec2 film = vec2(float(pixel % params.width), float(pixel / params.width)) + vec2(0.5f) + offset;
-    CameraRay ray = make_camera_ray(film, camera_u.lens);
+    CameraRay ray = make_camera_ray(film, camera_u.lens, camera_u.time);
+    if (effect_on(EFFECT_MOTION_BLUR)) path_times[i] = camera_u.time;
 
     RayItem item;
     item.origin_x = ray.origin.x;

@@ -30,6 +30,7 @@
 #include "lib/anisotropy_layer.glsl"
 #include "lib/iridescence_layer.glsl"
 #include "lib/surface.glsl"
+#include "lib/motion.glsl"
 #include "lib/lights.glsl"
 #include "lib/transmission.glsl"
 #include "lib/path_color.glsl"
@@ -99,7 +100,7 @@ void main() {
         bool instanced = scene_has_instances && hit.instance != INVALID_INDEX;
         Instance inst;
         if (instanced) {
-            inst = load_instance(hit.instance);
+            inst = move_instance(load_instance(hit.instance), load_path_time(path));
             if (inst.material != INVALID_INDEX) s.material = inst.material;
         }
         Material m = resolve_material(load_material(s.material), hit.triangle, hit.b1, hit.b2);

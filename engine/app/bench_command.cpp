@@ -9,6 +9,7 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 
+#include "app/render_options.h"
 #include "app/session.h"
 #include "scene/instancing.h"
 #include "io/atomic_write.h"
@@ -46,6 +47,10 @@ void add_bench_options(CLI::App& app, BenchCommand& c) {
     app.add_flag("--instancing", c.instancing,
                  "also load the scene with every instance copied into world space: stored triangles, scene memory, "
                  "load + BVH time and render time of both");
+    app.add_flag("--motion", c.motion,
+                 "also time the render with its --shutter's motion blur against motion blur switched off (everything "
+                 "where it is at the shutter's centre) and against no shutter (the scene posed there): what it costs");
+    add_animation_options(app, c.pose);
     app.add_option("--env", c.environment_file, "environment light (OpenEXR or .hdr), for scenes without lights")
         ->check(CLI::ExistingFile);
     app.add_option_function<std::vector<float>>(
@@ -229,6 +234,12 @@ int run_bench(const BenchCommand& c) {
     base.environment_file = c.environment_file;
     base.has_background = c.has_background;
     for (int i = 0; i < 3; ++i) base.background[i] = c.background[i];
+    base.animate = c.pose.animate;
+    base.animation = c.pose.animation;
+    base.time = c.pose.time;
+    base.shutter_open = c.pose.shutter_open;
+    base.shutter_close = c.pose.shutter_close;
+    if (c.motion && !base.has_shutter()) throw std::invalid_argument("--motion needs --shutter OPEN,CLOSE");
     PreparedScene prepared = prepare_scene(scene_file, base);
     auto context = make_compute_context(false, c.device);
     SceneCamera camera = choose_camera(prepared.scene, -1);
@@ -323,6 +334,22 @@ int run_bench(const BenchCommand& c) {
                     prepared.load_seconds + prepared.bvh_build_seconds, copied.load_seconds + copied.bvh_build_seconds);
         time_at_sizes(prepared, base, copied, base, {"two-level", "copied", "instancing"}, "instancing", "off",
                       "instanced_seconds");
+    }
+    if (c.motion) {
+        std::printf("\nmotion blur: shutter %s, %zu moving instance(s)%s; effects %s\n", describe_shutter(base).c_str(),
+                    prepared.scene.moving_instances, camera.moves ? ", the camera moves" : "",
+                    describe_effects(prepared.packed.effects.bits).c_str());
+        RenderSettings frozen = base;
+        frozen.disabled_effects |= gpu::EFFECT_MOTION_BLUR;
+        time_at_sizes(prepared, base, prepared, frozen, {"motion blur", "switched off", "motion blur"}, "disabled_effects",
+                      "motion-blur", "motion_blur_seconds");
+        RenderSettings still = base;
+        still.animate = true;
+        still.time = base.time + 0.5 * (base.shutter_open + base.shutter_close);
+        still.shutter_open = still.shutter_close = 0.0;
+        const PreparedScene posed = prepare_scene(scene_file, still);
+        time_at_sizes(prepared, base, posed, still, {"motion blur", "no shutter", "motion blur"}, "shutter", "none",
+                      "motion_blur_seconds");
     }
     if (c.effects) {
         // The scene compiled for its own effects against every switchable effect compiled in: what effects on

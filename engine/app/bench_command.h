@@ -4,6 +4,8 @@
 // with --effects, the scene compiled for its own effects against every effect compiled in.
 #pragma once
 #include <filesystem>
+
+#include "render/settings.h"
 #include <string>
 #include <vector>
 
@@ -27,6 +29,8 @@ struct BenchCommand {
     bool textures = false;    // also time the scene with its material effects compiled out (factors only)
     bool effects = false;     // --effects: own effect set vs every material effect compiled in (time, build)
     bool instancing = false;  // --instancing: two-level BVH vs every instance copied (memory, build, render)
+    bool motion = false;      // --motion: the --shutter's motion blur vs switched off vs no shutter
+    RenderSettings pose;      // --time, --animation, --shutter (render_options.h add_animation_options)
     std::string environment_file;  // --env, --background: light for scenes without their own
     bool has_background = false;
     float background[3] = {1.0f, 1.0f, 1.0f};

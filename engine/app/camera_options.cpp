@@ -37,6 +37,7 @@ SceneCamera apply_camera_pose(const SceneCamera& base, const CameraPoseOptions& 
         throw std::invalid_argument("--up is parallel to the viewing direction (or zero)");
     camera.name = "command line";
     camera.world_from_camera = look_at_camera(from, at, glm::normalize(up));
+    camera.moves = false;  // a camera placed on the command line stands still
     return camera;
 }
 

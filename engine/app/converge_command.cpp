@@ -249,6 +249,7 @@ std::string describe_command(const ConvergeCommand& c) {
         line += time;
         if (!s.animation.empty()) line += " --animation '" + s.animation + "'";
     }
+    if (s.has_shutter()) line += " --shutter " + describe_shutter(s);
     return line;
 }
 
@@ -292,7 +293,7 @@ void add_converge_options(CLI::App& app, ConvergeCommand& c) {
     app.add_option("--max-seconds", c.max_seconds, "render-time budget per configuration")->check(CLI::PositiveNumber);
     app.add_option("--max-spp", c.max_spp, "largest spp of the doubling sequence")->check(CLI::Range(1u, 1u << 20));
     app.add_option("--vary", c.vary, "KEY=V1,V2,...: one curve per value (max-depth, nee, mis, rr, rr-start-depth, filter, sampler, aperture (0: pinhole), aperture-radius; effect:NAME=on,off compiles "
-                   "a material effect in or out, e.g. effect:transmission=on,off)")
+                   "an effect in or out (a material or light effect, or motion-blur), e.g. effect:transmission=on,off)")
         ->check(CLI::Validator(
             [](std::string& spec) {
                 try {

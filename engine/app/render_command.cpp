@@ -75,6 +75,7 @@ ImageMetadata make_metadata(const RenderCommand& c, uint32_t spp_done, uint32_t 
             {"fredholm:lens", describe_lens(s.lens)},
             {"fredholm:animation", !s.animate ? "none" : s.animation.empty() ? "first" : s.animation},
             {"fredholm:time", format_seconds(s)},
+            {"fredholm:shutter", describe_shutter(s)},
             {"fredholm:variant", s.variant.empty() ? "default" : s.variant},
             {"fredholm:colorspace", "scene-linear Rec.709"}};
 }
@@ -118,7 +119,9 @@ void write_stats(const std::filesystem::path& file, const RenderCommand& c, cons
     j["environment"] = describe_environment(s);
     j["lens"] = describe_lens(s.lens);
     j["animations"] = prepared.scene.animations;
-    if (s.animate) {
+    j["shutter"] = describe_shutter(s);
+    j["moving_instances"] = prepared.scene.moving_instances;
+    if (s.animate || s.has_shutter()) {
         j["animation"] = prepared.scene.animation;
         j["time"] = s.time;
         j["animation_start"] = prepared.scene.animation_start;

@@ -2,6 +2,8 @@
 #include "app/render_options.h"
 
 #include <CLI/CLI.hpp>
+#include <cmath>
+#include <cstdio>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -151,6 +153,13 @@ void add_lens_options(CLI::App& app, RenderSettings& s) {
         ->check(CLI::Range(-360.0, 360.0));
 }
 
+std::string describe_shutter(const RenderSettings& s) {
+    if (!s.has_shutter()) return "none";
+    char text[64];
+    std::snprintf(text, sizeof text, "%.9g,%.9g", s.shutter_open, s.shutter_close);
+    return text;
+}
+
 void add_animation_options(CLI::App& app, RenderSettings& s) {
     app.add_option("--animation", s.animation, "glTF animation to pose the scene by, index or name (default the first)");
     app.add_option_function<double>(
@@ -161,6 +170,18 @@ void add_animation_options(CLI::App& app, RenderSettings& s) {
            },
            "pose the scene at this time, seconds, by --animation (default: the file's static transforms)")
         ->check(CLI::Range(-1.0e9, 1.0e9));
+    app.add_option_function<std::vector<double>>(
+           "--shutter",
+           [&s](const std::vector<double>& v) {
+               if (!(v[0] <= v[1])) throw CLI::ValidationError("--shutter", "OPEN must not come after CLOSE");
+               if (!(std::abs(v[0]) <= 1.0e9 && std::abs(v[1]) <= 1.0e9))
+                   throw CLI::ValidationError("--shutter", "times must lie within 1e9 seconds");
+               s.shutter_open = v[0];
+               s.shutter_close = v[1];
+           },
+           "motion blur: open and close the shutter at these times, seconds relative to --time (default 0,0: none)")
+        ->delimiter(',')
+        ->expected(2);
 }
 
 }  // namespace fh

@@ -30,4 +30,7 @@ void add_lens_options(CLI::App& app, RenderSettings& settings);
 // --animation N|NAME, --time T: the scene posed by a glTF animation (RenderSettings::animate).
 void add_animation_options(CLI::App& app, RenderSettings& settings);
 
+// --shutter as EXR metadata and resume compare it: "none", or "OPEN,CLOSE" in seconds.
+std::string describe_shutter(const RenderSettings& settings);
+
 }  // namespace fh

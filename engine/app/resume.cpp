@@ -15,7 +15,7 @@ const char* const COMP_NAMES[3] = {"fredholm.comp.R", "fredholm.comp.G", "fredho
 const char* const RESUME_KEYS[] = {"fredholm:renderer", "fredholm:scene", "fredholm:seed", "fredholm:max_depth",
                                    "fredholm:camera",   "fredholm:filter", "fredholm:filter_radius", "fredholm:sampler",
                                    "fredholm:nee",      "fredholm:mis",    "fredholm:rr",     "fredholm:rr_start_depth",
-                                   "fredholm:environment", "fredholm:lens", "fredholm:animation", "fredholm:time", "fredholm:variant",
+                                   "fredholm:environment", "fredholm:lens", "fredholm:animation", "fredholm:time", "fredholm:shutter", "fredholm:variant",
                                    "fredholm:disabled_effects"};
 
 std::string setting_name(const std::string& key) {

@@ -10,6 +10,7 @@
 #include <iterator>
 
 #include "io/exr.h"
+#include "render/camera_setup.h"
 #include "scene/image_decode.h"
 #include "shared/layout.h"
 
@@ -32,6 +33,8 @@ PreparedScene prepare_scene(const std::filesystem::path& file, const RenderSetti
     load.animate = settings.animate;
     load.animation = settings.animation;
     load.time = settings.time;
+    load.shutter_open = settings.shutter_open;
+    load.shutter_close = settings.shutter_close;
     prepared.scene = load_gltf(file, load);
     prepared.load_seconds = seconds_since(start);
     for (const std::string& warning : prepared.scene.warnings)
@@ -49,6 +52,8 @@ PreparedScene prepare_scene(const std::filesystem::path& file, const RenderSetti
     prepared.bvh_depth = bvh.max_depth;
     prepared.packed = pack_scene(prepared.scene, bvh, load_environment(settings));
     decide_camera_effects(prepared.packed.effects, settings.lens.on());
+    decide_motion_effects(prepared.packed.effects, settings.has_shutter(), prepared.scene.moving_instances,
+                          choose_camera(prepared.scene, settings.camera).moves);
     return prepared;
 }
 

@@ -99,6 +99,7 @@ void write_screenshot(const std::filesystem::path& exr, const Renderer& renderer
                            {"fredholm:nee", s.settings.nee ? "on" : "off"},
                            {"fredholm:rr", s.settings.russian_roulette ? "on" : "off"},
                            {"fredholm:lens", describe_lens(s.settings.lens)},
+                           {"fredholm:shutter", describe_shutter(s.settings)},
                            {"fredholm:colorspace", "scene-linear Rec.709"}};
     write_exr(exr, image, metadata);
     std::filesystem::path png = exr;

@@ -26,6 +26,12 @@ void set_frame_camera(gpu::FrameParams& frame, const SceneCamera& camera, uint32
     frame.focus_distance = float(camera.focus_distance);
     frame.aperture_blades = camera.aperture_blades;
     frame.aperture_rotation = float(camera.aperture_rotation);
+    frame.camera_motion_translation = glm::vec4(0.0f);
+    frame.camera_motion_rotation = glm::vec4(0.0f, 0.0f, 1.0f, 0.0f);
+    if (camera.moves) {  // lib/camera.glsl
+        frame.camera_motion_translation = glm::vec4(glm::vec3(camera.motion_translation), 0.0f);
+        frame.camera_motion_rotation = glm::vec4(glm::vec3(camera.motion_axis), float(camera.motion_angle));
+    }
 }
 
 SceneCamera choose_camera(const Scene& scene, int index) {

@@ -120,6 +120,7 @@ GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& sce
     b.material_layers = make_texel_buffer(context, scene.material_layers);
     b.path_media = make_state_buffer(context, path_media_bytes(frame.wave_capacity, effects));
     b.path_spectra = make_state_buffer(context, path_spectra_bytes(frame.wave_capacity, effects));
+    b.path_times = make_state_buffer(context, path_times_bytes(frame.wave_capacity, effects));
     b.glass_albedo = make_filled_buffer(context, flatten_glass_albedo_table(effects));
     // The limits check before rendering relies on the estimate: keep it exact.
     uint64_t allocated = 0;
@@ -127,7 +128,7 @@ GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& sce
                                      &b.punctual_lights, &b.ggx_albedo, &b.counters, &b.counters_readback, &b.paths, &b.rays, &b.hits,
                                      &b.shadow_rays, &b.film, &b.tri_attributes, &b.texture_slots, &b.texture_images,
                                      &b.texels, &b.env_radiance, &b.env_cdf, &b.instances, &b.material_layers, &b.path_media,
-                                     &b.path_spectra, &b.glass_albedo})
+                                     &b.path_spectra, &b.path_times, &b.glass_albedo})
         allocated += buffer->size();
     if (allocated != estimate_render_memory(scene, frame.width, frame.height, frame.wave_capacity, effects).device_bytes())
         throw std::logic_error("create_gpu_buffers: allocated sizes differ from estimate_render_memory");
@@ -159,6 +160,7 @@ void bind_gpu_buffers(vk::BindingTable& table, const GpuBuffers& b) {
     table.bind_buffer(gpu::BINDING_MATERIAL_LAYERS, b.material_layers);
     table.bind_buffer(gpu::BINDING_PATH_MEDIA, b.path_media);
     table.bind_buffer(gpu::BINDING_PATH_SPECTRA, b.path_spectra);
+    table.bind_buffer(gpu::BINDING_PATH_TIMES, b.path_times);
     table.bind_buffer(gpu::BINDING_GLASS_ALBEDO, b.glass_albedo);
 }
 

@@ -43,6 +43,10 @@ uint64_t glass_albedo_bytes(uint32_t effects) {
     return uint64_t((effects & gpu::EFFECT_GLASS_MULTISCATTER) ? tables::GLASS_ALBEDO_TABLE_SIZE : 1) * sizeof(float);
 }
 
+uint64_t path_times_bytes(uint32_t wave_capacity, uint32_t effects) {
+    return uint64_t((effects & gpu::EFFECT_MOTION_BLUR) ? wave_capacity : 1u) * sizeof(float);
+}
+
 uint64_t path_spectra_bytes(uint32_t wave_capacity, uint32_t effects) {
     return uint64_t((effects & gpu::EFFECT_SPECTRAL) ? wave_capacity : 1u) * sizeof(gpu::PathSpectrum);
 }
@@ -79,6 +83,7 @@ MemoryEstimate estimate_render_memory(const PackedScene& scene, uint32_t width, 
         {"material_layers", array_bytes(scene.material_layers), texels},
         {"path_media", path_media_bytes(wave_capacity, effects), storage},
         {"path_spectra", path_spectra_bytes(wave_capacity, effects), storage},
+        {"path_times", path_times_bytes(wave_capacity, effects), storage},
         {"glass_albedo", glass_albedo_bytes(effects), storage},
     };
     e.film_readback_bytes = film;

@@ -48,6 +48,7 @@ struct DeviceMemoryLimits {
 uint64_t attribute_bytes(const PackedScene& scene, uint32_t effects);
 uint64_t path_media_bytes(uint32_t wave_capacity, uint32_t effects);
 uint64_t path_spectra_bytes(uint32_t wave_capacity, uint32_t effects);
+uint64_t path_times_bytes(uint32_t wave_capacity, uint32_t effects);  // EFFECT_MOTION_BLUR
 // The glass albedo table's buffer: the whole table with EFFECT_GLASS_MULTISCATTER, else one word.
 uint64_t glass_albedo_bytes(uint32_t effects);
 

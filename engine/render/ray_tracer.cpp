@@ -24,7 +24,7 @@ gpu::FrameParams make_ray_frame(const PackedScene& scene, uint32_t capacity) {
 
 StageOptions make_ray_stage_options(const PackedScene& scene) {
     StageOptions options;
-    options.effects = scene.effects.bits;
+    options.effects = scene.effects.bits & ~gpu::EFFECT_MOTION_BLUR;  // rays at the shutter's centre
     options.instances = !scene.instances.empty();
     return options;
 }

@@ -56,6 +56,9 @@ struct RenderSettings {
     bool animate = false;
     std::string animation;
     double time = 0.0;                    // seconds
+    // Motion blur (README "Motion blur"): --shutter OPEN,CLOSE, seconds relative to `time`; equal: none.
+    double shutter_open = 0.0, shutter_close = 0.0;
+    bool has_shutter() const { return shutter_close > shutter_open; }
 };
 
 const char* to_string(PixelFilter filter);

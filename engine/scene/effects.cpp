@@ -94,6 +94,7 @@ const std::vector<EffectInfo>& list_effects() {
         {gpu::EFFECT_IRIDESCENCE_TEXTURE, "iridescence-texture"},
         {gpu::EFFECT_SPECTRAL, "spectral"},
         {gpu::EFFECT_THIN_LENS, "thin-lens"},
+        {gpu::EFFECT_MOTION_BLUR, "motion-blur"},
     };
     return effects;
 }
@@ -297,6 +298,19 @@ void decide_camera_effects(SceneEffects& effects, bool thin_lens) {
     std::erase_if(effects.decisions, [](const EffectDecision& d) { return d.bit == gpu::EFFECT_THIN_LENS; });
     add_decision(effects, gpu::EFFECT_THIN_LENS, thin_lens,
                  thin_lens ? "--aperture or --aperture-radius above 0" : "a pinhole camera (no --aperture)");
+    sort_decisions(effects);
+}
+
+void decide_motion_effects(SceneEffects& effects, bool has_shutter, size_t moving_instances, bool camera_moves) {
+    effects.bits &= ~gpu::EFFECT_MOTION_BLUR;
+    std::erase_if(effects.decisions, [](const EffectDecision& d) { return d.bit == gpu::EFFECT_MOTION_BLUR; });
+    std::string why = !has_shutter ? "no --shutter"
+                                   : "nothing moves during the shutter (no instance, and not the camera)";
+    if (has_shutter && (moving_instances > 0 || camera_moves)) {
+        why = moving_instances > 0 ? std::to_string(moving_instances) + " instance(s) move during the shutter" : "";
+        if (camera_moves) why += std::string(why.empty() ? "" : ", ") + "the camera moves during the shutter";
+    }
+    add_decision(effects, gpu::EFFECT_MOTION_BLUR, has_shutter && (moving_instances > 0 || camera_moves), why);
     sort_decisions(effects);
 }
 

@@ -42,8 +42,12 @@ void decide_light_effects(SceneEffects& effects, const std::set<uint32_t>& emitt
 // Sets the camera's decision (thin-lens: the render asks for an aperture above 0), replacing an earlier one.
 void decide_camera_effects(SceneEffects& effects, bool thin_lens);
 
+// Sets the motion decision (motion-blur: a --shutter over which instances or the camera move), replacing an earlier one.
+void decide_motion_effects(SceneEffects& effects, bool has_shutter, size_t moving_instances, bool camera_moves);
+
 // The effect set the stages are compiled with: the analysed one, with --force-effect and --disable-effect
-// applied to the switchable effects (EFFECT_SWITCHABLE; the environment and the thin lens follow the command line).
+// applied to the switchable effects (EFFECT_SWITCHABLE; the environment and the thin lens follow the command line;
+// motion blur, decided by the motion, may be switched off).
 uint32_t select_effects(uint32_t analysed, uint32_t forced, uint32_t disabled);
 
 // The bit of a switchable effect (EFFECT_SWITCHABLE) named as list_effects() names it; throws

@@ -7,6 +7,7 @@
 #include <array>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <limits>
@@ -301,6 +302,43 @@ bool is_finite(const glm::dmat4& m) {
     return true;
 }
 
+// Where a node draws: its world transform (at the render's time, or the shutter's centre) and, for motion blur, at
+// shutter open and close (all three equal for a node that stands still).
+struct Placement {
+    glm::dmat4 world, open, close;
+    bool moves() const { return open != world || close != world; }
+};
+
+// The rotation that turns the axes of `open` into those of `close` (each transform's columns normalised: rotation and
+// scale without shear), on the shorter arc: a unit quaternion with w >= 0.
+glm::dquat find_turn(const glm::dmat4& open, const glm::dmat4& close) {
+    auto rotation_of = [](const glm::dmat4& m) {
+        return glm::dmat3(glm::normalize(glm::dvec3(m[0])), glm::normalize(glm::dvec3(m[1])), glm::normalize(glm::dvec3(m[2])));
+    };
+    const glm::dquat turn = glm::normalize(glm::quat_cast(rotation_of(close) * glm::transpose(rotation_of(open))));
+    return turn.w < 0.0 ? -turn : turn;
+}
+
+double turn_angle(const glm::dquat& turn) {
+    return 2.0 * std::atan2(glm::length(glm::dvec3(turn.x, turn.y, turn.z)), turn.w);
+}
+
+// A camera node's motion from `open` to `close` (SceneCamera::moves): its origin along the line, its axes turned at
+// a constant rate about one axis (the rotation between the two frames); world_from_camera becomes the pose halfway.
+void set_camera_motion(SceneCamera& camera, const glm::dmat4& open, const glm::dmat4& close) {
+    const glm::dmat3 r0(glm::normalize(glm::dvec3(open[0])), glm::normalize(glm::dvec3(open[1])),
+                        glm::normalize(glm::dvec3(open[2])));
+    const glm::dquat shorter = find_turn(open, close);
+    const double angle = turn_angle(shorter);
+    camera.moves = true;
+    camera.motion_translation = glm::dvec3(close[3]) - glm::dvec3(open[3]);
+    camera.motion_angle = angle;
+    camera.motion_axis = angle > 0.0 ? glm::normalize(glm::dvec3(shorter.x, shorter.y, shorter.z)) : glm::dvec3(0.0, 0.0, 1.0);
+    const glm::dmat3 half = glm::dmat3(glm::rotate(glm::dmat4(1.0), 0.5 * angle, camera.motion_axis)) * r0;
+    camera.world_from_camera = glm::dmat4(glm::dvec4(half[0], 0.0), glm::dvec4(half[1], 0.0), glm::dvec4(half[2], 0.0),
+                                          glm::dvec4(0.5 * (glm::dvec3(open[3]) + glm::dvec3(close[3])), 1.0));
+}
+
 // Flattens the nodes of one scene into `scene`.
 class Flattener {
 public:
@@ -336,7 +374,16 @@ public:
         }
     }
 
-    void visit_node(int index, const glm::dmat4& parent_world, int depth) {
+    // Motion blur: the nodes' local transforms at shutter open and close (the model posed at each); without them every
+    // node keeps its transform over the shutter.
+    void set_shutter_transforms(std::vector<glm::dmat4> open, std::vector<glm::dmat4> close) {
+        local_open_ = std::move(open);
+        local_close_ = std::move(close);
+    }
+
+    // parent_open, parent_close: the parent's world transforms at shutter open and close (set_shutter_transforms).
+    void visit_node(int index, const glm::dmat4& parent_world, int depth, const glm::dmat4& parent_open,
+                    const glm::dmat4& parent_close) {
         if (index < 0 || size_t(index) >= model_.nodes.size())
             throw SceneError("root " + describe_node(model_, index) + " does not exist");
         if (on_path_[size_t(index)])
@@ -351,19 +398,21 @@ public:
         on_path_[size_t(index)] = 1;
         const tinygltf::Node& node = model_.nodes[size_t(index)];
         const glm::dmat4 world = parent_world * local_transform(node);
+        const glm::dmat4 open = local_open_.empty() ? world : parent_open * local_open_[size_t(index)];
+        const glm::dmat4 close = local_close_.empty() ? world : parent_close * local_close_[size_t(index)];
         // Transforms cannot be NaN in JSON, but scales and matrices can overflow when composed.
-        if (!is_finite(world))
+        if (!is_finite(world) || !is_finite(open) || !is_finite(close))
             throw SceneError("the world transform of " + describe_node(model_, index) +
                              " is not finite (its transform or an ancestor's overflows)");
-        if (node.mesh >= 0) record_mesh_uses(node, index, world);
-        if (node.camera >= 0) add_camera(node.camera, index, world);
+        if (node.mesh >= 0) record_mesh_uses(node, index, {world, open, close});
+        if (node.camera >= 0) add_camera(node.camera, index, {world, open, close});
         if (const auto it = node.extensions.find("KHR_lights_punctual"); it != node.extensions.end())
             add_light(it->second, index, world);
         for (int child : node.children) {
             if (child < 0 || size_t(child) >= model_.nodes.size())
                 throw SceneError(describe_node(model_, index) + " has child " + std::to_string(child) +
                                  ", which does not exist");
-            visit_node(child, world, depth + 1);
+            visit_node(child, world, depth + 1, open, close);
         }
         on_path_[size_t(index)] = 0;
     }
@@ -385,14 +434,14 @@ public:
             }
             mesh_boxes.push_back({a, b});
         }
-        for (const PendingInstance& i : pending_instances_) {  // the mesh's object box, mapped
+        for (const PendingInstance& i : pending_instances_) {  // the mesh's object box, mapped (open and close)
             const auto& [a, b] = mesh_boxes[i.mesh];
-            const glm::dmat4& world = i.world;
-            for (int c = 0; c < 8 && a.x <= b.x; ++c) {
-                const glm::dvec3 q(world * glm::dvec4((c & 1) ? b.x : a.x, (c & 2) ? b.y : a.y, (c & 4) ? b.z : a.z, 1.0));
-                lo = glm::min(lo, q);
-                hi = glm::max(hi, q);
-            }
+            for (const glm::dmat4* world : {&i.place.open, &i.place.close})
+                for (int c = 0; c < 8 && a.x <= b.x; ++c) {
+                    const glm::dvec3 q(*world * glm::dvec4((c & 1) ? b.x : a.x, (c & 2) ? b.y : a.y, (c & 4) ? b.z : a.z, 1.0));
+                    lo = glm::min(lo, q);
+                    hi = glm::max(hi, q);
+                }
         }
         if (lo.x <= hi.x) {
             scene_.bounds_min = lo;
@@ -455,9 +504,18 @@ private:
         }
         if (world_triangle_end_ >= triangle_material_.size()) scene_.world_triangle_count = scene_.triangle_count();
         scene_.meshes.resize(pending_meshes_.size());  // a mesh whose triangles all dropped keeps 0 of them
-        for (const PendingInstance& i : pending_instances_)
-            if (scene_.meshes[i.mesh].triangle_count > 0)
-                scene_.instances.push_back({i.mesh, glm::translate(glm::dmat4(1.0), -origin) * i.world, i.material});
+        const glm::dmat4 from_world = glm::translate(glm::dmat4(1.0), -origin);
+        for (const PendingInstance& i : pending_instances_) {
+            if (scene_.meshes[i.mesh].triangle_count == 0) continue;
+            SceneInstance instance{i.mesh, from_world * i.place.world, i.material};
+            if (i.place.moves()) {  // halfway between open and close, and the motion (the origin cancels)
+                instance.render_from_object = from_world * (0.5 * (i.place.open + i.place.close));
+                instance.moves = true;
+                instance.motion = i.place.close - i.place.open;
+                ++scene_.moving_instances;
+            }
+            scene_.instances.push_back(instance);
+        }
         if (scene_.instances.empty()) scene_.meshes.clear();
         world_positions_.clear();
         world_positions_.shrink_to_fit();
@@ -470,10 +528,10 @@ private:
 
     // A node's mesh, once per EXT_mesh_gpu_instancing element if it has them (each placed node world x
     // translation x rotation x scale), drawn after the walk (add_recorded_meshes).
-    void record_mesh_uses(const tinygltf::Node& node, int index, const glm::dmat4& world) {
+    void record_mesh_uses(const tinygltf::Node& node, int index, const Placement& place) {
         const auto it = node.extensions.find("EXT_mesh_gpu_instancing");
         if (it == node.extensions.end() || !it->second.IsObject()) {
-            uses_.push_back({node.mesh, world, index});
+            uses_.push_back({node.mesh, place, index});
             return;
         }
         const std::string where = "EXT_mesh_gpu_instancing of " + describe_node(model_, index);
@@ -516,8 +574,9 @@ private:
                 local = local * glm::mat4_cast(glm::dquat(q.w, q.x, q.y, q.z));  // as node rotations: unit by the spec
             }
             if (!columns[2].empty()) local = glm::scale(local, glm::dvec3(glm::vec3(columns[2][i])));
-            const glm::dmat4 placed = world * local;
-            if (!is_finite(placed)) throw SceneError(where + ": instance " + std::to_string(i) + " has a transform that is not finite");
+            const Placement placed{place.world * local, place.open * local, place.close * local};
+            if (!is_finite(placed.world) || !is_finite(placed.open) || !is_finite(placed.close))
+                throw SceneError(where + ": instance " + std::to_string(i) + " has a transform that is not finite");
             uses_.push_back({node.mesh, placed, index});
         }
     }
@@ -567,8 +626,34 @@ private:
                 double(count - 1) * double(estimate_triangles(mesh)) >= double(MIN_TRIANGLES_SAVED_BY_INSTANCING))
                 instanced.emplace(mesh, 0u);
         }
+        // Motion blur: a rigid mesh that moves during the shutter is an instance (its BVH box bounds the motion), an
+        // emitting one included: next-event estimation cannot sample it (lights are picked per world-space triangle),
+        // so rays that hit it see its light with MIS weight 1. A deforming mesh stays where it is at the centre.
+        // Instances move linearly from open to close, so a turn is followed by its chord (shaders/lib/motion.glsl):
+        // warn where that shrinks a mesh by more than 0.4% halfway (a turn above 10 degrees).
+        size_t moving_emitters = 0, fast_turns = 0;
+        double fastest = 0.0;
+        for (const MeshUse& use : uses_) {
+            if (!use.place.moves() || deforms(use.mesh)) continue;
+            if (instanced.emplace(stored_as[use.mesh], 0u).second && mesh_emits(stored_as[use.mesh])) ++moving_emitters;
+            const double angle = turn_angle(find_turn(use.place.open, use.place.close));
+            if (angle > glm::radians(10.0)) ++fast_turns;
+            fastest = std::max(fastest, angle);
+        }
+        if (fast_turns > 0) {
+            char text[256];
+            std::snprintf(text, sizeof text,
+                          "%zu moving mesh(es) turn by up to %.0f degrees during the shutter: motion blur moves instances "
+                          "along the chord, which shrinks them by up to %.1f%% halfway (a shorter shutter shrinks less)",
+                          fast_turns, glm::degrees(fastest), 100.0 * (1.0 - std::cos(0.5 * fastest)));
+            scene_.warnings.push_back(text);
+        }
+        if (moving_emitters > 0)
+            scene_.warnings.push_back(std::to_string(moving_emitters) +
+                                      " emitting mesh(es) move during the shutter: their light is found by BSDF sampling "
+                                      "alone (next-event estimation samples static emitters only)");
         for (const MeshUse& use : uses_)
-            if (!instanced.count(stored_as[use.mesh])) add_mesh(use.mesh, use.world, use.node);
+            if (!instanced.count(stored_as[use.mesh])) add_mesh(use.mesh, use.place.world, use.node);
         world_triangle_end_ = triangle_material_.size();
         for (auto& [mesh, pending] : instanced) {
             pending = uint32_t(pending_meshes_.size());
@@ -587,7 +672,7 @@ private:
                 if (material == material_index(variant_material(model_.meshes[size_t(stored)].primitives[0]), where))
                     material = gpu::INVALID_INDEX;
             }
-            pending_instances_.push_back({it->second, use.world, material});
+            pending_instances_.push_back({it->second, use.place, material});
         }
         uses_.clear();
     }
@@ -925,7 +1010,8 @@ private:
         }
     }
 
-    void add_camera(int camera_index, int node_index, const glm::dmat4& world) {
+    void add_camera(int camera_index, int node_index, const Placement& place) {
+        const glm::dmat4& world = place.world;
         if (size_t(camera_index) >= model_.cameras.size())
             throw SceneError("camera " + std::to_string(camera_index) + " does not exist (" +
                              describe_node(model_, node_index) + ")");
@@ -937,6 +1023,7 @@ private:
         camera.yfov = source.perspective.yfov;
         camera.xmag = source.orthographic.xmag;
         camera.ymag = source.orthographic.ymag;
+        if (place.moves()) set_camera_motion(camera, place.open, place.close);
         scene_.cameras.push_back(camera);
     }
 
@@ -1007,7 +1094,7 @@ private:
     size_t leftover_indices_ = 0;
     struct MeshUse {
         int mesh;
-        glm::dmat4 world;
+        Placement place;
         int node;  // whose skin and morph weights deform it
     };
     std::vector<MeshUse> uses_;  // in walk order
@@ -1017,9 +1104,10 @@ private:
     std::vector<std::pair<size_t, size_t>> pending_meshes_;         // before dropping: [first, end) triangles
     struct PendingInstance {
         uint32_t mesh;      // pending mesh
-        glm::dmat4 world;
+        Placement place;
         uint32_t material;  // SceneInstance::material
     };
+    std::vector<glm::dmat4> local_open_, local_close_;  // set_shutter_transforms
     std::vector<PendingInstance> pending_instances_;
 };
 
@@ -1117,14 +1205,23 @@ Scene load_unprefixed(const std::filesystem::path& file, const LoadOptions& opti
     scene.source = file;
     tinygltf::Model model = read_model(file, scene.warnings);
     check_extensions(model, scene.warnings);
-    if (options.animate) {
+    std::vector<glm::dmat4> local_open, local_close;  // motion blur: every node's transform at open and close
+    if (options.animate || (options.has_shutter() && !model.animations.empty())) {
         const int animation = gltf::choose_animation(model, options.animation);
         if (animation < 0) throw SceneError("--time: the file has no animations");
         scene.animation = gltf::animation_name(model, animation);
         const gltf::AnimationRange range = gltf::animation_range(model, animation);
         scene.animation_start = range.start;
         scene.animation_end = range.end;
-        gltf::pose_model(model, animation, options.time);
+        if (options.has_shutter()) {
+            const std::vector<tinygltf::Node> still = model.nodes;
+            for (auto [at, locals] : {std::pair{options.shutter_open, &local_open}, {options.shutter_close, &local_close}}) {
+                gltf::pose_model(model, animation, options.time + at);
+                for (const tinygltf::Node& node : model.nodes) locals->push_back(local_transform(node));
+                model.nodes = still;
+            }
+        }
+        gltf::pose_model(model, animation, options.time + 0.5 * (options.shutter_open + options.shutter_close));
     }
     for (size_t a = 0; a < model.animations.size(); ++a) scene.animations.push_back(gltf::animation_name(model, int(a)));
     scene.images = gltf::take_images(model);
@@ -1141,7 +1238,8 @@ Scene load_unprefixed(const std::filesystem::path& file, const LoadOptions& opti
     const std::vector<int> roots = find_root_nodes(model, scene.warnings);
     check_node_instances(model, roots);
     flattener.compute_node_worlds(roots);
-    for (int root : roots) flattener.visit_node(root, glm::dmat4(1.0), 0);
+    flattener.set_shutter_transforms(std::move(local_open), std::move(local_close));
+    for (int root : roots) flattener.visit_node(root, glm::dmat4(1.0), 0, glm::dmat4(1.0), glm::dmat4(1.0));
     flattener.finish(options.rebase, options.instancing);
     if (scene.triangle_count() == 0) throw SceneError("no triangles in the scene");
     return scene;

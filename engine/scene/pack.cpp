@@ -223,6 +223,7 @@ PackedScene pack_scene(const Scene& scene, const SceneBvh& bvh, EnvironmentMap e
 
     std::vector<uint32_t> emissive;  // leaf-order indices of emitting triangles
     std::set<uint32_t> emitting_materials;
+    size_t moving_emitting_triangles = 0;
     std::vector<double> power, area;
     for (size_t i = 0; i < n; ++i) {
         const size_t t = bvh.triangle_order[i];
@@ -243,8 +244,13 @@ PackedScene pack_scene(const Scene& scene, const SceneBvh& bvh, EnvironmentMap e
         const double sides = (m.flags & gpu::MATERIAL_DOUBLE_SIDED) ? 2.0 : 1.0;
         const double w = mean_emitted_luminance(scene, t, m) * a * glm::pi<double>() * sides;
         const bool lit = a > 0.0 && w > 0.0 && (m.emission.r > 0.0f || m.emission.g > 0.0f || m.emission.b > 0.0f);
-        if (lit && !scene.instances.empty() && t >= scene.world_triangle_count)
-            throw std::invalid_argument("pack.cpp: an instanced mesh emits light (the loader flattens those)");
+        // Only a mesh that moves during the shutter emits from an instance (the loader flattens the others): rays that
+        // hit it see its light, but the light table (world-space triangles) leaves it out.
+        if (lit && !scene.instances.empty() && t >= scene.world_triangle_count) {
+            emitting_materials.insert(s.material);
+            ++moving_emitting_triangles;
+            continue;
+        }
         if (lit) {
             emitting_materials.insert(s.material);
             emissive.push_back(uint32_t(i));
@@ -261,8 +267,10 @@ PackedScene pack_scene(const Scene& scene, const SceneBvh& bvh, EnvironmentMap e
         packed.punctual_lights.push_back(pack_punctual_light(scene.lights[l]));
         power.push_back(w);
     }
-    decide_light_effects(packed.effects, emitting_materials, triangle_lights, packed.punctual_lights.size());
+    decide_light_effects(packed.effects, emitting_materials, triangle_lights + moving_emitting_triangles,
+                         packed.punctual_lights.size());
     decide_camera_effects(packed.effects, false);  // a pinhole unless the render asks for a lens (prepare_scene)
+    decide_motion_effects(packed.effects, scene.moving_instances > 0, scene.moving_instances, false);  // and the camera
     // The environment as a light over the scene's bounding disc: pi r^2 times the integral of its radiance
     // (a directional light's pi r^2 E, summed over directions; pbrt-v4 ImageInfiniteLight::Phi likewise).
     const bool environment_light = !environment.empty() && environment.luminance_integral > 0.0;

@@ -32,6 +32,13 @@ struct SceneCamera {
     uint32_t aperture_blades = 0;   // 0: a disk; 3 or more: a regular polygon
     double aperture_rotation = 0.0; // radians, the polygon's turn about the view direction
     bool has_lens() const { return aperture_radius > 0.0; }
+    // Motion blur (LoadOptions shutter): a camera whose node moves during the shutter. world_from_camera is then where
+    // it stands halfway, and over the shutter its origin moves by motion_translation (world) and its axes turn by
+    // motion_angle radians about the unit motion_axis (world), open to close, at a constant rate.
+    bool moves = false;
+    glm::dvec3 motion_translation{0.0};
+    glm::dvec3 motion_axis{0.0, 0.0, 1.0};
+    double motion_angle = 0.0;
 };
 
 // A KHR_lights_punctual light placed by its node (world space; it shines down its node's local -Z).
@@ -64,6 +71,12 @@ struct SceneInstance {
     uint32_t mesh = 0;
     glm::dmat4 render_from_object{1.0};  // world transform with the render-space origin subtracted
     uint32_t material = gpu::INVALID_INDEX;  // replaces the mesh's material (glTF meshes that share geometry)
+    // Motion blur: an instance whose node moves during the shutter. render_from_object is then halfway between its
+    // transforms at open and close, and `motion` is close minus open: at shutter time s in [0, 1] it stands at
+    // render_from_object + (s - 1/2) x motion (shaders/lib/motion.glsl).
+    bool moves = false;
+    glm::dmat4 motion{0.0};
+    glm::dmat4 render_from_object_at(double s) const { return moves ? render_from_object + (s - 0.5) * motion : render_from_object; }
 };
 
 struct LoadOptions {
@@ -79,6 +92,12 @@ struct LoadOptions {
     bool animate = false;
     std::string animation;
     double time = 0.0;
+    // Motion blur: the shutter, seconds relative to `time` (open < close; equal: none). With one, the scene is posed by
+    // the animation even without `animate` (at `time`; nothing moves in a file without animations): nodes that move
+    // between open and close become instances that move linearly over it, and the camera moves with its node.
+    // Deforming meshes (skins, morph targets) and punctual lights stand where they are at the shutter's centre.
+    double shutter_open = 0.0, shutter_close = 0.0;
+    bool has_shutter() const { return shutter_close > shutter_open; }
 };
 
 struct Scene {
@@ -103,6 +122,7 @@ struct Scene {
     std::vector<std::string> animations;       // "animation N 'name'", in file order
     std::string animation;                     // the one posed (LoadOptions::animate), else empty
     double animation_start = 0.0, animation_end = 0.0;  // its first and last keyframe times, seconds
+    size_t moving_instances = 0;               // instances that move during the shutter (SceneInstance::moves)
     // Triangles of each primitive's geometry (POSITION and index accessors) counted once however many nodes or
     // meshes draw it; the flattened arrays hold every copy.
     size_t unique_triangle_count = 0;

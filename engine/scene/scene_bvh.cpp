@@ -1,6 +1,7 @@
 // Two-level BVH: mesh BVHs built once, instances placed over them (layout.h Instance, traverse.glsl).
 #include "scene/scene_bvh.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -24,15 +25,28 @@ void write_rows(const glm::dmat4& m, gpu::vec4& r0, gpu::vec4& r1, gpu::vec4& r2
     for (int r = 0; r < 3; ++r) *rows[r] = gpu::vec4(float(m[0][r]), float(m[1][r]), float(m[2][r]), float(m[3][r]));
 }
 
-// The box of `lo`..`hi` mapped by `m`, in double, rounded outwards to float.
-void map_box(const glm::dmat4& m, const gpu::BvhNode& root, glm::vec3& lo, glm::vec3& hi) {
+// The box of the mesh's root box mapped by `m` (and, for a moving instance, by `m` -/+ half its motion: every point
+// moves along a segment between the two, so their union bounds the motion), in double, rounded outwards to float.
+// A moving instance's box gets a further 2^-16 of its largest coordinate: the GPU interpolates its transform and
+// inverts it in float.
+void map_box(const SceneInstance& instance, const gpu::BvhNode& root, glm::vec3& lo, glm::vec3& hi) {
     glm::dvec3 a(std::numeric_limits<double>::infinity()), b(-std::numeric_limits<double>::infinity());
-    for (int c = 0; c < 8; ++c) {
-        const glm::dvec3 p((c & 1) ? root.max_x : root.min_x, (c & 2) ? root.max_y : root.min_y,
-                           (c & 4) ? root.max_z : root.min_z);
-        const glm::dvec3 q = glm::dvec3(m * glm::dvec4(p, 1.0));
-        a = glm::min(a, q);
-        b = glm::max(b, q);
+    const std::vector<glm::dmat4> maps = instance.moves ? std::vector{instance.render_from_object_at(0.0),
+                                                                       instance.render_from_object_at(1.0)}
+                                                        : std::vector{instance.render_from_object};
+    for (const glm::dmat4& m : maps)
+        for (int c = 0; c < 8; ++c) {
+            const glm::dvec3 p((c & 1) ? root.max_x : root.min_x, (c & 2) ? root.max_y : root.min_y,
+                               (c & 4) ? root.max_z : root.min_z);
+            const glm::dvec3 q = glm::dvec3(m * glm::dvec4(p, 1.0));
+            a = glm::min(a, q);
+            b = glm::max(b, q);
+        }
+    if (instance.moves) {
+        const glm::dvec3 far = glm::max(glm::abs(a), glm::abs(b));
+        const double pad = std::ldexp(std::max({far.x, far.y, far.z}), -16);
+        a -= pad;
+        b += pad;
     }
     for (int k = 0; k < 3; ++k) {
         lo[k] = std::nextafter(float(a[k]), -std::numeric_limits<float>::infinity());
@@ -61,14 +75,12 @@ SceneBvh build_scene_bvh(const Scene& scene, const BvhOptions& options) {
     if (scene.world_triangle_count > 0) meshes.push_back({0, scene.world_triangle_count});
     const uint32_t first_scene_mesh = uint32_t(meshes.size());
     meshes.insert(meshes.end(), scene.meshes.begin(), scene.meshes.end());
-    struct Placement {
-        glm::dmat4 render_from_object;
-        uint32_t mesh, material;
-    };
-    std::vector<Placement> placements;
-    if (scene.world_triangle_count > 0) placements.push_back({glm::dmat4(1.0), 0u, gpu::INVALID_INDEX});
-    for (const SceneInstance& i : scene.instances)
-        placements.push_back({i.render_from_object, first_scene_mesh + i.mesh, i.material});
+    std::vector<SceneInstance> placements;  // mesh: in `meshes`
+    if (scene.world_triangle_count > 0) placements.push_back({0u, glm::dmat4(1.0), gpu::INVALID_INDEX});
+    for (SceneInstance i : scene.instances) {
+        i.mesh += first_scene_mesh;
+        placements.push_back(i);
+    }
 
     SceneBvh s;
     std::vector<uint32_t> root_of(meshes.size()), leaf_offset(meshes.size());
@@ -95,7 +107,7 @@ SceneBvh build_scene_bvh(const Scene& scene, const BvhOptions& options) {
 
     std::vector<glm::vec3> corners(2 * placements.size());
     for (size_t i = 0; i < placements.size(); ++i)
-        map_box(placements[i].render_from_object, roots[placements[i].mesh], corners[2 * i], corners[2 * i + 1]);
+        map_box(placements[i], roots[placements[i].mesh], corners[2 * i], corners[2 * i + 1]);
     BvhOptions top = options;
     top.max_leaf_size = 1;
     const Bvh tlas = build_bvh_over_boxes(corners, top);
@@ -121,13 +133,21 @@ SceneBvh build_scene_bvh(const Scene& scene, const BvhOptions& options) {
     for (size_t i = 0; i < placements.size(); ++i) {
         gpu::Instance& inst = s.instances[i];
         inst = {};
-        const Placement& p = placements[i];
+        const SceneInstance& p = placements[i];
         write_rows(glm::inverse(p.render_from_object), inst.object_from_render_0, inst.object_from_render_1,
                    inst.object_from_render_2);
         write_rows(p.render_from_object, inst.render_from_object_0, inst.render_from_object_1, inst.render_from_object_2);
         inst.root_node = mesh_base + root_of[p.mesh];
         inst.first_triangle = leaf_offset[p.mesh];
         inst.material = p.material;
+        inst.motion = gpu::INVALID_INDEX;
+        if (p.moves) {  // a motion record after the placements (layout.h Instance::motion)
+            inst.motion = uint32_t(s.instances.size());
+            gpu::Instance motion{};
+            write_rows(p.motion, motion.render_from_object_0, motion.render_from_object_1, motion.render_from_object_2);
+            motion.root_node = motion.first_triangle = motion.material = motion.motion = gpu::INVALID_INDEX;
+            s.instances.push_back(motion);
+        }
     }
     s.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return s;

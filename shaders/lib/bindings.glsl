@@ -12,6 +12,7 @@ layout(std430, binding = BINDING_SHADOW_RAYS) buffer ShadowBuffer { ShadowRayIte
 layout(std430, binding = BINDING_FILM) buffer FilmBuffer { FilmPixel film[]; };
 layout(std430, binding = BINDING_PATH_MEDIA) buffer PathMediaBuffer { uint path_media[]; };
 layout(std430, binding = BINDING_PATH_SPECTRA) buffer PathSpectrumBuffer { PathSpectrum path_spectra[]; };
+layout(std430, binding = BINDING_PATH_TIMES) buffer PathTimeBuffer { float path_times[]; };
 layout(std430, binding = BINDING_GLASS_ALBEDO) readonly buffer GlassAlbedoBuffer { float glass_albedo_words[]; };
 // The scene's read-only structs (layout.h TEXELS bindings): load_bvh_node, load_triangle_positions,
 // load_triangle_shading, load_material, load_emitter, load_punctual_light, load_triangle_attributes, load_instance,

@@ -1,6 +1,7 @@
 // The random numbers a path's stages consume, from the sampler the render asks for (`--sampler`, specialization
 // constant SPEC_SAMPLER): independent (the path's PCG stream, lib/rng.glsl) or Owen-scrambled Sobol' (lib/sobol.glsl),
-// one 2D or 1D Sobol' dimension per decision: the camera's film position (2D), wavelength (1D) and lens (2D), then per vertex
+// one 2D or 1D Sobol' dimension per decision: the camera's film position (2D), wavelength (1D), lens (2D) and shutter
+// time (1D), then per vertex
 // (depth d) the light's point (2D), which light (1D), Russian roulette (1D), the BSDF's direction (2D) and lobe (1D).
 // Both are deterministic per (pixel, sample index, seed). GLSL only (inout).
 #ifndef FH_PATH_SAMPLER_GLSL
@@ -16,12 +17,13 @@ uint path_pixel(uint path) { return push.pixel_begin + path % push.pixel_count; 
 uint path_sample_index(uint path) { return push.sample_begin + path / push.pixel_count; }
 
 // The camera's numbers. Independent: drawn from `rng` in the order film, wavelength (EFFECT_SPECTRAL), lens
-// (EFFECT_THIN_LENS), so a render without those draws what it drew before they existed.
+// (EFFECT_THIN_LENS), time (EFFECT_MOTION_BLUR), so a render without those draws what it drew before they existed.
 // Sobol' dimension numbers (sobol_seed): the camera's, then SOBOL_VERTEX_DIMENSIONS per vertex.
 const uint SOBOL_FILM = 0u;
 const uint SOBOL_WAVELENGTH = 1u;
 const uint SOBOL_LENS = 2u;
-const uint SOBOL_CAMERA_DIMENSIONS = 4u;  // one spare (a shutter's time)
+const uint SOBOL_TIME = 3u;
+const uint SOBOL_CAMERA_DIMENSIONS = 4u;
 const uint SOBOL_LIGHT_POINT = 0u;
 const uint SOBOL_LIGHT_PICK = 1u;
 const uint SOBOL_ROULETTE = 2u;
@@ -33,12 +35,14 @@ struct CameraSamples {
     vec2 film;         // where in the pixel (then warped by the pixel filter)
     float wavelength;  // the hero wavelength's u (EFFECT_SPECTRAL; else 0)
     vec2 lens;         // where on the aperture (EFFECT_THIN_LENS; else 0)
+    float time;        // when in the shutter, 0..1 (EFFECT_MOTION_BLUR; else its centre, 0.5)
 };
 
 CameraSamples draw_camera_samples(uint path, inout uint rng) {
     CameraSamples c;
     c.wavelength = 0.0f;
     c.lens = vec2(0.0f);
+    c.time = 0.5f;
     if (path_sampler == SAMPLER_SOBOL) {
         uint pixel = path_pixel(path);
         uint sample_index = path_sample_index(path);
@@ -47,6 +51,8 @@ CameraSamples draw_camera_samples(uint path, inout uint rng) {
             c.wavelength = sample_sobol_1d(sample_index, sobol_seed(pixel, params.seed, SOBOL_WAVELENGTH));
         if (effect_on(EFFECT_THIN_LENS))
             c.lens = sample_sobol_2d(sample_index, sobol_seed(pixel, params.seed, SOBOL_LENS));
+        if (effect_on(EFFECT_MOTION_BLUR))
+            c.time = sample_sobol_1d(sample_index, sobol_seed(pixel, params.seed, SOBOL_TIME));
         return c;
     }
     c.film.x = next_float(rng);
@@ -56,6 +62,7 @@ CameraSamples draw_camera_samples(uint path, inout uint rng) {
         c.lens.x = next_float(rng);
         c.lens.y = next_float(rng);
     }
+    if (effect_on(EFFECT_MOTION_BLUR)) c.time = next_float(rng);
     return c;
 }
 

@@ -8,6 +8,7 @@
 #include "ray_offset.glsl"
 #include "material.glsl"
 #include "instance.glsl"
+#include "motion.glsl"
 
 const uint TRAVERSAL_STACK_SIZE = 64u;
 
@@ -56,7 +57,9 @@ bool is_same_surface(uint tri, TrianglePositions tp, uint origin_triangle, vec3 
 
 // alpha_seed: with EFFECT_ALPHA, the ray's key for stochastic alpha (material.glsl is_surface_present); a
 // candidate hit on a cut-out or not-drawn-this-time point is skipped as if the triangle were not there.
-TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin_triangle, uint alpha_seed) {
+// time: the ray's time in the shutter (motion.glsl; read only with EFFECT_MOTION_BLUR).
+TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin_triangle, uint alpha_seed,
+                   float time) {
     TraceHit best;
     best.t = t_max;
     best.triangle = INVALID_INDEX;
@@ -85,7 +88,7 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin
         // Descend until this lane holds a leaf, or finds nothing below (index INVALID_INDEX, count 0).
         while ((count == 0u || (scene_has_instances && count == INSTANCE_LEAF)) && index != INVALID_INDEX) {
             if (scene_has_instances && count == INSTANCE_LEAF) {
-                Instance inst = load_instance(index);
+                Instance inst = move_instance(load_instance(index), time);
                 instance = index;
                 instance_base = stack_size;
                 origin = map_point(inst.object_from_render_0, inst.object_from_render_1, inst.object_from_render_2,

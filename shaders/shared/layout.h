@@ -56,7 +56,8 @@ FH_CONST uint BINDING_MATERIAL_LAYERS = 21u; // TEXELS MaterialLayers[] (KHR mat
 FH_CONST uint BINDING_PATH_MEDIA = 22u;      // uint[wave capacity]: the volume a path is in (EFFECT_VOLUME, _ABSORPTION)
 FH_CONST uint BINDING_PATH_SPECTRA = 23u;    // PathSpectrum[wave capacity]: a path's wavelengths (EFFECT_SPECTRAL)
 FH_CONST uint BINDING_GLASS_ALBEDO = 24u;    // float[]: glass_albedo_table.glsl (EFFECT_GLASS_MULTISCATTER; else one word)
-FH_CONST uint BINDING_COUNT = 25u;
+FH_CONST uint BINDING_PATH_TIMES = 25u;     // float[wave capacity]: a path's time in the shutter, 0..1 (EFFECT_MOTION_BLUR)
+FH_CONST uint BINDING_COUNT = 26u;
 FH_CONST uint TEXEL_BYTES = 16u;             // one RGBA32UI texel of a TEXELS binding
 
 // ---- Specialization constants (constant_id) -------------------------------------------------------------
@@ -100,6 +101,8 @@ FH_CONST uint EFFECT_SPECULAR = 134217728u;  // the base's GGX reflection (diele
                                              // every visible material is Lambertian (metallic 0, specularFactor 0)
 FH_CONST uint EFFECT_THIN_LENS = 268435456u;  // --aperture / --aperture-radius > 0: camera rays from a lens disk or
                                               // polygon, focused on a plane (lib/camera.glsl); else the pinhole
+FH_CONST uint EFFECT_MOTION_BLUR = 536870912u;  // --shutter over which an instance or the camera moves: each path has
+                                                // a time, and moving transforms are interpolated (lib/motion.glsl)
 FH_CONST uint EFFECT_ATTRIBUTES = EFFECT_BASE_COLOR_TEXTURE | EFFECT_METALLIC_ROUGHNESS_TEXTURE |
                                   EFFECT_NORMAL_TEXTURE | EFFECT_EMISSIVE_TEXTURE | EFFECT_VERTEX_COLORS |
                                   EFFECT_ALPHA | EFFECT_TRANSMISSION_TEXTURE | EFFECT_CLEARCOAT_TEXTURE |
@@ -115,7 +118,8 @@ FH_CONST uint EFFECT_MATERIAL = EFFECT_ATTRIBUTES | EFFECT_TRANSMISSION | EFFECT
 FH_CONST uint EFFECT_LIGHTS = EFFECT_EMISSIVE_TRIANGLES | EFFECT_PUNCTUAL_LIGHTS;  // decided by the light table
 // What --force-effect / --disable-effect may switch (to measure an effect's cost): all but the environment,
 // which follows --env / --background.
-FH_CONST uint EFFECT_SWITCHABLE = EFFECT_MATERIAL | EFFECT_LIGHTS;
+// Motion blur may be switched off: everything then stands where it is at the shutter's centre.
+FH_CONST uint EFFECT_SWITCHABLE = EFFECT_MATERIAL | EFFECT_LIGHTS | EFFECT_MOTION_BLUR;
 
 // ---- Robustness techniques (all on by default; `--disable-technique` turns one off to measure its cost and
 // to show what goes wrong without it). README "Numerical stability" has the table.
@@ -195,7 +199,11 @@ struct Instance {
     uint root_node;         // the mesh BVH's root pair node
     uint first_triangle;    // the mesh's triangles (TrianglePositions order) start here
     uint material;          // replaces the triangles' material (meshes sharing geometry), else INVALID_INDEX
-    uint pad0;
+    // Motion blur: INVALID_INDEX for an instance that stands still; else the Instance record (past those the BVH
+    // names) whose render_from_object rows hold the motion over the shutter, close minus open. The rows above are
+    // then the transform at the shutter's centre, and at shutter time s in [0, 1] the instance is placed by
+    // centre + (s - 1/2) x motion (lib/motion.glsl; its object_from_render rows are unused).
+    uint motion;
 };
 // World-space vertex positions of one triangle; only these are read during traversal (9 words). Padded to
 // 48 bytes: three whole texels.
@@ -354,6 +362,11 @@ struct FrameParams {
     float focus_distance;
     uint aperture_blades;
     float aperture_rotation;
+    // Motion blur (EFFECT_MOTION_BLUR): the camera above stands where it is at the shutter's centre; at shutter time s
+    // its origin moves by (s - 1/2) x camera_motion_translation.xyz and its axes turn by (s - 1/2) x
+    // camera_motion_rotation.w radians about the unit axis camera_motion_rotation.xyz (open to close).
+    vec4 camera_motion_translation;
+    vec4 camera_motion_rotation;
 };
 
 // Push constants: what changes per wave and per depth.

@@ -235,6 +235,9 @@ def main():
     ap.add_argument("--time", type=float,
                     help="pose animated models at this time, seconds: Fredholm --time T, Blender's frame T x fps "
                          "(Blender's glTF importer keys time t at frame t x fps)")
+    ap.add_argument("--shutter", help="OPEN,CLOSE seconds relative to --time: Fredholm --shutter; Cycles' motion blur "
+                                      "centred on frame (time + (OPEN + CLOSE) / 2) x fps over (CLOSE - OPEN) x fps "
+                                      "frames, deformation blur off (Fredholm poses skins and morphs at the centre)")
     ap.add_argument("--keep-punctual-lights", action="store_true",
                     help="keep the models' KHR_lights_punctual lights (their units differ between the renderers)")
     args = ap.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else sys.argv[1:])
@@ -254,6 +257,9 @@ def main():
                "--up", "0,1,0", "--yfov", str(args.yfov), "--stats", str(out / f"{name}_fredholm.json"), "--quiet"]
         if args.time is not None:
             cmd += ["--time", f"{args.time:.9g}"]
+        shutter = [float(v) for v in args.shutter.split(",")] if args.shutter else None
+        if shutter:
+            cmd += ["--shutter", args.shutter]
         for layer in args.without:
             cmd += ["--disable-effect", layer]
         if not args.keep_punctual_lights:
@@ -270,9 +276,18 @@ def main():
             remove_layer(layer)
         # The model's pixels: Cycles' alpha with a transparent film (4 samples), then the real render.
         scene = bpy.context.scene
-        if args.time is not None:
-            frame = args.time * scene.render.fps * scene.render.fps_base  # as the importer keys it
+        if args.time is not None or shutter:
+            fps = scene.render.fps / scene.render.fps_base
+            t = (args.time or 0.0) + (0.5 * (shutter[0] + shutter[1]) if shutter else 0.0)
+            frame = t * fps  # as the importer keys it
             scene.frame_set(int(math.floor(frame)), subframe=frame - math.floor(frame))
+        if shutter:
+            scene.render.use_motion_blur = True
+            scene.render.motion_blur_position = "CENTER"
+            scene.render.motion_blur_shutter = (shutter[1] - shutter[0]) * fps
+            for obj in scene.objects:
+                obj.cycles.use_deform_motion = False
+                obj.cycles.motion_steps = 3
         scene.render.film_transparent = True
         scene.cycles.samples = 4
         scene.render.filepath = str(out / f"{name}_mask.exr")

@@ -49,11 +49,16 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         (void)fh::load_gltf(input_path());
     } catch (const fh::SceneError&) {
     }
-    // Posed by its first animation too (glTF animation, skins and morph weights at a time inside and past the keys).
+    // Posed by its first animation too (glTF animation, skins and morph weights at a time inside and past the keys), the
+    // first time with a shutter open over it (motion blur: moving nodes become moving instances, the camera moves).
     for (double time : {0.37, 1e6}) {
         fh::LoadOptions posed;
         posed.animate = true;
         posed.time = time;
+        if (time < 1.0) {
+            posed.shutter_open = -0.3;
+            posed.shutter_close = 0.2;
+        }
         try {
             (void)fh::load_gltf(input_path(), posed);
         } catch (const fh::SceneError&) {

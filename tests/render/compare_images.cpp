@@ -26,6 +26,7 @@ constexpr const char* USAGE = R"(usage:
   fh_compare TEST.exr --elongated-along x|y [--min-ratio 2]
   fh_compare TEST.exr --dispersed-along x|-x|y|-y [--min-separation 1]
   fh_compare TEST.exr --blur-diameter SHARP.exr --expect-px D [--tolerance-px 1]
+  fh_compare TEST.exr --smear-profile LEFT,WIDTH,TRAVEL --rows BEGIN,END [--tolerance 0.05]
   fh_compare T1.exr,T2.exr,... --same-distribution R1.exr,R2.exr,... [--alpha 0.01] [--diff-out DIFF.exr]
 Exit status: 0 pass; 1 fail (one line per failing criterion, difference image written to --diff-out,
 default TEST.diff.exr; --z-out adds each tile's z-score) or an unreadable image; 2 bad usage.
@@ -45,6 +46,7 @@ const std::map<std::string, std::vector<std::string>> MODE_OPTIONS = {
     {"--elongated-along", {"--min-ratio"}},
     {"--dispersed-along", {"--min-separation"}},
     {"--blur-diameter", {"--expect-px", "--tolerance-px"}},
+    {"--smear-profile", {"--rows", "--tolerance"}},
     {"--same-distribution", {"--alpha", "--diff-out"}},
 };
 
@@ -56,6 +58,7 @@ const std::map<std::string, std::string> DIFFERENCE_CONTENT = {
     {"--elongated-along", "none"},
     {"--dispersed-along", "none"},
     {"--blur-diameter", "none"},
+    {"--smear-profile", "none"},
     {"--same-distribution", "mean of test batches minus mean of reference batches"},
 };
 
@@ -113,7 +116,7 @@ Arguments parse_arguments(int argc, char** argv) {
     if (args.test.empty()) throw UsageError("no test image given");
     if (args.mode.empty())
         throw UsageError("choose one of --reference, --expect-constant, --identical, --finite, --same-distribution, "
-                         "--elongated-along, --dispersed-along, --blur-diameter");
+                         "--elongated-along, --dispersed-along, --blur-diameter, --smear-profile");
     for (const auto& [name, value] : args.options) {
         if (name == args.mode) continue;
         bool known = false;
@@ -214,6 +217,18 @@ fh::CheckResult run_check(const Arguments& args) {
         const double expected = args.number("--expect-px", 0.0), tolerance = args.number("--tolerance-px", 1.0);
         if (!(expected >= 0) || !(tolerance >= 0)) throw UsageError("--expect-px and --tolerance-px must not be negative");
         return fh::check_blur_diameter(test, fh::read_exr(args.options.at("--blur-diameter")), expected, tolerance);
+    }
+    if (args.mode == "--smear-profile") {
+        double bar[3];
+        int rows[2];
+        if (std::sscanf(args.options.at("--smear-profile").c_str(), "%lf,%lf,%lf", &bar[0], &bar[1], &bar[2]) != 3 ||
+            !(bar[1] > 0) || !(bar[2] >= 0))
+            throw UsageError("--smear-profile takes LEFT,WIDTH,TRAVEL in pixels (width above 0, travel not negative)");
+        if (!args.has("--rows") || std::sscanf(args.options.at("--rows").c_str(), "%d,%d", &rows[0], &rows[1]) != 2)
+            throw UsageError("--smear-profile needs --rows BEGIN,END");
+        const double tolerance = args.number("--tolerance", 0.05);
+        if (!(tolerance >= 0)) throw UsageError("--tolerance must not be negative");
+        return fh::check_smear_profile(test, bar[0], bar[1], bar[2], rows[0], rows[1], tolerance);
     }
     if (args.mode == "--identical") return fh::check_identical(test, fh::read_exr(args.options.at("--identical")));
     return fh::check_finite(test);

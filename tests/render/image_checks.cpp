@@ -196,6 +196,53 @@ CheckResult check_blur_diameter(const Image& test, const Image& sharp, double ex
     return result;
 }
 
+CheckResult check_smear_profile(const Image& test, double left_px, double width_px, double travel_px, int row_begin,
+                                int row_end, double tolerance) {
+    CheckResult result;
+    if (!(row_begin >= 0 && row_begin < row_end && row_end <= test.height)) {
+        result.failures.push_back(format_text("smear: rows [%d, %d) lie outside the %d-row image", row_begin, row_end,
+                                              test.height));
+        result.summary = result.failures.back();
+        return result;
+    }
+    // The covered time at image x: the bar covers x while left + travel s <= x <= left + travel s + width, s in [0, 1].
+    auto covered = [&](double x) {
+        if (travel_px <= 0.0) return x >= left_px && x <= left_px + width_px ? 1.0 : 0.0;
+        const double s0 = std::max((x - width_px - left_px) / travel_px, 0.0), s1 = std::min((x - left_px) / travel_px, 1.0);
+        return std::max(s1 - s0, 0.0);
+    };
+    double worst = 0.0;
+    int worst_column = 0;
+    double worst_expected = 0.0, worst_measured = 0.0;
+    for (int x = 0; x < test.width; ++x) {
+        constexpr int STEPS = 256;  // midpoint rule over the pixel: exact but at the trapezoid's four corners
+        double expected = 0.0;
+        for (int k = 0; k < STEPS; ++k) expected += covered(x + (k + 0.5) / STEPS);
+        expected /= STEPS;
+        double measured = 0.0;
+        for (int y = row_begin; y < row_end; ++y) {
+            const float* p = &test.rgb[(std::size_t(y) * test.width + x) * 3];
+            measured += 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+        }
+        measured /= row_end - row_begin;
+        const double error = std::abs(measured - expected);
+        if (!(error <= worst)) {
+            worst = error;
+            worst_column = x;
+            worst_expected = expected;
+            worst_measured = measured;
+        }
+    }
+    if (!(worst <= tolerance))
+        result.failures.push_back(format_text("smear: column %d reads %.4f, the moving bar's profile %.4f (off by %.4f, "
+                                              "tolerance %.4f)",
+                                              worst_column, worst_measured, worst_expected, worst, tolerance));
+    result.summary = format_text("smear profile within %.4f of the analytic one (worst column %d: %.4f vs %.4f; "
+                                 "tolerance %.4f)",
+                                 worst, worst_column, worst_measured, worst_expected, tolerance);
+    return result;
+}
+
 CheckResult check_dispersion(const Image& test, const std::string& direction, double min_separation) {
     CheckResult result;
     const int axis = direction.back() == 'x' ? 0 : 1;

@@ -110,6 +110,15 @@ CheckResult check_dispersion(const Image& test, const std::string& direction, do
 // expects (the caller converts). No difference image.
 CheckResult check_blur_diameter(const Image& test, const Image& sharp, double expected_px, double tolerance_px);
 
+// A bar of radiance 1 on black, `width_px` wide, moving along +x at a constant speed while the shutter is open: its
+// left edge at `left_px` (image x, pixels from the left) at open and `travel_px` further on at close. Each pixel of a
+// box-filtered render then reads the time its footprint was covered, averaged over the footprint: the bar's box
+// convolved with the box of its travel (a trapezoid), integrated over the pixel. The test: in every column, the mean
+// of the luminance over rows [row_begin, row_end) (inside the bar) lies within `tolerance` of that. No difference
+// image.
+CheckResult check_smear_profile(const Image& test, double left_px, double width_px, double travel_px, int row_begin,
+                                int row_end, double tolerance);
+
 // ---- Same distribution, pixel by pixel -----------------------------------------------------------------
 //
 // test and reference are K >= 2 independent renders each (different seeds) of images that should have the

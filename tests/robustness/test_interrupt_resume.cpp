@@ -185,6 +185,7 @@ TEST(Resume, RejectsMismatchedSettingsWithOneLine) {
         {args("16", "4", {"--resume", "--filter", "gaussian"}), "filter is box in the file but gaussian"},
         {args("16", "4", {"--resume", "--aperture", "2", "--focus-distance", "3"}),
          "lens is pinhole in the file but f/2 sensor 24 mm, focus 3"},
+        {args("16", "4", {"--resume", "--shutter", "0,0.01"}), "shutter is none in the file but 0,0.01"},
         {args("17", "4", {"--resume"}), "the image is 16x16 but this render is 17x16"},
         {args("16", "1", {"--resume"}), "already has 2 spp, more than --spp 1"},
     };

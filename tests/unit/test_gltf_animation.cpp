@@ -182,3 +182,72 @@ TEST(GltfAnimation, RefusesBadInputNamingTheProblem) {
 }
 
 }  // namespace
+
+namespace {
+fh::LoadOptions with_shutter(double time, double open, double close) {
+    fh::LoadOptions o = at_time(time);
+    o.shutter_open = open;
+    o.shutter_close = close;
+    return o;
+}
+}  // namespace
+
+// Motion blur: a node that moves during the shutter becomes an instance placed halfway, with its motion (close minus
+// open), and the scene bounds hold it at both ends.
+TEST(GltfMotion, AMovingNodeBecomesAnInstanceThatMovesOverTheShutter) {
+    const auto file = translated_triangle("LINEAR");  // x from 0 at t = 0 to 2 at t = 1
+    const Scene s = fh::load_gltf(file, with_shutter(0.5, -0.25, 0.25));
+    ASSERT_EQ(s.instances.size(), 1u);
+    EXPECT_EQ(s.moving_instances, 1u);
+    const fh::SceneInstance& i = s.instances[0];
+    EXPECT_TRUE(i.moves);
+    EXPECT_NEAR(i.render_from_object[3].x, 1.0, 1e-9);  // halfway: t = 0.5
+    EXPECT_NEAR(i.motion[3].x, 1.0, 1e-9);              // from x = 0.5 at t = 0.25 to 1.5 at 0.75
+    EXPECT_NEAR(i.motion[0].x, 0.0, 1e-12);
+    EXPECT_NEAR(i.render_from_object_at(0.0)[3].x, 0.5, 1e-9);
+    EXPECT_NEAR(s.bounds_min.x, 0.5, 1e-6);
+    EXPECT_NEAR(s.bounds_max.x, 2.5, 1e-6);
+    // Without --time the shutter opens about t = 0; a shutter over which nothing moves makes no instance.
+    EXPECT_EQ(fh::load_gltf(file, with_shutter(5.0, -0.1, 0.1)).moving_instances, 0u);
+    fh::LoadOptions shutter_only = STATIC;
+    shutter_only.shutter_close = 0.5;
+    EXPECT_NEAR(fh::load_gltf(file, shutter_only).instances.at(0).motion[3].x, 1.0, 1e-9);
+}
+
+// Only the moving node becomes an instance; its still sibling stays in world space.
+TEST(GltfMotion, StillNodesStayInWorldSpace) {
+    GltfBuilder b;
+    const int moving = b.add_node({{"mesh", b.add_simple_mesh(UNIT_TRIANGLE)}});
+    const int still = b.add_node({{"mesh", b.add_simple_mesh(UNIT_TRIANGLE)}, {"translation", {0, 5, 0}}});
+    b.set_scene({moving, still});
+    animate(b, moving, "translation", {0.0f, 1.0f}, {0, 0, 0, 2, 0, 0}, "VEC3", 3);
+    const Scene s = fh::load_gltf(b.write_gltf(), with_shutter(0.5, -0.1, 0.1));
+    EXPECT_EQ(s.instances.size(), 1u);
+    EXPECT_EQ(s.world_triangle_count, 1u);
+}
+
+// A moving camera: the pose halfway, the translation and the turn (about +Y here) over the shutter.
+TEST(GltfMotion, AMovingCameraCarriesItsMotion) {
+    GltfBuilder b;
+    const int mesh = b.add_node({{"mesh", b.add_simple_mesh(UNIT_TRIANGLE)}});
+    b.doc["cameras"] = json::array({{{"type", "perspective"}, {"perspective", {{"yfov", 0.7}, {"znear", 0.01}}}}});
+    const int camera = b.add_node({{"camera", 0}, {"translation", {0, 0, 4}}});
+    b.set_scene({mesh, camera});
+    const float s = std::sin(0.25f), c = std::cos(0.25f);  // 0.5 rad about +Y at t = 1
+    const int input = add_floats(b, {0.0f, 1.0f}, "SCALAR", 1);
+    const int slide = add_floats(b, {0, 0, 4, 2, 0, 4}, "VEC3", 3);
+    const int turn = add_floats(b, {0, 0, 0, 1, 0, s, 0, c}, "VEC4", 4);
+    b.doc["animations"] = json::array({{{"samplers", {{{"input", input}, {"output", slide}}, {{"input", input}, {"output", turn}}}},
+                                        {"channels", {{{"sampler", 0}, {"target", {{"node", camera}, {"path", "translation"}}}},
+                                                      {{"sampler", 1}, {"target", {{"node", camera}, {"path", "rotation"}}}}}}}});
+    const Scene scene = fh::load_gltf(b.write_gltf(), with_shutter(0.5, -0.5, 0.5));
+    ASSERT_EQ(scene.cameras.size(), 1u);
+    const fh::SceneCamera& cam = scene.cameras[0];
+    EXPECT_TRUE(cam.moves);
+    EXPECT_NEAR(cam.motion_translation.x, 2.0, 1e-9);
+    EXPECT_NEAR(cam.motion_angle, 0.5, 1e-6);  // keys in float
+    EXPECT_NEAR(cam.motion_axis.y, 1.0, 1e-9);
+    EXPECT_NEAR(cam.world_from_camera[3].x, 1.0, 1e-9);  // halfway
+    EXPECT_NEAR(std::atan2(cam.world_from_camera[2].x, cam.world_from_camera[2].z), 0.25, 1e-6);  // turned 0.25 rad
+    EXPECT_EQ(scene.moving_instances, 0u);  // the mesh stands still
+}

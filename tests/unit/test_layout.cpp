@@ -100,7 +100,7 @@ FH_OFFSET(PunctualLight, type, 48);
 FH_OFFSET(PunctualLight, cos_inner, 52);
 FH_OFFSET(PunctualLight, cos_outer, 56);
 
-FH_SIZE(FrameParams, 176);
+FH_SIZE(FrameParams, 208);
 FH_OFFSET(FrameParams, camera_origin, 0);
 FH_OFFSET(FrameParams, camera_right, 16);
 FH_OFFSET(FrameParams, camera_up, 32);
@@ -123,6 +123,8 @@ FH_OFFSET(FrameParams, env_width, 144);
 FH_OFFSET(FrameParams, env_height, 148);
 FH_OFFSET(FrameParams, env_rotation, 152);
 FH_OFFSET(FrameParams, env_pick_pdf, 156);
+FH_OFFSET(FrameParams, camera_motion_translation, 176);
+FH_OFFSET(FrameParams, camera_motion_rotation, 192);
 
 FH_SIZE(StagePush, 32);
 FH_OFFSET(StagePush, depth, 0);
@@ -169,6 +171,7 @@ FH_SIZE(Instance, 112);
 FH_OFFSET(Instance, render_from_object_0, 48);
 FH_OFFSET(Instance, root_node, 96);
 FH_OFFSET(Instance, first_triangle, 100);
+FH_OFFSET(Instance, motion, 108);
 FH_OFFSET(Instance, material, 104);
 
 FH_SIZE(ShadowRayItem, 48);
@@ -209,7 +212,7 @@ TEST(Layout, SizesMatchTheGpuStructs) {
     EXPECT_EQ(sizeof(TextureSlot), 48u);
     EXPECT_EQ(sizeof(TriangleAttributes), 96u);
     EXPECT_EQ(sizeof(Emitter), 16u);
-    EXPECT_EQ(sizeof(FrameParams), 176u);
+    EXPECT_EQ(sizeof(FrameParams), 208u);
     EXPECT_EQ(sizeof(QueueCounters), 56u);
     EXPECT_EQ(sizeof(RayItem), 32u);
     EXPECT_EQ(sizeof(HitItem), 20u);

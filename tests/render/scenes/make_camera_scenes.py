@@ -14,6 +14,8 @@ z = 2 looks down -Z (yfov 0.7 rad) at black emitters (base colour 0, so nothing 
   static_square.gltf the same square, not animated, at x = 0.
   skinned_square.gltf the square skinned to a joint that slides like anim_square's node (and a morph target of weight
                      0, animated to 0): posed at t = 0.5 it is where static_square.gltf has it.
+  anim_camera.gltf   static_square.gltf's square, and the camera sliding along x from 1 at t = 0 to -1 at t = 1: the
+                     square moves across its view as anim_square's does across the still camera's.
   lens_point.gltf    a 0.15 x 0.15 emitter at z = -6, 8 units ahead: out of focus it spreads into the aperture's
                      shape, of the thin-lens diameter c = A |d - s| / (d s) x H / (2 tan(yfov / 2)) pixels.
 """
@@ -55,6 +57,18 @@ def square(animated):
         values = g.add_floats([-1.0, 0.0, 0.0, 1.0, 0.0, 0.0])
         g.doc["animations"] = [{"name": "slide", "samplers": [{"input": times, "output": values}],
                                 "channels": [{"sampler": 0, "target": {"node": node, "path": "translation"}}]}]
+    return g
+
+
+def sliding_camera():
+    g = Gltf()
+    material = g.add_material(base=(0.0, 0.0, 0.0), emission=1.0)
+    g.add_node({"mesh": g.add_mesh(quad(-0.25, -0.25, 0.25, 0.25, 0.0), material)})
+    camera = g.add_perspective_camera({"translation": [0.0, 0.0, CAMERA_Z]}, YFOV)
+    times = g.add_floats([0.0, 1.0], "SCALAR", 2)
+    values = g.add_floats([1.0, 0.0, CAMERA_Z, -1.0, 0.0, CAMERA_Z])
+    g.doc["animations"] = [{"name": "pan", "samplers": [{"input": times, "output": values}],
+                            "channels": [{"sampler": 0, "target": {"node": camera, "path": "translation"}}]}]
     return g
 
 
@@ -101,6 +115,7 @@ def main():
         "lens_checker": checker(),
         "anim_square": square(True),
         "static_square": square(False),
+        "anim_camera": sliding_camera(),
         "skinned_square": skinned_square(),
         "lens_point": scene_with([(quad(-0.075, -0.075, 0.075, 0.075, -6.0), 1.0)]),
     }
