@@ -121,6 +121,7 @@ void write_stats(const std::filesystem::path& file, const RenderCommand& c, cons
     j["animations"] = prepared.scene.animations;
     j["shutter"] = describe_shutter(s);
     j["moving_instances"] = prepared.scene.moving_instances;
+    j["motion_segments"] = prepared.scene.motion_segments;  // keys of moving instances: this + 1
     if (s.animate || s.has_shutter()) {
         j["animation"] = prepared.scene.animation;
         j["time"] = s.time;

@@ -63,6 +63,7 @@ gpu::FrameParams make_frame(const PackedScene& scene, const SceneCamera& camera,
     f.env_height = scene.environment.height;
     f.env_rotation = scene.environment.rotation;
     f.env_pick_pdf = scene.environment_pick_pdf;
+    f.motion_segments = scene.motion_segments;
     return f;
 }
 

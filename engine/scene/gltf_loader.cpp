@@ -303,11 +303,19 @@ bool is_finite(const glm::dmat4& m) {
 }
 
 // Where a node draws: its world transform (at the render's time, or the shutter's centre) and, for motion blur, at
-// shutter open and close (all three equal for a node that stands still).
+// the shutter's keys (SceneInstance::keys; empty for a node that stands still).
 struct Placement {
-    glm::dmat4 world, open, close;
-    bool moves() const { return open != world || close != world; }
+    glm::dmat4 world;
+    std::vector<glm::dmat4> keys;
+    bool moves() const { return !keys.empty(); }
 };
+
+// `keys` kept only where some differ from `world`.
+Placement place(const glm::dmat4& world, std::vector<glm::dmat4> keys) {
+    for (const glm::dmat4& k : keys)
+        if (k != world) return {world, std::move(keys)};
+    return {world, {}};
+}
 
 // The rotation that turns the axes of `open` into those of `close` (each transform's columns normalised: rotation and
 // scale without shear), on the shorter arc: a unit quaternion with w >= 0.
@@ -374,16 +382,12 @@ public:
         }
     }
 
-    // Motion blur: the nodes' local transforms at shutter open and close (the model posed at each); without them every
-    // node keeps its transform over the shutter.
-    void set_shutter_transforms(std::vector<glm::dmat4> open, std::vector<glm::dmat4> close) {
-        local_open_ = std::move(open);
-        local_close_ = std::move(close);
-    }
+    // Motion blur: the nodes' local transforms at the shutter's keys (the model posed at each: locals[key][node]);
+    // without them every node keeps its transform over the shutter.
+    void set_shutter_transforms(std::vector<std::vector<glm::dmat4>> locals) { local_keys_ = std::move(locals); }
 
-    // parent_open, parent_close: the parent's world transforms at shutter open and close (set_shutter_transforms).
-    void visit_node(int index, const glm::dmat4& parent_world, int depth, const glm::dmat4& parent_open,
-                    const glm::dmat4& parent_close) {
+    // parent_keys: the parent's world transforms at the shutter's keys (set_shutter_transforms; identities at a root).
+    void visit_node(int index, const glm::dmat4& parent_world, int depth, const std::vector<glm::dmat4>& parent_keys) {
         if (index < 0 || size_t(index) >= model_.nodes.size())
             throw SceneError("root " + describe_node(model_, index) + " does not exist");
         if (on_path_[size_t(index)])
@@ -398,21 +402,21 @@ public:
         on_path_[size_t(index)] = 1;
         const tinygltf::Node& node = model_.nodes[size_t(index)];
         const glm::dmat4 world = parent_world * local_transform(node);
-        const glm::dmat4 open = local_open_.empty() ? world : parent_open * local_open_[size_t(index)];
-        const glm::dmat4 close = local_close_.empty() ? world : parent_close * local_close_[size_t(index)];
+        std::vector<glm::dmat4> keys(local_keys_.size());
+        for (size_t k = 0; k < keys.size(); ++k) keys[k] = parent_keys[k] * local_keys_[k][size_t(index)];
         // Transforms cannot be NaN in JSON, but scales and matrices can overflow when composed.
-        if (!is_finite(world) || !is_finite(open) || !is_finite(close))
+        if (!is_finite(world) || !std::all_of(keys.begin(), keys.end(), [](const glm::dmat4& m) { return is_finite(m); }))
             throw SceneError("the world transform of " + describe_node(model_, index) +
                              " is not finite (its transform or an ancestor's overflows)");
-        if (node.mesh >= 0) record_mesh_uses(node, index, {world, open, close});
-        if (node.camera >= 0) add_camera(node.camera, index, {world, open, close});
+        if (node.mesh >= 0) record_mesh_uses(node, index, place(world, keys));
+        if (node.camera >= 0) add_camera(node.camera, index, place(world, keys));
         if (const auto it = node.extensions.find("KHR_lights_punctual"); it != node.extensions.end())
             add_light(it->second, index, world);
         for (int child : node.children) {
             if (child < 0 || size_t(child) >= model_.nodes.size())
                 throw SceneError(describe_node(model_, index) + " has child " + std::to_string(child) +
                                  ", which does not exist");
-            visit_node(child, world, depth + 1, open, close);
+            visit_node(child, world, depth + 1, keys);
         }
         on_path_[size_t(index)] = 0;
     }
@@ -434,9 +438,11 @@ public:
             }
             mesh_boxes.push_back({a, b});
         }
-        for (const PendingInstance& i : pending_instances_) {  // the mesh's object box, mapped (open and close)
+        for (const PendingInstance& i : pending_instances_) {  // the mesh's object box, mapped (at every key)
             const auto& [a, b] = mesh_boxes[i.mesh];
-            for (const glm::dmat4* world : {&i.place.open, &i.place.close})
+            std::vector<const glm::dmat4*> maps{&i.place.world};
+            for (const glm::dmat4& k : i.place.keys) maps.push_back(&k);
+            for (const glm::dmat4* world : maps)
                 for (int c = 0; c < 8 && a.x <= b.x; ++c) {
                     const glm::dvec3 q(*world * glm::dvec4((c & 1) ? b.x : a.x, (c & 2) ? b.y : a.y, (c & 4) ? b.z : a.z, 1.0));
                     lo = glm::min(lo, q);
@@ -508,10 +514,9 @@ private:
         for (const PendingInstance& i : pending_instances_) {
             if (scene_.meshes[i.mesh].triangle_count == 0) continue;
             SceneInstance instance{i.mesh, from_world * i.place.world, i.material};
-            if (i.place.moves()) {  // halfway between open and close, and the motion (the origin cancels)
-                instance.render_from_object = from_world * (0.5 * (i.place.open + i.place.close));
-                instance.moves = true;
-                instance.motion = i.place.close - i.place.open;
+            if (i.place.moves()) {  // keyed, and placed where its path has it halfway
+                for (const glm::dmat4& k : i.place.keys) instance.keys.push_back(from_world * k);
+                instance.render_from_object = instance.render_from_object_at(0.5);
                 ++scene_.moving_instances;
             }
             scene_.instances.push_back(instance);
@@ -574,8 +579,10 @@ private:
                 local = local * glm::mat4_cast(glm::dquat(q.w, q.x, q.y, q.z));  // as node rotations: unit by the spec
             }
             if (!columns[2].empty()) local = glm::scale(local, glm::dvec3(glm::vec3(columns[2][i])));
-            const Placement placed{place.world * local, place.open * local, place.close * local};
-            if (!is_finite(placed.world) || !is_finite(placed.open) || !is_finite(placed.close))
+            Placement placed{place.world * local, place.keys};
+            for (glm::dmat4& k : placed.keys) k = k * local;
+            if (!is_finite(placed.world) ||
+                !std::all_of(placed.keys.begin(), placed.keys.end(), [](const glm::dmat4& m) { return is_finite(m); }))
                 throw SceneError(where + ": instance " + std::to_string(i) + " has a transform that is not finite");
             uses_.push_back({node.mesh, placed, index});
         }
@@ -629,25 +636,11 @@ private:
         // Motion blur: a rigid mesh that moves during the shutter is an instance (its BVH box bounds the motion), an
         // emitting one included: next-event estimation cannot sample it (lights are picked per world-space triangle),
         // so rays that hit it see its light with MIS weight 1. A deforming mesh stays where it is at the centre.
-        // Instances move linearly from open to close, so a turn is followed by its chord (shaders/lib/motion.glsl):
-        // warn where that shrinks a mesh by more than 0.4% halfway (a turn above 10 degrees).
-        size_t moving_emitters = 0, fast_turns = 0;
-        double fastest = 0.0;
-        for (const MeshUse& use : uses_) {
-            if (!use.place.moves() || deforms(use.mesh)) continue;
-            if (instanced.emplace(stored_as[use.mesh], 0u).second && mesh_emits(stored_as[use.mesh])) ++moving_emitters;
-            const double angle = turn_angle(find_turn(use.place.open, use.place.close));
-            if (angle > glm::radians(10.0)) ++fast_turns;
-            fastest = std::max(fastest, angle);
-        }
-        if (fast_turns > 0) {
-            char text[256];
-            std::snprintf(text, sizeof text,
-                          "%zu moving mesh(es) turn by up to %.0f degrees during the shutter: motion blur moves instances "
-                          "along the chord, which shrinks them by up to %.1f%% halfway (a shorter shutter shrinks less)",
-                          fast_turns, glm::degrees(fastest), 100.0 * (1.0 - std::cos(0.5 * fastest)));
-            scene_.warnings.push_back(text);
-        }
+        size_t moving_emitters = 0;
+        for (const MeshUse& use : uses_)
+            if (use.place.moves() && !deforms(use.mesh) && instanced.emplace(stored_as[use.mesh], 0u).second &&
+                mesh_emits(stored_as[use.mesh]))
+                ++moving_emitters;
         if (moving_emitters > 0)
             scene_.warnings.push_back(std::to_string(moving_emitters) +
                                       " emitting mesh(es) move during the shutter: their light is found by BSDF sampling "
@@ -1023,7 +1016,7 @@ private:
         camera.yfov = source.perspective.yfov;
         camera.xmag = source.orthographic.xmag;
         camera.ymag = source.orthographic.ymag;
-        if (place.moves()) set_camera_motion(camera, place.open, place.close);
+        if (place.moves()) set_camera_motion(camera, place.keys.front(), place.keys.back());
         scene_.cameras.push_back(camera);
     }
 
@@ -1107,7 +1100,7 @@ private:
         Placement place;
         uint32_t material;  // SceneInstance::material
     };
-    std::vector<glm::dmat4> local_open_, local_close_;  // set_shutter_transforms
+    std::vector<std::vector<glm::dmat4>> local_keys_;  // set_shutter_transforms
     std::vector<PendingInstance> pending_instances_;
 };
 
@@ -1200,12 +1193,37 @@ int choose_variant(const tinygltf::Model& model, const std::string& wanted, std:
                      (known.empty() ? std::string("none") : known) + ")");
 }
 
+// Motion blur: every node's local transform at the ends of K equal parts of the shutter (locals[k][node]), K doubled
+// from 1 until no node turns more than MAX_TURN_PER_MOTION_SEGMENT between two keys, at most MAX_MOTION_SEGMENTS.
+// Returns the largest turn between two keys (radians). The model's nodes are restored.
+double key_shutter(tinygltf::Model& model, int animation, const LoadOptions& options,
+                   std::vector<std::vector<glm::dmat4>>& locals) {
+    const std::vector<tinygltf::Node> still = model.nodes;
+    for (uint32_t segments = 1;; segments *= 2) {
+        locals.assign(segments + 1, {});
+        for (uint32_t k = 0; k <= segments; ++k) {
+            const double s = double(k) / segments;
+            gltf::pose_model(model, animation, options.time + (1.0 - s) * options.shutter_open + s * options.shutter_close);
+            for (const tinygltf::Node& node : model.nodes) locals[k].push_back(local_transform(node));
+            model.nodes = still;
+        }
+        double turn = 0.0;
+        for (uint32_t k = 0; k < segments; ++k)
+            for (size_t n = 0; n < model.nodes.size(); ++n)
+                if (locals[k][n] != locals[k + 1][n]) {
+                    const double a = turn_angle(find_turn(locals[k][n], locals[k + 1][n]));
+                    if (std::isfinite(a)) turn = std::max(turn, a);
+                }
+        if (turn <= MAX_TURN_PER_MOTION_SEGMENT || segments >= MAX_MOTION_SEGMENTS) return turn;
+    }
+}
+
 Scene load_unprefixed(const std::filesystem::path& file, const LoadOptions& options) {
     Scene scene;
     scene.source = file;
     tinygltf::Model model = read_model(file, scene.warnings);
     check_extensions(model, scene.warnings);
-    std::vector<glm::dmat4> local_open, local_close;  // motion blur: every node's transform at open and close
+    std::vector<std::vector<glm::dmat4>> local_keys;  // motion blur: every node's transform at the shutter's keys
     if (options.animate || (options.has_shutter() && !model.animations.empty())) {
         const int animation = gltf::choose_animation(model, options.animation);
         if (animation < 0) throw SceneError("--time: the file has no animations");
@@ -1214,11 +1232,16 @@ Scene load_unprefixed(const std::filesystem::path& file, const LoadOptions& opti
         scene.animation_start = range.start;
         scene.animation_end = range.end;
         if (options.has_shutter()) {
-            const std::vector<tinygltf::Node> still = model.nodes;
-            for (auto [at, locals] : {std::pair{options.shutter_open, &local_open}, {options.shutter_close, &local_close}}) {
-                gltf::pose_model(model, animation, options.time + at);
-                for (const tinygltf::Node& node : model.nodes) locals->push_back(local_transform(node));
-                model.nodes = still;
+            const double turn = key_shutter(model, animation, options, local_keys);
+            scene.motion_segments = uint32_t(local_keys.size() - 1);
+            if (turn > MAX_TURN_PER_MOTION_SEGMENT) {
+                char text[256];
+                std::snprintf(text, sizeof text,
+                              "a node turns by %.0f degrees in one of %u motion segments of the shutter: motion blur "
+                              "follows its chord, which shrinks the mesh by up to %.1f%% there (a shorter shutter "
+                              "shrinks less)",
+                              glm::degrees(turn), scene.motion_segments, 100.0 * (1.0 - std::cos(0.5 * turn)));
+                scene.warnings.push_back(text);
             }
         }
         gltf::pose_model(model, animation, options.time + 0.5 * (options.shutter_open + options.shutter_close));
@@ -1238,8 +1261,9 @@ Scene load_unprefixed(const std::filesystem::path& file, const LoadOptions& opti
     const std::vector<int> roots = find_root_nodes(model, scene.warnings);
     check_node_instances(model, roots);
     flattener.compute_node_worlds(roots);
-    flattener.set_shutter_transforms(std::move(local_open), std::move(local_close));
-    for (int root : roots) flattener.visit_node(root, glm::dmat4(1.0), 0, glm::dmat4(1.0), glm::dmat4(1.0));
+    const std::vector<glm::dmat4> root_keys(local_keys.size(), glm::dmat4(1.0));
+    flattener.set_shutter_transforms(std::move(local_keys));
+    for (int root : roots) flattener.visit_node(root, glm::dmat4(1.0), 0, root_keys);
     flattener.finish(options.rebase, options.instancing);
     if (scene.triangle_count() == 0) throw SceneError("no triangles in the scene");
     return scene;

@@ -205,6 +205,7 @@ PackedScene pack_scene(const Scene& scene, const SceneBvh& bvh, EnvironmentMap e
 
     PackedScene packed;
     packed.origin = scene.origin;
+    packed.motion_segments = scene.motion_segments;
     packed.effects = analyse_effects(scene, !environment.empty());
     packed.pair_nodes = bvh.pair_nodes;
     packed.instances = bvh.instances;

@@ -30,6 +30,7 @@ struct PackedScene {
     SceneEffects effects;                           // what the stages are compiled for (scene/effects.h)
     double total_emitted_power = 0.0;               // watts if emission is in W / (m^2 sr)
     glm::dvec3 origin{0.0};                         // world position of the render-space origin (Scene::origin)
+    uint32_t motion_segments = 1;                   // Scene::motion_segments
 };
 
 // The pair nodes of a depth-first linear BVH (layout.h): one per interior node, in node order; a BVH that is

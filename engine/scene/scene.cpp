@@ -1,6 +1,7 @@
-// Scene helpers that do not depend on the file format: the default camera.
+// Scene helpers that do not depend on the file format: the default camera, an instance's motion.
 #include "scene/scene.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -21,6 +22,18 @@ SceneCamera make_default_camera(const Scene& scene) {
     camera.xmag = radius;
     camera.ymag = radius;
     return camera;
+}
+
+}  // namespace fh
+
+namespace fh {
+
+glm::dmat4 SceneInstance::render_from_object_at(double s) const {
+    if (keys.empty()) return render_from_object;
+    const double x = std::clamp(s, 0.0, 1.0) * double(keys.size() - 1);
+    const size_t k = std::min(size_t(x), keys.size() - 2);
+    const double f = x - double(k);
+    return (1.0 - f) * keys[k] + f * keys[k + 1];
 }
 
 }  // namespace fh

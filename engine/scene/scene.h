@@ -71,13 +71,16 @@ struct SceneInstance {
     uint32_t mesh = 0;
     glm::dmat4 render_from_object{1.0};  // world transform with the render-space origin subtracted
     uint32_t material = gpu::INVALID_INDEX;  // replaces the mesh's material (glTF meshes that share geometry)
-    // Motion blur: an instance whose node moves during the shutter. render_from_object is then halfway between its
-    // transforms at open and close, and `motion` is close minus open: at shutter time s in [0, 1] it stands at
-    // render_from_object + (s - 1/2) x motion (shaders/lib/motion.glsl).
-    bool moves = false;
-    glm::dmat4 motion{0.0};
-    glm::dmat4 render_from_object_at(double s) const { return moves ? render_from_object + (s - 0.5) * motion : render_from_object; }
+    // Motion blur: an instance whose node moves during the shutter has its transforms at shutter times k / K, k = 0..K
+    // (K = Scene::motion_segments), and moves linearly between them (shaders/lib/motion.glsl); render_from_object is
+    // then where that path has it at the shutter's centre.
+    std::vector<glm::dmat4> keys;  // empty: it stands still
+    bool moves() const { return !keys.empty(); }
+    glm::dmat4 render_from_object_at(double s) const;  // s in [0, 1]
 };
+
+inline constexpr double MAX_TURN_PER_MOTION_SEGMENT = 0.0872664626;  // radians: 5 degrees (0.1% chord shrink)
+inline constexpr uint32_t MAX_MOTION_SEGMENTS = 64;
 
 struct LoadOptions {
     // Render-space origin at the centre of the scene bounds: world positions are composed in double and the
@@ -96,6 +99,8 @@ struct LoadOptions {
     // the animation even without `animate` (at `time`; nothing moves in a file without animations): nodes that move
     // between open and close become instances that move linearly over it, and the camera moves with its node.
     // Deforming meshes (skins, morph targets) and punctual lights stand where they are at the shutter's centre.
+    // Instances are keyed at the ends of Scene::motion_segments equal parts of the shutter: doubled from 1 until no
+    // node's transform turns more than MAX_TURN_PER_MOTION_SEGMENT in one part, at most MAX_MOTION_SEGMENTS.
     double shutter_open = 0.0, shutter_close = 0.0;
     bool has_shutter() const { return shutter_close > shutter_open; }
 };
@@ -123,6 +128,7 @@ struct Scene {
     std::string animation;                     // the one posed (LoadOptions::animate), else empty
     double animation_start = 0.0, animation_end = 0.0;  // its first and last keyframe times, seconds
     size_t moving_instances = 0;               // instances that move during the shutter (SceneInstance::moves)
+    uint32_t motion_segments = 1;              // equal parts of the shutter between motion keys (SceneInstance::keys)
     // Triangles of each primitive's geometry (POSITION and index accessors) counted once however many nodes or
     // meshes draw it; the flattened arrays hold every copy.
     size_t unique_triangle_count = 0;

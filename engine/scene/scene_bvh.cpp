@@ -25,15 +25,13 @@ void write_rows(const glm::dmat4& m, gpu::vec4& r0, gpu::vec4& r1, gpu::vec4& r2
     for (int r = 0; r < 3; ++r) *rows[r] = gpu::vec4(float(m[0][r]), float(m[1][r]), float(m[2][r]), float(m[3][r]));
 }
 
-// The box of the mesh's root box mapped by `m` (and, for a moving instance, by `m` -/+ half its motion: every point
-// moves along a segment between the two, so their union bounds the motion), in double, rounded outwards to float.
+// The box of the mesh's root box mapped by the instance (a moving one: by each of its keys; every point moves along
+// segments between them, so their union bounds the motion), in double, rounded outwards to float.
 // A moving instance's box gets a further 2^-16 of its largest coordinate: the GPU interpolates its transform and
 // inverts it in float.
 void map_box(const SceneInstance& instance, const gpu::BvhNode& root, glm::vec3& lo, glm::vec3& hi) {
     glm::dvec3 a(std::numeric_limits<double>::infinity()), b(-std::numeric_limits<double>::infinity());
-    const std::vector<glm::dmat4> maps = instance.moves ? std::vector{instance.render_from_object_at(0.0),
-                                                                       instance.render_from_object_at(1.0)}
-                                                        : std::vector{instance.render_from_object};
+    const std::vector<glm::dmat4> maps = instance.moves() ? instance.keys : std::vector{instance.render_from_object};
     for (const glm::dmat4& m : maps)
         for (int c = 0; c < 8; ++c) {
             const glm::dvec3 p((c & 1) ? root.max_x : root.min_x, (c & 2) ? root.max_y : root.min_y,
@@ -42,7 +40,7 @@ void map_box(const SceneInstance& instance, const gpu::BvhNode& root, glm::vec3&
             a = glm::min(a, q);
             b = glm::max(b, q);
         }
-    if (instance.moves) {
+    if (instance.moves()) {
         const glm::dvec3 far = glm::max(glm::abs(a), glm::abs(b));
         const double pad = std::ldexp(std::max({far.x, far.y, far.z}), -16);
         a -= pad;
@@ -141,12 +139,14 @@ SceneBvh build_scene_bvh(const Scene& scene, const BvhOptions& options) {
         inst.first_triangle = leaf_offset[p.mesh];
         inst.material = p.material;
         inst.motion = gpu::INVALID_INDEX;
-        if (p.moves) {  // a motion record after the placements (layout.h Instance::motion)
+        if (p.moves()) {  // its keys, as records after the placements (layout.h Instance::motion)
             inst.motion = uint32_t(s.instances.size());
-            gpu::Instance motion{};
-            write_rows(p.motion, motion.render_from_object_0, motion.render_from_object_1, motion.render_from_object_2);
-            motion.root_node = motion.first_triangle = motion.material = motion.motion = gpu::INVALID_INDEX;
-            s.instances.push_back(motion);
+            for (const glm::dmat4& key : p.keys) {
+                gpu::Instance record{};
+                write_rows(key, record.render_from_object_0, record.render_from_object_1, record.render_from_object_2);
+                record.root_node = record.first_triangle = record.material = record.motion = gpu::INVALID_INDEX;
+                s.instances.push_back(record);
+            }
         }
     }
     s.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

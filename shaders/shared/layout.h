@@ -199,10 +199,10 @@ struct Instance {
     uint root_node;         // the mesh BVH's root pair node
     uint first_triangle;    // the mesh's triangles (TrianglePositions order) start here
     uint material;          // replaces the triangles' material (meshes sharing geometry), else INVALID_INDEX
-    // Motion blur: INVALID_INDEX for an instance that stands still; else the Instance record (past those the BVH
-    // names) whose render_from_object rows hold the motion over the shutter, close minus open. The rows above are
-    // then the transform at the shutter's centre, and at shutter time s in [0, 1] the instance is placed by
-    // centre + (s - 1/2) x motion (lib/motion.glsl; its object_from_render rows are unused).
+    // Motion blur: INVALID_INDEX for an instance that stands still; else the first of FrameParams.motion_segments + 1
+    // Instance records (past those the BVH names) whose render_from_object rows hold its transform at shutter times
+    // k / motion_segments; between two, it moves linearly (lib/motion.glsl). The rows above are then its transform
+    // at the shutter's centre on that path.
     uint motion;
 };
 // World-space vertex positions of one triangle; only these are read during traversal (9 words). Padded to
@@ -367,6 +367,8 @@ struct FrameParams {
     // camera_motion_rotation.w radians about the unit axis camera_motion_rotation.xyz (open to close).
     vec4 camera_motion_translation;
     vec4 camera_motion_rotation;
+    uint motion_segments;   // moving instances move linearly over this many equal parts of the shutter (Instance)
+    uint pad_motion0, pad_motion1, pad_motion2;
 };
 
 // Push constants: what changes per wave and per depth.

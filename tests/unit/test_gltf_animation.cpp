@@ -192,26 +192,51 @@ fh::LoadOptions with_shutter(double time, double open, double close) {
 }
 }  // namespace
 
-// Motion blur: a node that moves during the shutter becomes an instance placed halfway, with its motion (close minus
-// open), and the scene bounds hold it at both ends.
+// Motion blur: a node that moves during the shutter becomes an instance placed halfway, keyed over the shutter (one
+// segment: it does not turn), and the scene bounds hold it at both ends.
 TEST(GltfMotion, AMovingNodeBecomesAnInstanceThatMovesOverTheShutter) {
     const auto file = translated_triangle("LINEAR");  // x from 0 at t = 0 to 2 at t = 1
     const Scene s = fh::load_gltf(file, with_shutter(0.5, -0.25, 0.25));
     ASSERT_EQ(s.instances.size(), 1u);
     EXPECT_EQ(s.moving_instances, 1u);
     const fh::SceneInstance& i = s.instances[0];
-    EXPECT_TRUE(i.moves);
+    EXPECT_TRUE(i.moves());
+    EXPECT_EQ(s.motion_segments, 1u);
+    ASSERT_EQ(i.keys.size(), 2u);
     EXPECT_NEAR(i.render_from_object[3].x, 1.0, 1e-9);  // halfway: t = 0.5
-    EXPECT_NEAR(i.motion[3].x, 1.0, 1e-9);              // from x = 0.5 at t = 0.25 to 1.5 at 0.75
-    EXPECT_NEAR(i.motion[0].x, 0.0, 1e-12);
-    EXPECT_NEAR(i.render_from_object_at(0.0)[3].x, 0.5, 1e-9);
+    EXPECT_NEAR(i.keys[0][3].x, 0.5, 1e-9);             // from x = 0.5 at t = 0.25 to 1.5 at 0.75
+    EXPECT_NEAR(i.keys[1][3].x, 1.5, 1e-9);
+    EXPECT_NEAR(i.render_from_object_at(0.25)[3].x, 0.75, 1e-9);
     EXPECT_NEAR(s.bounds_min.x, 0.5, 1e-6);
     EXPECT_NEAR(s.bounds_max.x, 2.5, 1e-6);
     // Without --time the shutter opens about t = 0; a shutter over which nothing moves makes no instance.
     EXPECT_EQ(fh::load_gltf(file, with_shutter(5.0, -0.1, 0.1)).moving_instances, 0u);
     fh::LoadOptions shutter_only = STATIC;
     shutter_only.shutter_close = 0.5;
-    EXPECT_NEAR(fh::load_gltf(file, shutter_only).instances.at(0).motion[3].x, 1.0, 1e-9);
+    EXPECT_NEAR(fh::load_gltf(file, shutter_only).instances.at(0).keys.back()[3].x, 1.0, 1e-9);
+}
+
+// A node that turns a quarter turn over the shutter is keyed at 32 equal parts (5.6 degrees in 16 would be more than
+// 5): the instance's keys are its poses there, so halfway it stands exactly where the file poses it, not on a chord.
+TEST(GltfMotion, TurningNodesAreKeyedFinelyEnough) {
+    GltfBuilder b;
+    const int node = b.add_node({{"mesh", b.add_simple_mesh(UNIT_TRIANGLE)}});
+    b.set_scene({node});
+    const float h = std::sqrt(0.5f);  // 90 degrees about +Z at t = 1
+    animate(b, node, "rotation", {0.0f, 1.0f}, {0, 0, 0, 1, 0, 0, h, h}, "VEC4", 4);
+    const Scene s = fh::load_gltf(b.write_gltf(), with_shutter(0.0, 0.0, 1.0));
+    EXPECT_EQ(s.motion_segments, 32u);
+    ASSERT_EQ(s.instances.size(), 1u);
+    const fh::SceneInstance& i = s.instances[0];
+    ASSERT_EQ(i.keys.size(), 33u);
+    // Halfway: 45 degrees; the unit x axis goes to (cos 45, sin 45), still of length 1.
+    const glm::dvec3 x_axis(i.render_from_object_at(0.5)[0]);
+    EXPECT_NEAR(x_axis.x, std::sqrt(0.5), 1e-6);
+    EXPECT_NEAR(x_axis.y, std::sqrt(0.5), 1e-6);
+    // Between two keys the chord shrinks it by at most 1 - cos(90 / 64 degrees) = 0.0003.
+    EXPECT_GT(glm::length(glm::dvec3(i.render_from_object_at(0.5 + 0.5 / 32)[0])), 0.9996);
+    // A sliding node needs one part.
+    EXPECT_EQ(fh::load_gltf(translated_triangle("LINEAR"), with_shutter(0.0, 0.0, 1.0)).motion_segments, 1u);
 }
 
 // Only the moving node becomes an instance; its still sibling stays in world space.

@@ -100,7 +100,7 @@ FH_OFFSET(PunctualLight, type, 48);
 FH_OFFSET(PunctualLight, cos_inner, 52);
 FH_OFFSET(PunctualLight, cos_outer, 56);
 
-FH_SIZE(FrameParams, 208);
+FH_SIZE(FrameParams, 224);
 FH_OFFSET(FrameParams, camera_origin, 0);
 FH_OFFSET(FrameParams, camera_right, 16);
 FH_OFFSET(FrameParams, camera_up, 32);
@@ -125,6 +125,7 @@ FH_OFFSET(FrameParams, env_rotation, 152);
 FH_OFFSET(FrameParams, env_pick_pdf, 156);
 FH_OFFSET(FrameParams, camera_motion_translation, 176);
 FH_OFFSET(FrameParams, camera_motion_rotation, 192);
+FH_OFFSET(FrameParams, motion_segments, 208);
 
 FH_SIZE(StagePush, 32);
 FH_OFFSET(StagePush, depth, 0);
@@ -212,7 +213,7 @@ TEST(Layout, SizesMatchTheGpuStructs) {
     EXPECT_EQ(sizeof(TextureSlot), 48u);
     EXPECT_EQ(sizeof(TriangleAttributes), 96u);
     EXPECT_EQ(sizeof(Emitter), 16u);
-    EXPECT_EQ(sizeof(FrameParams), 208u);
+    EXPECT_EQ(sizeof(FrameParams), 224u);
     EXPECT_EQ(sizeof(QueueCounters), 56u);
     EXPECT_EQ(sizeof(RayItem), 32u);
     EXPECT_EQ(sizeof(HitItem), 20u);

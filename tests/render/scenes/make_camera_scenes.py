@@ -16,6 +16,9 @@ z = 2 looks down -Z (yfov 0.7 rad) at black emitters (base colour 0, so nothing 
                      0, animated to 0): posed at t = 0.5 it is where static_square.gltf has it.
   anim_camera.gltf   static_square.gltf's square, and the camera sliding along x from 1 at t = 0 to -1 at t = 1: the
                      square moves across its view as anim_square's does across the still camera's.
+  spin_bar.gltf      an emitter bar 1 x 0.1 at z = 0 turning half a turn about its centre (+Z) from t = 0 to 1 (LINEAR
+                     rotation keys every 90 degrees): turning in its plane it keeps its projected area, so motion blur
+                     over the turn keeps the image mean of the still bar.
   lens_point.gltf    a 0.15 x 0.15 emitter at z = -6, 8 units ahead: out of focus it spreads into the aperture's
                      shape, of the thin-lens diameter c = A |d - s| / (d s) x H / (2 tan(yfov / 2)) pixels.
 """
@@ -72,6 +75,18 @@ def sliding_camera():
     return g
 
 
+def spin_bar():
+    g = scene_with([])
+    material = g.add_material(base=(0.0, 0.0, 0.0), emission=1.0)
+    node = g.add_node({"mesh": g.add_mesh(quad(-0.5, -0.05, 0.5, 0.05, 0.0), material)})
+    h = 0.5 ** 0.5
+    times = g.add_floats([0.0, 0.5, 1.0], "SCALAR", 3)
+    turns = g.add_floats([0.0, 0.0, 0.0, 1.0, 0.0, 0.0, h, h, 0.0, 0.0, 1.0, 0.0], "VEC4", 3)
+    g.doc["animations"] = [{"name": "spin", "samplers": [{"input": times, "output": turns}],
+                            "channels": [{"sampler": 0, "target": {"node": node, "path": "rotation"}}]}]
+    return g
+
+
 def skinned_square():
     g = scene_with([])
     material = g.add_material(base=(0.0, 0.0, 0.0), emission=1.0)
@@ -116,6 +131,7 @@ def main():
         "anim_square": square(True),
         "static_square": square(False),
         "anim_camera": sliding_camera(),
+        "spin_bar": spin_bar(),
         "skinned_square": skinned_square(),
         "lens_point": scene_with([(quad(-0.075, -0.075, 0.075, 0.075, -6.0), 1.0)]),
     }
