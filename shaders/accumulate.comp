@@ -1,46 +1,62 @@
-// Stage "accumulate": adds the wave's finished paths to the film, one invocation per pixel, samples in
-// index order (so the sum is deterministic). Kahan-compensated float sums (Kahan 1965); `precise` stops the
-// compiler from reassociating them away. Non-finite radiance is counted, then dropped.
+// Stage "accumulate": adds the wave's finished paths to the film, one invocation per pixel. The sums are fixed point
+// (lib/film.glsl): each sample's radiance is rounded once to 2^-FILM_FRACTION_BITS and then added exactly, so the
+// film holds the same bits whatever the split of the samples into waves, resumed runs or merged parts. Non-finite
+// radiance, and radiance too large for the film (|L| >= 2^FILM_MAX_LOG2), is counted, then dropped.
 // Reads: paths[].radiance, push (wave ranges). Writes: film, counters.nonfinite_samples.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "lib/bindings.glsl"
+#include "lib/film.glsl"
 #include "lib/queue.glsl"
 #include "lib/techniques.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE) in;
+
+uvec4 load_words(uint w[FILM_WORDS]) { return uvec4(w[0], w[1], w[2], w[3]); }
+
+// sum + radiance; false when the radiance (or, as plain float sums, the new sum) cannot be held.
+bool add_sample(inout uvec4 sum, float radiance) {
+    if (is_fixed_nan(sum)) return true;  // stays NaN, as a float sum would
+    if (!FH_TECHNIQUE_ON(TECHNIQUE_EXACT_FILM)) {
+        // Plain float sums, to show what exact sums buy: the running sum is rounded to a float at every sample.
+        float rounded = decode_fixed(sum) + radiance;
+        return encode_fixed(rounded, sum);
+    }
+    uvec4 value;
+    if (!encode_fixed(radiance, value)) return false;
+    sum = add_fixed(sum, value);
+    return true;
+}
 
 void main() {
     uint j = gl_GlobalInvocationID.x;
     if (j >= push.pixel_count) return;
     uint pixel = push.pixel_begin + j;
     FilmPixel f = film[pixel];
-    precise vec3 sum = vec3(f.sum_r, f.sum_g, f.sum_b);
-    precise vec3 comp = vec3(f.comp_r, f.comp_g, f.comp_b);
+    uvec4 sum_r = load_words(f.sum_r), sum_g = load_words(f.sum_g), sum_b = load_words(f.sum_b);
     uint nonfinite = 0u;
     for (uint s = 0u; s < push.sample_count; ++s) {
         uint path = s * push.pixel_count + j;
         vec3 radiance = vec3(paths[path].radiance_r, paths[path].radiance_g, paths[path].radiance_b);
-        if (any(isnan(radiance)) || any(isinf(radiance))) {
+        bool finite = !(any(isnan(radiance)) || any(isinf(radiance)));
+        uvec4 r = sum_r, g = sum_g, b = sum_b;
+        bool held = finite && add_sample(r, radiance.r) && add_sample(g, radiance.g) && add_sample(b, radiance.b);
+        if (!held) {
             nonfinite += 1u;
-            if (FH_TECHNIQUE_ON(TECHNIQUE_FINITE_GUARD)) radiance = vec3(0.0f);
+            if (FH_TECHNIQUE_ON(TECHNIQUE_FINITE_GUARD)) continue;
+            // Guard off: what a float film does with it, a sum that stays NaN.
+            r = g = b = FIXED_NAN;
         }
-        if (FH_TECHNIQUE_ON(TECHNIQUE_COMPENSATED_FILM)) {
-            precise vec3 y = radiance - comp;
-            precise vec3 t = sum + y;
-            comp = (t - sum) - y;
-            sum = t;
-        } else {
-            sum += radiance;
-        }
+        sum_r = r;
+        sum_g = g;
+        sum_b = b;
     }
-    f.sum_r = sum.x;
-    f.sum_g = sum.y;
-    f.sum_b = sum.z;
-    f.comp_r = comp.x;
-    f.comp_g = comp.y;
-    f.comp_b = comp.z;
-    f.sample_count += float(push.sample_count);
+    for (uint w = 0u; w < FILM_WORDS; ++w) {
+        f.sum_r[w] = sum_r[w];
+        f.sum_g[w] = sum_g[w];
+        f.sum_b[w] = sum_b[w];
+    }
+    f.sample_count += push.sample_count;
     film[pixel] = f;
     COUNT_IN_SUBGROUP(counters.nonfinite_samples, nonfinite);
 }

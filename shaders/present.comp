@@ -1,10 +1,11 @@
 // Stage "present" (viewer only, not part of the bounce loop): turns the film's mean radiance into display
 // texels, the same display path as engine/io/tone_curve.cpp: linear * 2^EV -> tone curve -> sRGB OETF -> 8 bit.
-// Reads: film (compensated sums and sample counts). Writes: pixels (one packed texel per pixel).
+// Reads: film (fixed-point sums and sample counts). Writes: pixels (one packed texel per pixel).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "shared/layout.h"
 #include "shared/present.h"
+#include "lib/film.glsl"
 
 layout(local_size_x = PRESENT_WORKGROUP_SIZE) in;
 layout(std430, binding = PRESENT_BINDING_FILM) readonly buffer FilmBuffer { FilmPixel film[]; };
@@ -29,8 +30,10 @@ void main() {
     uint pixel = gl_GlobalInvocationID.x;
     if (pixel >= push.width * push.height) return;
     FilmPixel f = film[pixel];
-    float n = max(f.sample_count, 1.0f);
-    vec3 radiance = (vec3(f.sum_r, f.sum_g, f.sum_b) - vec3(f.comp_r, f.comp_g, f.comp_b)) / n;
+    float n = float(max(f.sample_count, 1u));
+    vec3 radiance = vec3(decode_fixed(uvec4(f.sum_r[0], f.sum_r[1], f.sum_r[2], f.sum_r[3])),
+                         decode_fixed(uvec4(f.sum_g[0], f.sum_g[1], f.sum_g[2], f.sum_g[3])),
+                         decode_fixed(uvec4(f.sum_b[0], f.sum_b[1], f.sum_b[2], f.sum_b[3]))) / n;
     vec3 c = radiance * push.exposure_scale;
     uvec3 code = uvec3(round(vec3(encode(tone(c.r)), encode(tone(c.g)), encode(tone(c.b))) * 255.0f));
     if ((push.flags & PRESENT_BGRA) != 0u) code = code.bgr;

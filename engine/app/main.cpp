@@ -1,4 +1,4 @@
-// The fredholm command line: sub-commands render, view, converge, bench and info; one clear error line and a
+// The fredholm command line: sub-commands render, merge, view, converge, bench and info; one clear error line and a
 // non-zero exit on any failure (1: the scene, the device or a file; 2: bad usage).
 #include <CLI/CLI.hpp>
 #include <cstdio>
@@ -7,6 +7,7 @@
 #include "app/bench_command.h"
 #include "app/converge_command.h"
 #include "app/info_command.h"
+#include "app/merge_command.h"
 #include "app/render_command.h"
 #include "app/viewer_command.h"
 
@@ -22,6 +23,8 @@ int main(int argc, char** argv) {
                              converge);
     fh::InfoCommand info;
     fh::add_info_options(*app.add_subcommand("info", "scene statistics and the effects it compiles, with why"), info);
+    fh::MergeCommand merge;
+    fh::add_merge_options(*app.add_subcommand("merge", "join parts of a render (--samples, --crop) bit-exactly"), merge);
     fh::ViewCommand view;
     fh::add_view_options(*app.add_subcommand("view", "interactive viewer: progressive path tracing in a window"), view);
     try {
@@ -37,7 +40,11 @@ int main(int argc, char** argv) {
         if (app.got_subcommand("view")) return fh::run_view(view);
         if (app.got_subcommand("converge")) return fh::run_converge(converge);
         if (app.got_subcommand("info")) return fh::run_info(info);
+        if (app.got_subcommand("merge")) return fh::run_merge(merge);
         return fh::run_bench(bench);
+    } catch (const CLI::ParseError& e) {  // an option checked against others once all are known (e.g. --crop)
+        std::fprintf(stderr, "fredholm: usage error: %s (see fredholm --help)\n", e.what());
+        return 2;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "fredholm: error: %s\n", e.what());
         return 1;

@@ -49,12 +49,16 @@ std::string format_seconds(const RenderSettings& s) {
 }
 
 // The settings that decide every sample's value (what a resume must match), plus the samples done.
-ImageMetadata make_metadata(const RenderCommand& c, uint32_t spp_done, uint32_t effects) {
+ImageMetadata make_metadata(const RenderCommand& c, const std::string& scene_hash, uint32_t spp_done, uint32_t effects) {
     const RenderSettings& s = c.settings;
     char radius[32];
     std::snprintf(radius, sizeof radius, "%.9g", double(s.filter_radius));
     return {{"fredholm:renderer", VERSION},
             {"fredholm:scene", c.scene.filename().string()},
+            {"fredholm:scene_hash", scene_hash},
+            {"fredholm:image_size", std::to_string(s.width) + "x" + std::to_string(s.height)},
+            {"fredholm:crop", describe_crop(s.crop_x0, s.crop_y0, s.crop_x1, s.crop_y1)},
+            {"fredholm:first_sample", std::to_string(c.first_sample)},
             {"fredholm:spp", std::to_string(spp_done)},
             {"fredholm:seed", std::to_string(s.seed)},
             {"fredholm:max_depth", std::to_string(s.max_depth)},
@@ -83,7 +87,7 @@ ImageMetadata make_metadata(const RenderCommand& c, uint32_t spp_done, uint32_t 
 void write_stats(const std::filesystem::path& file, const RenderCommand& c, const PreparedScene& prepared,
                  const SceneCamera& camera, const RenderStats& stats, uint32_t first_sample, const std::string& device) {
     const RenderSettings& s = c.settings;
-    double samples = double(s.width) * s.height * (stats.spp_done - first_sample);
+    double samples = double(s.film_width()) * s.film_height() * (stats.spp_done - first_sample);
     double rays = double(stats.traced_rays + stats.traced_shadow_rays);
     nlohmann::json j;
     j["scene"] = c.scene.string();
@@ -91,7 +95,8 @@ void write_stats(const std::filesystem::path& file, const RenderCommand& c, cons
     j["width"] = s.width;
     j["height"] = s.height;
     j["spp"] = stats.spp_done;
-    j["first_sample"] = first_sample;  // > 0 for a resumed render; rates count the new samples only
+    j["first_sample"] = first_sample;  // where this run started (resumed or --samples); rates count its samples only
+    j["crop"] = describe_crop(s.crop_x0, s.crop_y0, s.crop_x1, s.crop_y1);
     j["seed"] = s.seed;
     j["max_depth"] = s.max_depth;
     j["render_seconds"] = stats.render_seconds;
@@ -147,6 +152,31 @@ void write_stats(const std::filesystem::path& file, const RenderCommand& c, cons
     });
 }
 
+void parse_sample_range(const std::string& text, uint32_t& first, uint32_t& end) {
+    unsigned long a = 0, b = 0;
+    char tail = 0;
+    if (std::sscanf(text.c_str(), "%lu:%lu%c", &a, &b, &tail) != 2 || text.find('-') != std::string::npos)
+        throw CLI::ValidationError("--samples", "'" + text + "' is not A:B (sample indices, B exclusive)");
+    if (a >= b || b > (1ul << 24))
+        throw CLI::ValidationError("--samples", "'" + text + "' needs 0 <= A < B <= 16777216");
+    first = uint32_t(a);
+    end = uint32_t(b);
+}
+
+// --crop against the image size: one usage error naming what is wrong.
+void apply_crop(const std::string& text, RenderSettings& s) {
+    if (text.empty()) return;
+    unsigned x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    char tail = 0;
+    if (std::sscanf(text.c_str(), "%u,%u,%u,%u%c", &x0, &y0, &x1, &y1, &tail) != 4 ||
+        text.find('-') != std::string::npos)
+        throw CLI::ValidationError("--crop", "'" + text + "' is not X0,Y0,X1,Y1 (pixels, X1 and Y1 exclusive)");
+    if (x0 >= x1 || y0 >= y1 || x1 > s.width || y1 > s.height)
+        throw CLI::ValidationError("--crop", "'" + text + "' is not a non-empty region inside the " +
+                                                 std::to_string(s.width) + "x" + std::to_string(s.height) + " image");
+    s.crop_x0 = x0, s.crop_y0 = y0, s.crop_x1 = x1, s.crop_y1 = y1;
+}
+
 }  // namespace
 
 void add_render_options(CLI::App& app, RenderCommand& c) {
@@ -156,17 +186,20 @@ void add_render_options(CLI::App& app, RenderCommand& c) {
     app.add_option("-o,--output", c.output, "output OpenEXR image (scene-linear Rec.709, float32)")->required();
     app.add_option("--width", s.width, "image width in pixels")->check(CLI::Range(1u, 16384u));
     app.add_option("--height", s.height, "image height in pixels")->check(CLI::Range(1u, 16384u));
-    app.add_option("--spp", s.spp, "samples per pixel")->check(CLI::Range(1u, 1u << 24));
+    auto* spp = app.add_option("--spp", s.spp, "samples per pixel")->check(CLI::Range(1u, 1u << 24));
+    app.add_option_function<std::string>(
+           "--samples", [&c](const std::string& text) { parse_sample_range(text, c.first_sample, c.settings.spp); },
+           "render only sample indices A..B-1 of every pixel (A:B), a part for fredholm merge (replaces --spp)")
+        ->excludes(spp);
+    app.add_option("--crop", c.crop, "render only pixels X0..X1-1 by Y0..Y1-1 (X0,Y0,X1,Y1) of the image, a part for "
+                                     "fredholm merge");
     app.add_option("--max-depth", s.max_depth, "longest path in segments after the camera (0 = unlimited)")
         ->check(CLI::Range(0u, 100000u));
     app.add_option("--seed", s.seed, "random seed");
     app.add_option("--camera", s.camera, "glTF camera index (default: first camera, or a framing camera)")
         ->check(CLI::NonNegativeNumber);
     app.add_option("--png", c.png, "also write a tone-mapped sRGB PNG preview");
-    app.add_option("--exposure", c.exposure_ev, "PNG exposure in stops");
-    std::map<std::string, ToneCurve> curves{{"aces", ToneCurve::aces}, {"clamp", ToneCurve::clamp}};
-    app.add_option("--tonemap", c.tone_curve, "PNG tone curve: aces (Narkowicz ACES fit) or clamp")
-        ->transform(CLI::CheckedTransformer(curves, CLI::ignore_case));
+    add_tone_options(app, c.exposure_ev, c.tone_curve, "PNG");
     app.add_option("--stats", c.stats, "write render statistics as JSON");
     add_sampling_options(app, s);
     add_robustness_options(app, s);
@@ -266,7 +299,9 @@ int run_render(const RenderCommand& c) {
 
 namespace {
 
-int run_frame(const RenderCommand& c, vk::Context* shared_context) {
+int run_frame(const RenderCommand& command, vk::Context* shared_context) {
+    RenderCommand c = command;
+    apply_crop(c.crop, c.settings);
     // Without roulette and without a depth limit a path in a closed scene never ends.
     if (!c.settings.russian_roulette && c.settings.max_depth == 0) {
         std::fprintf(stderr, "fredholm: usage error: --rr off needs a finite --max-depth (paths that never escape "
@@ -278,13 +313,15 @@ int run_frame(const RenderCommand& c, vk::Context* shared_context) {
     if (!c.png.empty()) check_writable(c.png);
     if (!c.stats.empty()) check_writable(c.stats);
     const RenderSettings& settings = c.settings;
-    SavedFilm saved;
+    const std::string scene_hash = hash_file(c.scene);
+    FilmFile saved;
+    saved.first_sample = saved.end_sample = c.first_sample;
     if (c.resume) {
         const std::filesystem::path& file = c.resume_file.empty() ? c.output : c.resume_file;
-        saved = read_saved_film(file, make_metadata(c, 0, 0), settings.width, settings.height);
-        if (saved.spp > settings.spp)
+        saved = read_saved_film(file, make_metadata(c, scene_hash, 0, 0));
+        if (saved.end_sample > settings.spp)
             throw std::runtime_error(file.string() + ": cannot resume: it already has " +
-                                     std::to_string(saved.spp) + " spp, more than --spp " +
+                                     std::to_string(saved.end_sample) + " spp, more than --spp " +
                                      std::to_string(settings.spp));
     }
     // From here on Ctrl-C and SIGTERM finish the sample index in progress, then write what they have.
@@ -310,8 +347,8 @@ int run_frame(const RenderCommand& c, vk::Context* shared_context) {
     // Stop only once a wave has finished a sample index for every pixel (the film then holds samples
     // [0, spp_done) everywhere, so it can be resumed exactly); waves that cover part of the pixels continue.
     ProgressLine progress;
-    uint32_t reached = saved.spp;
-    RenderStats stats = renderer.render_samples(saved.spp, settings.spp, [&](uint32_t done, uint32_t total) {
+    uint32_t reached = saved.end_sample;
+    RenderStats stats = renderer.render_samples(saved.end_sample, settings.spp, [&](uint32_t done, uint32_t total) {
         progress.update(done, total);
         const bool at_sample_boundary = done != reached;
         reached = done;
@@ -320,17 +357,21 @@ int run_frame(const RenderCommand& c, vk::Context* shared_context) {
     progress.finish();
 
     const Image image = renderer.read_film();
-    write_exr(c.output, image, make_metadata(c, stats.spp_done, prepared.packed.effects.bits), film_channels(renderer.read_film_state()));
+    ImageWindow window;
+    if (settings.has_crop())
+        window = {int(settings.crop_x0), int(settings.crop_y0), int(settings.width), int(settings.height)};
+    write_exr(c.output, image, make_metadata(c, scene_hash, stats.spp_done, prepared.packed.effects.bits),
+              film_channels(renderer.read_film_state()), window);
     if (!c.png.empty()) write_png(c.png, image, c.exposure_ev, c.tone_curve);
-    if (!c.stats.empty()) write_stats(c.stats, c, prepared, camera, stats, saved.spp, context->device_name());
+    if (!c.stats.empty()) write_stats(c.stats, c, prepared, camera, stats, saved.end_sample, context->device_name());
 
-    const uint32_t rendered = stats.spp_done - saved.spp;
+    const uint32_t rendered = stats.spp_done - saved.end_sample;
     if (!c.quiet)
         std::fprintf(stderr, "fredholm: %s: %ux%u, %u spp (%u new) in %.3f s (%.2f Msamples/s) on %s; %llu non-finite samples\n",
-                     c.output.string().c_str(), settings.width, settings.height, stats.spp_done, rendered,
+                     c.output.string().c_str(), settings.film_width(), settings.film_height(), stats.spp_done, rendered,
                      stats.render_seconds,
                      stats.render_seconds > 0
-                         ? double(settings.width) * settings.height * rendered / stats.render_seconds * 1e-6
+                         ? double(settings.film_width()) * settings.film_height() * rendered / stats.render_seconds * 1e-6
                          : 0.0,
                      context->device_name().c_str(), (unsigned long long)stats.nonfinite_samples);
     if (context->validation_message_count() > 0) {

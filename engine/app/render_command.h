@@ -1,5 +1,6 @@
 // `fredholm render`: one scene, one camera, to EXR (plus optional PNG preview and JSON statistics).
 #pragma once
+#include <cstdint>
 #include <filesystem>
 #include <string>
 
@@ -30,6 +31,8 @@ struct RenderCommand {
     CameraPoseOptions pose;             // --look-from/--look-at/--up/--yfov (as printed by the viewer)
     std::string frames;                 // --frames A:B: a sequence, frame f at time f / fps; "" one image
     double fps = 24.0;                  // --fps
+    uint32_t first_sample = 0;          // --samples A:B: sample indices [A, B) of every pixel (B is settings.spp)
+    std::string crop;                   // --crop X0,Y0,X1,Y1 as given (checked against the image size when run)
 };
 
 void add_render_options(CLI::App& app, RenderCommand& command);

@@ -15,6 +15,13 @@
 
 namespace fh {
 
+void add_tone_options(CLI::App& app, float& exposure_ev, ToneCurve& tone_curve, const std::string& what) {
+    app.add_option("--exposure", exposure_ev, what + " exposure in stops");
+    std::map<std::string, ToneCurve> curves{{"aces", ToneCurve::aces}, {"clamp", ToneCurve::clamp}};
+    app.add_option("--tonemap", tone_curve, what + " tone curve: aces (Narkowicz ACES fit) or clamp")
+        ->transform(CLI::CheckedTransformer(curves, CLI::ignore_case));
+}
+
 void add_sampling_options(CLI::App& app, RenderSettings& s) {
     std::map<std::string, PixelFilter> filters{{"box", PixelFilter::box}, {"gaussian", PixelFilter::gaussian}};
     app.add_option("--filter", s.filter, "pixel filter: box (1 pixel) or gaussian (importance sampled)")

@@ -1,6 +1,9 @@
 // Command-line options shared by every sub-command that renders: the sampling switches of RenderSettings.
 #pragma once
 
+#include <string>
+
+#include "io/tone_curve.h"
 #include "render/settings.h"
 
 namespace CLI {
@@ -8,6 +11,9 @@ class App;
 }
 
 namespace fh {
+
+// --exposure and --tonemap of an image shown or previewed (`what`: "PNG", "display").
+void add_tone_options(CLI::App& app, float& exposure_ev, ToneCurve& tone_curve, const std::string& what);
 
 // --filter, --filter-radius, --nee, --mis, --rr, --wave-paths.
 void add_sampling_options(CLI::App& app, RenderSettings& settings);

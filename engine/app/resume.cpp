@@ -1,30 +1,31 @@
-// Saving and reloading the raw film: the Kahan sums and their compensations, bit for bit, so that continuing a
-// render from sample index n adds samples n, n+1, ... in the same order an uninterrupted render would.
+// Saving and reloading the raw film: the fixed-point sums and sample counts, bit for bit, so that a render continued
+// from sample n, or merged from parts, holds the same film as one uninterrupted render (integer sums are associative).
 #include "app/resume.h"
 
+#include <cstdio>
+#include <fstream>
 #include <stdexcept>
-#include <string>
 
 namespace fh {
 namespace {
 
-const char* const SUM_NAMES[3] = {"fredholm.sum.R", "fredholm.sum.G", "fredholm.sum.B"};
-const char* const COMP_NAMES[3] = {"fredholm.comp.R", "fredholm.comp.G", "fredholm.comp.B"};
-// Metadata whose values must be equal for a render to continue another (besides the image size): the
-// settings that decide each sample's value.
-const char* const RESUME_KEYS[] = {"fredholm:renderer", "fredholm:scene", "fredholm:seed", "fredholm:max_depth",
-                                   "fredholm:camera",   "fredholm:filter", "fredholm:filter_radius", "fredholm:sampler",
-                                   "fredholm:nee",      "fredholm:mis",    "fredholm:rr",     "fredholm:rr_start_depth",
-                                   "fredholm:environment", "fredholm:lens", "fredholm:animation", "fredholm:time", "fredholm:shutter", "fredholm:variant",
-                                   "fredholm:disabled_effects"};
+const char* const CHANNEL_LETTERS[3] = {"R", "G", "B"};
+const char* const COUNT_NAME = "fredholm.count";
+
+uint32_t (&channel_words(gpu::FilmPixel& p, int c))[gpu::FILM_WORDS] { return c == 0 ? p.sum_r : c == 1 ? p.sum_g : p.sum_b; }
+const uint32_t (&channel_words(const gpu::FilmPixel& p, int c))[gpu::FILM_WORDS] {
+    return c == 0 ? p.sum_r : c == 1 ? p.sum_g : p.sum_b;
+}
+
+std::string word_name(int c, uint32_t w) { return std::string("fredholm.sum.") + CHANNEL_LETTERS[c] + "." + std::to_string(w); }
 
 std::string setting_name(const std::string& key) {
     const std::string prefix = "fredholm:";
     return key.rfind(prefix, 0) == 0 ? key.substr(prefix.size()) : key;
 }
 
-// "fredholm:spp" as a sample count, or -1 when it is not a plain decimal number below 2^32.
-int64_t parse_spp(const std::string& text) {
+// A plain decimal number below 2^32, or -1.
+int64_t parse_count(const std::string& text) {
     if (text.empty() || text.size() > 10) return -1;
     int64_t value = 0;
     for (char c : text) {
@@ -34,69 +35,134 @@ int64_t parse_spp(const std::string& text) {
     return value <= int64_t(UINT32_MAX) ? value : -1;
 }
 
+const std::string& find_key(const ImageMetadata& m, const std::string& key, const std::string& prefix) {
+    const auto it = m.find(key);
+    if (it == m.end()) throw std::runtime_error(prefix + "it has no " + key + " metadata (not written by fredholm?)");
+    return it->second;
+}
+
+uint32_t read_count(const ImageMetadata& m, const std::string& key, const std::string& prefix) {
+    const int64_t value = parse_count(find_key(m, key, prefix));
+    if (value < 0) throw std::runtime_error(prefix + "no valid " + key + " metadata");
+    return uint32_t(value);
+}
+
 }  // namespace
+
+const std::vector<std::string>& film_channel_names() {
+    static const std::vector<std::string> names = [] {
+        std::vector<std::string> n;
+        for (int c = 0; c < 3; ++c)
+            for (uint32_t w = 0; w < gpu::FILM_WORDS; ++w) n.push_back(word_name(c, w));
+        n.push_back(COUNT_NAME);
+        return n;
+    }();
+    return names;
+}
+
+const std::vector<std::string>& matching_film_keys() {
+    static const std::vector<std::string> keys = {
+        "fredholm:renderer", "fredholm:scene", "fredholm:scene_hash", "fredholm:image_size", "fredholm:seed",
+        "fredholm:max_depth", "fredholm:camera", "fredholm:filter", "fredholm:filter_radius", "fredholm:sampler",
+        "fredholm:nee", "fredholm:mis", "fredholm:rr", "fredholm:rr_start_depth", "fredholm:disabled_techniques",
+        "fredholm:environment", "fredholm:lens", "fredholm:animation", "fredholm:time", "fredholm:shutter",
+        "fredholm:variant", "fredholm:disabled_effects", "fredholm:forced_effects"};
+    return keys;
+}
+
+std::string describe_crop(uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1) {
+    if (x1 <= x0) return "none";
+    return std::to_string(x0) + "," + std::to_string(y0) + "," + std::to_string(x1) + "," + std::to_string(y1);
+}
 
 ExtraChannels film_channels(const std::vector<gpu::FilmPixel>& film) {
     ExtraChannels channels;
-    for (int c = 0; c < 3; ++c) {
-        std::vector<float>& sum = channels[SUM_NAMES[c]];
-        std::vector<float>& comp = channels[COMP_NAMES[c]];
-        sum.resize(film.size());
-        comp.resize(film.size());
-        for (size_t i = 0; i < film.size(); ++i) {
-            const gpu::FilmPixel& p = film[i];
-            sum[i] = c == 0 ? p.sum_r : c == 1 ? p.sum_g : p.sum_b;
-            comp[i] = c == 0 ? p.comp_r : c == 1 ? p.comp_g : p.comp_b;
+    for (int c = 0; c < 3; ++c)
+        for (uint32_t w = 0; w < gpu::FILM_WORDS; ++w) {
+            std::vector<uint32_t>& values = channels[word_name(c, w)];
+            values.resize(film.size());
+            for (size_t i = 0; i < film.size(); ++i) values[i] = channel_words(film[i], c)[w];
         }
-    }
+    std::vector<uint32_t>& counts = channels[COUNT_NAME];
+    counts.resize(film.size());
+    for (size_t i = 0; i < film.size(); ++i) counts[i] = film[i].sample_count;
     return channels;
 }
 
-SavedFilm read_saved_film(const std::filesystem::path& file, const ImageMetadata& expected, uint32_t width,
-                          uint32_t height) {
-    const std::string prefix = file.string() + ": cannot resume: ";
-    ImageMetadata saved;
-    const Image image = read_exr(file, &saved);
-    if (uint32_t(image.width) != width || uint32_t(image.height) != height)
-        throw std::runtime_error(prefix + "the image is " + std::to_string(image.width) + "x" +
-                                 std::to_string(image.height) + " but this render is " + std::to_string(width) +
-                                 "x" + std::to_string(height));
-    for (const char* key : RESUME_KEYS) {
-        const auto want = expected.find(key);
-        const auto have = saved.find(key);
-        if (have == saved.end())
-            throw std::runtime_error(prefix + "it has no " + key + " metadata (not written by fredholm render?)");
-        if (want != expected.end() && want->second != have->second)
-            throw std::runtime_error(prefix + setting_name(key) + " is " + have->second + " in the file but " +
-                                     want->second + " in this render");
+FilmFile read_film_file(const std::filesystem::path& file, const std::string& why) {
+    const std::string prefix = file.string() + ": " + why + ": ";
+    FilmFile f;
+    const Image image = read_exr(file, &f.metadata);
+    f.end_sample = read_count(f.metadata, "fredholm:spp", prefix);
+    f.first_sample = read_count(f.metadata, "fredholm:first_sample", prefix);
+    if (f.first_sample > f.end_sample) throw std::runtime_error(prefix + "fredholm:first_sample is above fredholm:spp");
+    const std::string& size = find_key(f.metadata, "fredholm:image_size", prefix);
+    unsigned w = 0, h = 0, x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    char end = 0;
+    if (std::sscanf(size.c_str(), "%ux%u%c", &w, &h, &end) != 2 || w == 0 || h == 0)
+        throw std::runtime_error(prefix + "fredholm:image_size is not WIDTHxHEIGHT: " + size);
+    f.image_width = w;
+    f.image_height = h;
+    const std::string& crop = find_key(f.metadata, "fredholm:crop", prefix);
+    if (crop == "none") {
+        x1 = w, y1 = h;
+    } else if (std::sscanf(crop.c_str(), "%u,%u,%u,%u%c", &x0, &y0, &x1, &y1, &end) != 4 || x0 >= x1 || y0 >= y1 ||
+               x1 > w || y1 > h) {
+        throw std::runtime_error(prefix + "fredholm:crop is not X0,Y0,X1,Y1 inside the image: " + crop);
     }
-    const auto spp_text = saved.find("fredholm:spp");
-    const int64_t spp = spp_text == saved.end() ? -1 : parse_spp(spp_text->second);
-    if (spp < 0) throw std::runtime_error(prefix + "no valid fredholm:spp metadata");
-
-    std::vector<std::string> names(std::begin(SUM_NAMES), std::end(SUM_NAMES));
-    names.insert(names.end(), std::begin(COMP_NAMES), std::end(COMP_NAMES));
+    f.x0 = x0, f.y0 = y0, f.x1 = x1, f.y1 = y1;
+    if (uint32_t(image.width) != x1 - x0 || uint32_t(image.height) != y1 - y0)
+        throw std::runtime_error(prefix + "the image is " + std::to_string(image.width) + "x" +
+                                 std::to_string(image.height) + " but its crop is " + crop);
     ExtraChannels channels;
     try {
-        channels = read_exr_channels(file, names);
+        channels = read_exr_channels(file, film_channel_names());
     } catch (const IoError& e) {
         throw std::runtime_error(prefix + "no raw film (" + e.what() + ")");
     }
-    SavedFilm saved_film;
-    saved_film.spp = uint32_t(spp);
-    saved_film.film.resize(size_t(width) * height);
-    for (size_t i = 0; i < saved_film.film.size(); ++i) {
-        gpu::FilmPixel& p = saved_film.film[i];
-        p.sum_r = channels[SUM_NAMES[0]][i];
-        p.sum_g = channels[SUM_NAMES[1]][i];
-        p.sum_b = channels[SUM_NAMES[2]][i];
-        p.comp_r = channels[COMP_NAMES[0]][i];
-        p.comp_g = channels[COMP_NAMES[1]][i];
-        p.comp_b = channels[COMP_NAMES[2]][i];
-        p.sample_count = float(spp);  // every pixel holds the same samples: interruption stops between sample indices
-        p.pad = 0.0f;
+    f.film.resize(size_t(image.width) * image.height);
+    const std::vector<uint32_t>& counts = channels[COUNT_NAME];
+    for (size_t i = 0; i < f.film.size(); ++i) {
+        gpu::FilmPixel& p = f.film[i];
+        for (int c = 0; c < 3; ++c)
+            for (uint32_t w = 0; w < gpu::FILM_WORDS; ++w) channel_words(p, c)[w] = channels[word_name(c, w)][i];
+        p.sample_count = counts[i];
+        // Every pixel holds the same samples: renders stop between sample indices.
+        if (counts[i] != f.end_sample - f.first_sample)
+            throw std::runtime_error(prefix + "pixel " + std::to_string(i) + " holds " + std::to_string(counts[i]) +
+                                     " samples, not the " + std::to_string(f.end_sample - f.first_sample) +
+                                     " of its metadata");
     }
-    return saved_film;
+    return f;
+}
+
+FilmFile read_saved_film(const std::filesystem::path& file, const ImageMetadata& expected) {
+    FilmFile saved = read_film_file(file, "cannot resume");
+    const std::string prefix = file.string() + ": cannot resume: ";
+    std::vector<std::string> keys = matching_film_keys();
+    keys.insert(keys.end(), {"fredholm:first_sample", "fredholm:crop"});
+    for (const std::string& key : keys) {
+        const auto want = expected.find(key);
+        const std::string& have = find_key(saved.metadata, key, prefix);
+        if (want != expected.end() && want->second != have)
+            throw std::runtime_error(prefix + setting_name(key) + " is " + have + " in the file but " + want->second +
+                                     " in this render");
+    }
+    return saved;
+}
+
+std::string hash_file(const std::filesystem::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    if (!in) throw IoError(file.string() + ": cannot read the scene file to hash it");
+    uint64_t hash = 14695981039346656037ull;
+    char buffer[1 << 16];
+    while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
+        for (std::streamsize i = 0; i < in.gcount(); ++i) hash = (hash ^ uint8_t(buffer[i])) * 1099511628211ull;
+        if (!in) break;
+    }
+    char text[17];
+    std::snprintf(text, sizeof text, "%016llx", (unsigned long long)hash);
+    return text;
 }
 
 }  // namespace fh

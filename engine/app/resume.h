@@ -1,7 +1,9 @@
-// The raw film in the output EXR (so any render can be continued), and the checks before continuing one.
+// The raw film in the output EXR (so any render can be continued or merged with others), and the checks before
+// continuing one.
 #pragma once
 #include <cstdint>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "io/exr.h"
@@ -9,18 +11,38 @@
 
 namespace fh {
 
-// The film's compensated sums as EXR channels fredholm.sum.R/G/B and fredholm.comp.R/G/B (float32, exact).
+// The EXR channels of the raw film: fredholm.sum.{R,G,B}.{0..3} (the fixed-point words, least significant first) and
+// fredholm.count, all UINT.
+const std::vector<std::string>& film_channel_names();
 ExtraChannels film_channels(const std::vector<gpu::FilmPixel>& film);
 
-struct SavedFilm {
+// Metadata whose values must be equal for films to continue or join each other: the settings that decide each
+// sample's value, the scene file's hash and the image size.
+const std::vector<std::string>& matching_film_keys();
+
+// "X0,Y0,X1,Y1" of a crop; "none" for the whole image.
+std::string describe_crop(uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1);
+
+// A film written by `fredholm render` or `fredholm merge`: which samples of which pixels it holds, and its sums.
+struct FilmFile {
+    ImageMetadata metadata;
     std::vector<gpu::FilmPixel> film;
-    uint32_t spp = 0;  // samples per pixel already in the film ("fredholm:spp")
+    uint32_t first_sample = 0, end_sample = 0;   // it holds samples [first_sample, end_sample) of each pixel
+    uint32_t image_width = 0, image_height = 0;  // the whole image
+    uint32_t x0 = 0, y0 = 0, x1 = 0, y1 = 0;     // the pixels it covers (the whole image unless cropped)
 };
 
-// Reads a render written by `fredholm render` and checks it can continue a render of width x height whose
-// metadata is `expected`: throws std::runtime_error with one line "FILE: cannot resume: ..." naming the first
-// setting that differs, a missing film channel or a missing "fredholm:spp".
-SavedFilm read_saved_film(const std::filesystem::path& file, const ImageMetadata& expected, uint32_t width,
-                          uint32_t height);
+// Reads and checks a film file: throws std::runtime_error with one line "FILE: <why> ..." (`why`, e.g. "cannot
+// resume") for a missing or malformed fredholm:spp, fredholm:first_sample, fredholm:crop or film channel, or a pixel
+// whose sample count is not end_sample - first_sample.
+FilmFile read_film_file(const std::filesystem::path& file, const std::string& why);
+
+// Reads a render to continue and checks it against this render: the image size, crop and every matching key of
+// `expected` (plus fredholm:first_sample). Throws like read_film_file, "FILE: cannot resume: ...", naming the first
+// setting that differs.
+FilmFile read_saved_film(const std::filesystem::path& file, const ImageMetadata& expected);
+
+// 64-bit FNV-1a of a file's bytes, as 16 hex digits (fredholm:scene_hash). Throws IoError if unreadable.
+std::string hash_file(const std::filesystem::path& file);
 
 }  // namespace fh

@@ -150,10 +150,7 @@ void add_view_options(CLI::App& app, ViewCommand& c) {
         ->check(CLI::Range(5.0, 10000.0));
     app.add_option("--frames", c.frames, "render this many frames without interaction, save --screenshot, exit");
     app.add_option("--screenshot", c.screenshot, "EXR written by P or after --frames (a PNG is written beside it)");
-    app.add_option("--exposure", c.exposure_ev, "display exposure in stops");
-    std::map<std::string, ToneCurve> curves{{"aces", ToneCurve::aces}, {"clamp", ToneCurve::clamp}};
-    app.add_option("--tonemap", c.tone_curve, "display tone curve: aces or clamp")
-        ->transform(CLI::CheckedTransformer(curves, CLI::ignore_case));
+    add_tone_options(app, c.exposure_ev, c.tone_curve, "display");
     app.add_flag("--validate", c.validation, "enable Vulkan validation layers (also FREDHOLM_VALIDATION=1)");
     app.add_option("--device", c.device, "use the first Vulkan device whose name contains this");
     app.add_option("--script", c.script)->group("");  // tests: e.g. resize,orbit during a --frames run

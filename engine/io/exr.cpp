@@ -36,18 +36,22 @@ Imf::FrameBuffer make_frame_buffer(const float* rgb, const Imath::Box2i& window)
     return frame;
 }
 
-// One FLOAT slice over a plain array of one value per pixel.
-Imf::Slice make_single_slice(const float* values, const Imath::Box2i& window) {
-    return Imf::Slice::Make(Imf::FLOAT, values, window, sizeof(float),
-                            sizeof(float) * std::size_t(window.max.x - window.min.x + 1));
+// One UINT slice over a plain array of one value per pixel.
+Imf::Slice make_single_slice(const uint32_t* values, const Imath::Box2i& window) {
+    return Imf::Slice::Make(Imf::UINT, values, window, sizeof(uint32_t),
+                            sizeof(uint32_t) * std::size_t(window.max.x - window.min.x + 1));
 }
 
 void write_exr_file(const fs::path& file, const Image& image, const ImageMetadata& metadata,
-                    const ExtraChannels& extra) {
+                    const ExtraChannels& extra, const ImageWindow& window) {
     Imf::Header header(image.width, image.height);
+    if (window.full_width > 0) {
+        header.displayWindow() = Imath::Box2i({0, 0}, {window.full_width - 1, window.full_height - 1});
+        header.dataWindow() = Imath::Box2i({window.x, window.y}, {window.x + image.width - 1, window.y + image.height - 1});
+    }
     header.compression() = Imf::ZIP_COMPRESSION;
     for (const char* name : CHANNEL_NAMES) header.channels().insert(name, Imf::Channel(Imf::FLOAT));
-    for (const auto& [name, values] : extra) header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+    for (const auto& [name, values] : extra) header.channels().insert(name, Imf::Channel(Imf::UINT));
     for (const auto& [key, value] : metadata) {
         bool reserved = header.find(key) != header.end();
         for (const char* name : RESERVED_NAMES) reserved = reserved || key == name;
@@ -63,7 +67,8 @@ void write_exr_file(const fs::path& file, const Image& image, const ImageMetadat
 
 }  // namespace
 
-void write_exr(const fs::path& path, const Image& image, const ImageMetadata& metadata, const ExtraChannels& extra) {
+void write_exr(const fs::path& path, const Image& image, const ImageMetadata& metadata, const ExtraChannels& extra,
+               const ImageWindow& window) {
     check_image_shape(image, path.string());
     for (const auto& [name, values] : extra) {
         bool clashes = false;
@@ -76,7 +81,7 @@ void write_exr(const fs::path& path, const Image& image, const ImageMetadata& me
                           " pixels");
     }
     try {
-        write_file_atomically(path, [&](const fs::path& temp) { write_exr_file(temp, image, metadata, extra); });
+        write_file_atomically(path, [&](const fs::path& temp) { write_exr_file(temp, image, metadata, extra, window); });
     } catch (const IoError&) {
         throw;
     } catch (const std::exception& e) {
@@ -126,9 +131,11 @@ ExtraChannels read_exr_channels(const fs::path& path, const std::vector<std::str
         ExtraChannels channels;
         Imf::FrameBuffer frame;
         for (const std::string& name : names) {
-            if (!in.header().channels().findChannel(name)) throw IoError(path.string() + ": missing channel " + name);
-            std::vector<float>& values = channels[name];
-            values.assign(pixels, 0.0f);
+            const Imf::Channel* channel = in.header().channels().findChannel(name);
+            if (!channel) throw IoError(path.string() + ": missing channel " + name);
+            if (channel->type != Imf::UINT) throw IoError(path.string() + ": channel " + name + " is not UINT");
+            std::vector<uint32_t>& values = channels[name];
+            values.assign(pixels, 0u);
             frame.insert(name, make_single_slice(values.data(), window));
         }
         in.setFrameBuffer(frame);

@@ -103,7 +103,7 @@ GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& sce
     b.rays = make_state_buffer(context, 2 * capacity * sizeof(gpu::RayItem));
     b.hits = make_state_buffer(context, capacity * sizeof(gpu::HitItem));
     b.shadow_rays = make_state_buffer(context, capacity * sizeof(gpu::ShadowRayItem));
-    b.film = make_state_buffer(context, size_t(frame.width) * frame.height * sizeof(gpu::FilmPixel));
+    b.film = make_state_buffer(context, size_t(frame.film_width) * frame.film_height * sizeof(gpu::FilmPixel));
     // --force-effect of an attribute effect on a scene without attributes: the stages read defaults.
     if (scene.attributes.empty() && (effects & gpu::EFFECT_ATTRIBUTES))
         b.tri_attributes = make_texel_buffer(
@@ -130,7 +130,7 @@ GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& sce
                                      &b.texels, &b.env_radiance, &b.env_cdf, &b.instances, &b.material_layers, &b.path_media,
                                      &b.path_spectra, &b.path_times, &b.glass_albedo})
         allocated += buffer->size();
-    if (allocated != estimate_render_memory(scene, frame.width, frame.height, frame.wave_capacity, effects).device_bytes())
+    if (allocated != estimate_render_memory(scene, frame.film_width, frame.film_height, frame.wave_capacity, effects).device_bytes())
         throw std::logic_error("create_gpu_buffers: allocated sizes differ from estimate_render_memory");
     return b;
 }

@@ -91,8 +91,8 @@ MemoryEstimate estimate_render_memory(const PackedScene& scene, uint32_t width, 
 }
 
 MemoryEstimate estimate_render_memory(const PackedScene& scene, const RenderSettings& s) {
-    const uint64_t samples = uint64_t(s.width) * s.height * s.spp;
-    return estimate_render_memory(scene, s.width, s.height, uint32_t(std::min<uint64_t>(s.wave_paths, samples)),
+    const uint64_t samples = uint64_t(s.film_width()) * s.film_height() * s.spp;
+    return estimate_render_memory(scene, s.film_width(), s.film_height(), uint32_t(std::min<uint64_t>(s.wave_paths, samples)),
                                   select_effects(scene.effects.bits, s.forced_effects, s.disabled_effects));
 }
 
@@ -125,7 +125,7 @@ namespace {
 // What to change when a buffer is too large (buffers are not split across allocations yet).
 std::string remedy(const std::string& buffer) {
     std::string what = "a smaller scene";
-    if (buffer == "film") what = "a smaller --width/--height";
+    if (buffer == "film") what = "a smaller --width/--height (or --crop parts joined by fredholm merge)";
     if (buffer == "texels") what = "smaller textures";
     if (buffer == "env_radiance" || buffer == "env_cdf") what = "a smaller environment map";
     if (buffer == "paths" || buffer == "rays" || buffer == "hits" || buffer == "shadow_rays") what = "a smaller --wave-paths";

@@ -16,6 +16,8 @@ gpu::FrameParams make_ray_frame(const PackedScene& scene, uint32_t capacity) {
     gpu::FrameParams frame{};
     frame.width = 1;
     frame.height = 1;
+    frame.film_width = 1;
+    frame.film_height = 1;
     frame.wave_capacity = capacity;
     frame.triangle_count = uint32_t(scene.positions.size());
     set_frame_scene_bounds(frame, scene);  // traversal pads its boxes from these

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "render/camera_setup.h"
+#include "render/film.h"
 #include "vk/context.h"
 
 namespace fh {
@@ -56,7 +57,7 @@ gpu::FrameParams make_frame(const PackedScene& scene, const SceneCamera& camera,
               (s.russian_roulette ? gpu::RENDER_RR : 0u);
     f.emitter_count = uint32_t(scene.emitters.size());
     f.rr_start_depth = s.rr_start_depth;
-    uint64_t pixels = uint64_t(s.width) * s.height;
+    uint64_t pixels = uint64_t(s.film_width()) * s.film_height();
     f.wave_capacity = uint32_t(std::min<uint64_t>(s.wave_paths, pixels * s.spp));
     f.triangle_count = uint32_t(scene.positions.size());
     f.env_width = scene.environment.width;
@@ -64,6 +65,10 @@ gpu::FrameParams make_frame(const PackedScene& scene, const SceneCamera& camera,
     f.env_rotation = scene.environment.rotation;
     f.env_pick_pdf = scene.environment_pick_pdf;
     f.motion_segments = scene.motion_segments;
+    f.crop_x = s.has_crop() ? s.crop_x0 : 0u;
+    f.crop_y = s.has_crop() ? s.crop_y0 : 0u;
+    f.film_width = s.film_width();
+    f.film_height = s.film_height();
     return f;
 }
 
@@ -130,7 +135,7 @@ void Renderer::clear_film() {
 RenderStats Renderer::render_samples(uint32_t sample_begin, uint32_t sample_end, const ProgressCallback& progress) {
     RenderStats stats;
     stats.spp_done = sample_begin;
-    const uint32_t pixels = settings_.width * settings_.height;
+    const uint32_t pixels = settings_.film_width() * settings_.film_height();
     const auto start = std::chrono::steady_clock::now();
     for (const Wave& wave : plan_waves(pixels, sample_begin, sample_end, frame_.wave_capacity)) {
         trace_wave(wave, stats);
@@ -144,7 +149,7 @@ RenderStats Renderer::render_samples(uint32_t sample_begin, uint32_t sample_end,
 
 RenderStats Renderer::render_pixels(uint32_t pixel_begin, uint32_t pixel_count, uint32_t sample) {
     RenderStats stats;
-    const uint32_t pixels = settings_.width * settings_.height;
+    const uint32_t pixels = settings_.film_width() * settings_.film_height();
     if (pixel_begin > pixels || pixel_count > pixels - pixel_begin)
         throw std::invalid_argument("render_pixels: pixel range outside the film");
     const auto start = std::chrono::steady_clock::now();
@@ -222,31 +227,19 @@ void Renderer::set_camera(const SceneCamera& camera) {
 }
 
 std::vector<gpu::FilmPixel> Renderer::read_film_state() const {
-    std::vector<gpu::FilmPixel> film(size_t(settings_.width) * settings_.height);
+    std::vector<gpu::FilmPixel> film(size_t(settings_.film_width()) * settings_.film_height());
     vk::download_from_buffer(context_, buffers_.film, film.data(), film.size() * sizeof(gpu::FilmPixel));
     return film;
 }
 
 void Renderer::write_film_state(const std::vector<gpu::FilmPixel>& film) {
-    if (film.size() != size_t(settings_.width) * settings_.height)
+    if (film.size() != size_t(settings_.film_width()) * settings_.film_height())
         throw std::invalid_argument("write_film_state: the film has a different size than the render");
     vk::upload_to_buffer(context_, buffers_.film, film.data(), film.size() * sizeof(gpu::FilmPixel));
 }
 
 Image Renderer::read_film() const {
-    const std::vector<gpu::FilmPixel> film = read_film_state();
-    Image image;
-    image.width = int(settings_.width);
-    image.height = int(settings_.height);
-    image.rgb.resize(film.size() * 3);
-    for (size_t i = 0; i < film.size(); ++i) {
-        float n = film[i].sample_count > 0 ? film[i].sample_count : 1.0f;
-        // Kahan: the compensation holds the negated lost low-order part, so subtract it.
-        image.rgb[3 * i + 0] = float((double(film[i].sum_r) - double(film[i].comp_r)) / n);
-        image.rgb[3 * i + 1] = float((double(film[i].sum_g) - double(film[i].comp_g)) / n);
-        image.rgb[3 * i + 2] = float((double(film[i].sum_b) - double(film[i].comp_b)) / n);
-    }
-    return image;
+    return resolve_film(read_film_state(), int(settings_.film_width()), int(settings_.film_height()));
 }
 
 }  // namespace fh

@@ -59,6 +59,12 @@ struct RenderSettings {
     // Motion blur (README "Motion blur"): --shutter OPEN,CLOSE, seconds relative to `time`; equal: none.
     double shutter_open = 0.0, shutter_close = 0.0;
     bool has_shutter() const { return shutter_close > shutter_open; }
+    // --crop: only pixels [crop_x0, crop_x1) x [crop_y0, crop_y1) of the width x height image are rendered, into a
+    // film of that size (each with the samples it has in the whole image). All zero: the whole image.
+    uint32_t crop_x0 = 0, crop_y0 = 0, crop_x1 = 0, crop_y1 = 0;
+    bool has_crop() const { return crop_x1 > crop_x0; }
+    uint32_t film_width() const { return has_crop() ? crop_x1 - crop_x0 : width; }
+    uint32_t film_height() const { return has_crop() ? crop_y1 - crop_y0 : height; }
 };
 
 const char* to_string(PixelFilter filter);

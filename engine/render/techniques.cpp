@@ -13,7 +13,7 @@ const std::vector<TechniqueInfo>& list_techniques() {
         {"conservative-box", gpu::TECHNIQUE_CONSERVATIVE_BOX, "plain slab test (no padding, raw 1/dir)"},
         {"error-offsets", gpu::TECHNIQUE_ERROR_OFFSETS, "fixed 1e-4 ray-origin offset"},
         {"finite-guard", gpu::TECHNIQUE_FINITE_GUARD, "non-finite samples reach the film"},
-        {"compensated-film", gpu::TECHNIQUE_COMPENSATED_FILM, "plain float film sums"},
+        {"exact-film", gpu::TECHNIQUE_EXACT_FILM, "plain float film sums"},
         {"tie-break", gpu::TECHNIQUE_TIE_BREAK, "equal-t hits go to the first visited"},
         {"rebase", gpu::TECHNIQUE_REBASE, "render space = world space (float world coordinates)"},
     };

@@ -127,7 +127,7 @@ FH_CONST uint TECHNIQUE_WATERTIGHT = 1u;        // Woop et al. 2013 triangle tes
 FH_CONST uint TECHNIQUE_CONSERVATIVE_BOX = 2u;  // padded slab test without 0 x inf (off: plain slab test)
 FH_CONST uint TECHNIQUE_ERROR_OFFSETS = 4u;     // error-bound ray origins (off: fixed epsilon along the normal)
 FH_CONST uint TECHNIQUE_FINITE_GUARD = 8u;      // non-finite samples dropped before the film (off: added)
-FH_CONST uint TECHNIQUE_COMPENSATED_FILM = 16u; // Kahan-compensated film sums (off: plain float sums)
+FH_CONST uint TECHNIQUE_EXACT_FILM = 16u;       // fixed-point film sums, exact and associative (off: plain float sums)
 FH_CONST uint TECHNIQUE_TIE_BREAK = 32u;        // equal-t hits resolved by scene triangle index (off: visit order)
 FH_CONST uint TECHNIQUE_REBASE = 64u;           // host: render space centred on the scene (off: world space)
 
@@ -368,7 +368,10 @@ struct FrameParams {
     vec4 camera_motion_translation;
     vec4 camera_motion_rotation;
     uint motion_segments;   // moving instances move linearly over this many equal parts of the shutter (Instance)
-    uint pad_motion0, pad_motion1, pad_motion2;
+    // The film covers pixels [crop_x, crop_x + film_width) x [crop_y, crop_y + film_height) of the width x height
+    // image (--crop; else all of it). Film pixel p is image pixel (crop_y + p / film_width, crop_x + p % film_width).
+    uint crop_x, crop_y, film_width, film_height;
+    uint pad_crop0, pad_crop1, pad_crop2;
 };
 
 // Push constants: what changes per wave and per depth.
@@ -444,12 +447,19 @@ struct ShadowRayItem {
     uint origin_triangle;       // the triangle it leaves
 };
 
-// Accumulated film pixel: Kahan-compensated sum of sample radiance (Kahan 1965).
+// Accumulated film pixel: per channel the sum of the samples' radiance in fixed point, radiance x 2^FILM_FRACTION_BITS
+// rounded to the nearest integer, as a 128-bit two's complement integer (FILM_WORDS words, least significant first).
+// Integer sums are associative, so parts of a render (sample ranges, resumed runs, machines) add up to the same bits
+// in any order (shaders/lib/film.glsl, engine/render/film.h). A sample must have |radiance| < 2^FILM_MAX_LOG2 to be
+// added: 2^24 samples of that fit with the sign bit to spare.
+FH_CONST uint FILM_WORDS = 4u;
+FH_CONST int FILM_FRACTION_BITS = 56;
+FH_CONST int FILM_MAX_LOG2 = 47;
 struct FilmPixel {
-    float sum_r, sum_g, sum_b;
-    float sample_count;
-    float comp_r, comp_g, comp_b;
-    float pad;
+    uint sum_r[FILM_WORDS];
+    uint sum_g[FILM_WORDS];
+    uint sum_b[FILM_WORDS];
+    uint sample_count;
 };
 
 #ifdef __cplusplus

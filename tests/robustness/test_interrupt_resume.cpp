@@ -1,5 +1,7 @@
 // Runs the real `fredholm render`: a render continued with --resume equals an uninterrupted one bit for bit,
-// SIGINT/SIGTERM write a resumable partial image (exit 130, no temporary files), mismatched resumes fail.
+// SIGINT/SIGTERM write a resumable partial image (exit 130, no temporary files), mismatched resumes fail; parts of
+// a render (--samples, --crop) joined by `fredholm merge` equal the whole render bit for bit, and bad sets of parts
+// are refused with one line.
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -23,8 +25,10 @@ namespace {
 namespace fs = std::filesystem;
 
 const std::string CORNELL = FH_SOURCE_DIR "/scenes/cornell.gltf";
-const std::vector<std::string> FILM = {"fredholm.sum.R", "fredholm.sum.G", "fredholm.sum.B",
-                                       "fredholm.comp.R", "fredholm.comp.G", "fredholm.comp.B"};
+const std::vector<std::string> FILM = {"fredholm.sum.R.0", "fredholm.sum.R.1", "fredholm.sum.R.2", "fredholm.sum.R.3",
+                                       "fredholm.sum.G.0", "fredholm.sum.G.1", "fredholm.sum.G.2", "fredholm.sum.G.3",
+                                       "fredholm.sum.B.0", "fredholm.sum.B.1", "fredholm.sum.B.2", "fredholm.sum.B.3",
+                                       "fredholm.count"};
 // Long enough (several seconds on lavapipe) that a signal after one second always lands mid-render: one
 // sample per wave, so it stops within milliseconds.
 const std::vector<std::string> LONG_RENDER = {"--width", "32", "--height", "32", "--spp", "600", "--seed", "5",
@@ -48,10 +52,10 @@ fs::path err_file_of(pid_t parent) {
     return fs::temp_directory_path() / ("fh_robustness_" + std::to_string(parent) + ".err");
 }
 
-// Starts `fredholm render args...` with stderr to err_file_of(getpid()).
-pid_t start_fredholm(const std::vector<std::string>& args) {
+// Starts `fredholm COMMAND args...` with stderr to err_file_of(getpid()).
+pid_t start_fredholm(const std::vector<std::string>& args, const char* command = "render") {
     const fs::path err_file = err_file_of(getpid());
-    std::vector<std::string> argv_strings = {FH_FREDHOLM, "render"};
+    std::vector<std::string> argv_strings = {FH_FREDHOLM, command};
     argv_strings.insert(argv_strings.end(), args.begin(), args.end());
     std::vector<char*> argv;
     for (std::string& s : argv_strings) argv.push_back(s.data());
@@ -124,7 +128,7 @@ void expect_identical(const fs::path& a, const fs::path& b) {
         << a << " and " << b << " differ in R, G, B";
     const fh::ExtraChannels fa = fh::read_exr_channels(a, FILM), fb = fh::read_exr_channels(b, FILM);
     for (const std::string& name : FILM)
-        EXPECT_EQ(std::memcmp(fa.at(name).data(), fb.at(name).data(), fa.at(name).size() * sizeof(float)), 0)
+        EXPECT_EQ(std::memcmp(fa.at(name).data(), fb.at(name).data(), fa.at(name).size() * sizeof(uint32_t)), 0)
             << a << " and " << b << " differ in " << name;
 }
 
@@ -186,7 +190,9 @@ TEST(Resume, RejectsMismatchedSettingsWithOneLine) {
         {args("16", "4", {"--resume", "--aperture", "2", "--focus-distance", "3"}),
          "lens is pinhole in the file but f/2 sensor 24 mm, focus 3"},
         {args("16", "4", {"--resume", "--shutter", "0,0.01"}), "shutter is none in the file but 0,0.01"},
-        {args("17", "4", {"--resume"}), "the image is 16x16 but this render is 17x16"},
+        {args("17", "4", {"--resume"}), "image_size is 16x16 in the file but 17x16 in this render"},
+        {args("16", "4", {"--resume", "--crop", "0,0,8,8"}), "crop is none in the file but 0,0,8,8"},
+        {args("16", "4", {"--resume", "--disable-technique", "exact-film"}), "disabled_techniques is none in the file"},
         {args("16", "1", {"--resume"}), "already has 2 spp, more than --spp 1"},
     };
     for (const Case& c : cases) {
@@ -263,5 +269,92 @@ INSTANTIATE_TEST_SUITE_P(Signals, Interrupt, testing::Values(SIGINT, SIGTERM),
                          [](const testing::TestParamInfo<int>& info) {
                              return std::string(info.param == SIGINT ? "SIGINT" : "SIGTERM");
                          });
+
+// Parts of one render: sample ranges, and crops with their own sample ranges.
+TEST(Merge, PartsEqualTheWholeRenderBitForBit) {
+    const fs::path dir = work_dir();
+    const std::vector<std::string> settings = {"--width", "24", "--height", "20", "--seed", "7", "-q"};
+    auto render = [&](const std::string& name, const std::vector<std::string>& more) {
+        const Outcome run = run_fredholm(with(with({CORNELL, "-o", (dir / name).string()}, settings), more));
+        ASSERT_EQ(run.exit_code, 0) << run.err;
+    };
+    auto merge = [&](const std::string& out, const std::vector<std::string>& parts) {
+        std::vector<std::string> args;
+        for (const std::string& p : parts) args.push_back((dir / p).string());
+        const Outcome run = wait_fredholm(start_fredholm(with(args, {"-o", (dir / out).string(), "-q"}), "merge"));
+        ASSERT_EQ(run.exit_code, 0) << run.err;
+    };
+    render("whole.exr", {"--spp", "9"});
+    render("s0.exr", {"--samples", "0:4"});
+    render("s1.exr", {"--samples", "4:5"});
+    render("s2.exr", {"--samples", "5:9"});
+    merge("by_samples.exr", {"s2.exr", "s0.exr", "s1.exr"});  // any order
+    expect_identical(dir / "by_samples.exr", dir / "whole.exr");
+    render("top.exr", {"--crop", "0,0,24,7", "--spp", "9"});
+    render("left.exr", {"--crop", "0,7,10,20", "--samples", "0:3"});
+    render("left2.exr", {"--crop", "0,7,10,20", "--samples", "3:9"});
+    render("right.exr", {"--crop", "10,7,24,20", "--spp", "9"});
+    merge("by_crops.exr", {"right.exr", "left2.exr", "top.exr", "left.exr"});
+    expect_identical(dir / "by_crops.exr", dir / "whole.exr");
+    // A merged file is a render like any other: it continues with --resume as the whole render would.
+    render("whole12.exr", {"--spp", "12"});
+    render("by_samples.exr", {"--spp", "12", "--resume"});
+    expect_identical(dir / "by_samples.exr", dir / "whole12.exr");
+}
+
+// What the fixed-point film buys: with plain float sums (--disable-technique exact-film) the same parts merge to other
+// bits than the whole render, because float addition is not associative.
+TEST(Merge, PlainFloatSumsDoNotMergeExactly) {
+    const fs::path dir = work_dir();
+    const std::vector<std::string> settings = {"--width", "16", "--height", "16", "-q", "--disable-technique", "exact-film"};
+    for (const auto& [name, range] : {std::pair{"whole.exr", "0:40"}, {"a.exr", "0:13"}, {"b.exr", "13:40"}})
+        ASSERT_EQ(run_fredholm(with({CORNELL, "-o", (dir / name).string(), "--samples", range}, settings)).exit_code, 0);
+    const Outcome run = wait_fredholm(start_fredholm(
+        {(dir / "a.exr").string(), (dir / "b.exr").string(), "-o", (dir / "merged.exr").string(), "-q"}, "merge"));
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    const fh::Image merged = fh::read_exr(dir / "merged.exr"), whole = fh::read_exr(dir / "whole.exr");
+    ASSERT_EQ(merged.rgb.size(), whole.rgb.size());
+    EXPECT_NE(std::memcmp(merged.rgb.data(), whole.rgb.data(), merged.rgb.size() * sizeof(float)), 0);
+}
+
+TEST(Merge, RefusesPartsThatDoNotBelongTogetherWithOneLine) {
+    const fs::path dir = work_dir();
+    auto render = [&](const std::string& name, const std::vector<std::string>& more) {
+        const Outcome run = run_fredholm(with({CORNELL, "-o", (dir / name).string(), "--width", "16", "--height", "8",
+                                               "-q"}, more));
+        ASSERT_EQ(run.exit_code, 0) << run.err;
+    };
+    render("a.exr", {"--samples", "0:4"});
+    render("b.exr", {"--samples", "4:8"});
+    render("overlap.exr", {"--samples", "2:6"});
+    render("late.exr", {"--samples", "6:8"});
+    render("seed.exr", {"--samples", "4:8", "--seed", "1"});
+    render("top.exr", {"--crop", "0,0,16,4", "--samples", "0:4"});
+    render("bottom.exr", {"--crop", "0,3,16,8", "--samples", "0:4"});
+    render("bottom_short.exr", {"--crop", "0,4,16,8", "--samples", "0:2"});
+    struct Case {
+        std::vector<std::string> parts;
+        std::string expected;
+    };
+    const std::vector<Case> cases = {
+        {{"a.exr", "overlap.exr"}, "a.exr and " + (dir / "overlap.exr").string() + " overlap: both hold samples 2:4"},
+        {{"a.exr", "late.exr"}, "no part holds samples 4:6 of the whole image"},
+        {{"a.exr", "seed.exr"}, "seed.exr: cannot merge: seed is 1 here but 0 in"},
+        {{"top.exr", "bottom.exr"}, "overlap at pixel 0,3"},
+        {{"top.exr"}, "no part covers pixel 0,4 of the 16x8 image"},
+        {{"top.exr", "bottom_short.exr"}, "has samples 0:4 but crop 0,4,16,8 has 0:2"},
+        {{"a.exr", "a.exr"}, "a.exr: cannot merge: given twice"},
+    };
+    for (const Case& c : cases) {
+        std::vector<std::string> args;
+        for (const std::string& p : c.parts) args.push_back((dir / p).string());
+        const fs::path out = dir / "merged.exr";
+        const Outcome run = wait_fredholm(start_fredholm(with(args, {"-o", out.string()}), "merge"));
+        EXPECT_EQ(run.exit_code, 1) << run.err;
+        EXPECT_NE(run.err.find(c.expected), std::string::npos) << run.err;
+        EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
+        EXPECT_FALSE(fs::exists(out));
+    }
+}
 
 }  // namespace

@@ -28,11 +28,11 @@ uint64_t bytes_of(const fh::MemoryEstimate& e, const std::string& name) {
     return 0;
 }
 
-TEST(MemoryEstimate, FilmIs32BytesAPixel) {
+TEST(MemoryEstimate, FilmIs52BytesAPixel) {
     const fh::PackedScene scene;
     const fh::MemoryEstimate e = fh::estimate_render_memory(scene, 8192, 8192, 1u << 18, 0u);
-    EXPECT_EQ(bytes_of(e, "film"), uint64_t(2) << 30);  // an 8192 x 8192 film is 2 GiB
-    EXPECT_EQ(e.film_readback_bytes, uint64_t(2) << 30);
+    EXPECT_EQ(bytes_of(e, "film"), uint64_t(52) << 26);  // an 8192 x 8192 film is 3.25 GiB (three 128-bit sums, a count)
+    EXPECT_EQ(e.film_readback_bytes, uint64_t(52) << 26);
     EXPECT_EQ(bytes_of(e, "tri_positions"), sizeof(fh::gpu::TrianglePositions));  // empty arrays: one element
 }
 
@@ -47,11 +47,11 @@ TEST(MemoryEstimate, WaveCapacityFollowsTheRenderer) {
 }
 
 TEST(MemoryEstimate, RefusesAFilmBeyondTheStorageRangeWithTheNumbers) {
-    EXPECT_EQ(check_error(fh::estimate_render_memory(fh::PackedScene{}, 2048, 2048, 1u << 18, 0u), LAVAPIPE), "");
+    EXPECT_EQ(check_error(fh::estimate_render_memory(fh::PackedScene{}, 1600, 1600, 1u << 18, 0u), LAVAPIPE), "");
     const std::string error = check_error(fh::estimate_render_memory(fh::PackedScene{}, 4096, 4096, 1u << 18, 0u), LAVAPIPE);
-    EXPECT_NE(error.find("the film buffer needs 512.0 MiB (536870912 bytes)"), std::string::npos) << error;
+    EXPECT_NE(error.find("the film buffer needs 832.0 MiB (872415232 bytes)"), std::string::npos) << error;
     EXPECT_NE(error.find("maxStorageBufferRange of 128.0 MiB (134217728 bytes)"), std::string::npos) << error;
-    EXPECT_NE(error.find("--width/--height"), std::string::npos) << error;
+    EXPECT_NE(error.find("--width/--height (or --crop parts"), std::string::npos) << error;
 }
 
 // The scene's arrays are texel buffers (layout.h TEXELS): past maxStorageBufferRange, up to maxTexelBufferElements
@@ -80,7 +80,7 @@ TEST(MemoryEstimate, ChecksAllocationSizeAndTheHeap) {
     roomy.device_local_heap = uint64_t(1) << 30;
     error = check_error(e, roomy);
     EXPECT_NE(error.find("more than the device-local heap of 1.00 GiB"), std::string::npos) << error;
-    EXPECT_NE(error.find("largest: film, 2.00 GiB"), std::string::npos) << error;
+    EXPECT_NE(error.find("largest: film, 3.25 GiB"), std::string::npos) << error;
 }
 
 }  // namespace

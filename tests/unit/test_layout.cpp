@@ -100,7 +100,7 @@ FH_OFFSET(PunctualLight, type, 48);
 FH_OFFSET(PunctualLight, cos_inner, 52);
 FH_OFFSET(PunctualLight, cos_outer, 56);
 
-FH_SIZE(FrameParams, 224);
+FH_SIZE(FrameParams, 240);
 FH_OFFSET(FrameParams, camera_origin, 0);
 FH_OFFSET(FrameParams, camera_right, 16);
 FH_OFFSET(FrameParams, camera_up, 32);
@@ -126,6 +126,9 @@ FH_OFFSET(FrameParams, env_pick_pdf, 156);
 FH_OFFSET(FrameParams, camera_motion_translation, 176);
 FH_OFFSET(FrameParams, camera_motion_rotation, 192);
 FH_OFFSET(FrameParams, motion_segments, 208);
+FH_OFFSET(FrameParams, crop_x, 212);
+FH_OFFSET(FrameParams, film_width, 220);
+FH_OFFSET(FrameParams, film_height, 224);
 
 FH_SIZE(StagePush, 32);
 FH_OFFSET(StagePush, depth, 0);
@@ -181,9 +184,10 @@ FH_OFFSET(ShadowRayItem, dir_x, 16);
 FH_OFFSET(ShadowRayItem, t_max, 28);
 FH_OFFSET(ShadowRayItem, contrib_r, 32);
 
-FH_SIZE(FilmPixel, 32);
-FH_OFFSET(FilmPixel, sample_count, 12);
-FH_OFFSET(FilmPixel, comp_r, 16);
+FH_SIZE(FilmPixel, 52);
+FH_OFFSET(FilmPixel, sum_g, 16);
+FH_OFFSET(FilmPixel, sum_b, 32);
+FH_OFFSET(FilmPixel, sample_count, 48);
 
 // The general std430 rule for C++ structs built from 4-byte scalars and glm::vec4.
 template <typename S>
@@ -213,7 +217,7 @@ TEST(Layout, SizesMatchTheGpuStructs) {
     EXPECT_EQ(sizeof(TextureSlot), 48u);
     EXPECT_EQ(sizeof(TriangleAttributes), 96u);
     EXPECT_EQ(sizeof(Emitter), 16u);
-    EXPECT_EQ(sizeof(FrameParams), 224u);
+    EXPECT_EQ(sizeof(FrameParams), 240u);
     EXPECT_EQ(sizeof(QueueCounters), 56u);
     EXPECT_EQ(sizeof(RayItem), 32u);
     EXPECT_EQ(sizeof(HitItem), 20u);
@@ -221,7 +225,7 @@ TEST(Layout, SizesMatchTheGpuStructs) {
     EXPECT_EQ(sizeof(ShadowRayItem), 48u);
     EXPECT_EQ(sizeof(PathState), 32u);
     EXPECT_EQ(sizeof(PathSpectrum), 16u);
-    EXPECT_EQ(sizeof(FilmPixel), 32u);
+    EXPECT_EQ(sizeof(FilmPixel), 52u);
     EXPECT_EQ(sizeof(StagePush), 32u);
     EXPECT_EQ(BVH_LEAF_COUNT_BITS, 16u);
 }
