@@ -67,7 +67,8 @@ def describe_task_error(chunk, error, retries):
         node = match.group(1) if match else "a worker"
         return f"{chunk.describe()} failed on {node}: {type(cause).__name__}: {first_line(cause)}"
     if isinstance(error, ray.exceptions.WorkerCrashedError):
-        return f"{chunk.describe()} failed: its worker died {retries + 1} times (--retries {retries})"
+        tries = "once" if retries == 0 else f"{retries + 1} times"
+        return f"{chunk.describe()} failed: its Ray worker died, {tries} (--retries {retries})"
     return f"{chunk.describe()} failed: {first_line(error)}"
 
 
@@ -88,6 +89,7 @@ def merge_frame(request, frame, part_files):
     command = [request.binary, "merge"] + part_files + ["-o", output, "-q"]
     if request.png:
         command += ["--png", request.png if frame is None else name_frame_file(request.png, frame)]
+        command += request.merge_options
     result = subprocess.run(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
     if result.returncode != 0:
         lines = [line for line in result.stderr.decode(errors="replace").splitlines() if line.strip()]
@@ -96,16 +98,15 @@ def merge_frame(request, frame, part_files):
     return output
 
 
-def submit_chunks(request, chunks, run_id):
-    """One Ray task per chunk; returns {ObjectRef: chunk}."""
+def submit_chunks(request, bundle, chunks, run_id):
+    """One Ray task per chunk (bundle: the SceneBundle to ship, None with shared storage); {ObjectRef: chunk}."""
     # Ship worker.py by value: the workers need Ray and fredholm, not this package.
     ray.cloudpickle.register_pickle_by_value(worker)
     task = ray.remote(worker.render_chunk).options(max_retries=request.retries, retry_exceptions=False,
                                                    num_cpus=request.cpus_per_task, name="fredholm_render_chunk")
-    if request.shared_storage:
+    if bundle is None:
         files, scene, env = None, os.path.abspath(request.scene), request.env and os.path.abspath(request.env)
     else:
-        bundle = pack_scene(request.scene, request.env)
         files, scene, env = ray.put(bundle.files), bundle.scene, bundle.env  # one copy in the object store
     refs = {}
     for chunk in chunks:
@@ -135,6 +136,8 @@ def collect_parts(request, refs, parts_dir, start):
             except ray.exceptions.RayError as e:
                 for other in pending:  # without force: a cancelled task kills its fredholm and cleans up
                     ray.cancel(other)
+                # One line is the report: Ray would log each other chunk that failed meanwhile as "unhandled".
+                os.environ["RAY_IGNORE_UNHANDLED_ERRORS"] = "1"
                 raise RenderFailed(describe_task_error(chunk, e, request.retries))
             name = f"part_{'still' if chunk.frame is None else chunk.frame}_{chunk.first:08d}_{chunk.end:08d}.exr"
             path = os.path.join(parts_dir, name)
@@ -155,12 +158,13 @@ def collect_parts(request, refs, parts_dir, start):
 def run_render(request):
     """The whole distributed render of a RenderRequest; raises RenderFailed (or UsageError) with one line."""
     start = time.monotonic()
+    bundle = None if request.shared_storage else pack_scene(request.scene, request.env)  # errors before Ray starts
     connect(request.address)
     chunks_per_frame = request.chunks or count_task_slots(request.cpus_per_task)
     chunks = make_chunks(request.spp, chunks_per_frame, request.frames, request.fps)
     run_id = uuid.uuid4().hex
     nodes = sum(1 for node in ray.nodes() if node.get("Alive"))
-    refs = submit_chunks(request, chunks, run_id)
+    refs = submit_chunks(request, bundle, chunks, run_id)
     say(request, f"{len(chunks)} chunks submitted to {nodes} node(s), {time.monotonic() - start:.1f} s")
     try:
         with tempfile.TemporaryDirectory(prefix="fredholm-ray-parts-") as parts_dir:

@@ -36,11 +36,19 @@ class RenderRequest:
     quiet: bool
     env: Optional[str]                 # the --env map among the pass-through options
     options: List[str]                 # render options: SCENE_TOKEN first, ENV_TOKEN for the --env value
+    merge_options: List[str]           # --exposure, --tonemap: for fredholm merge's PNG
+
+
+class OneLineParser(argparse.ArgumentParser):
+    """argparse whose errors are one UsageError line, not usage text plus an exit."""
+
+    def error(self, message):
+        raise UsageError(f"{message} (see fredholm-ray render --help)")
 
 
 def make_parser():
-    parser = argparse.ArgumentParser(prog="fredholm-ray", allow_abbrev=False,
-                                     description="Render one Fredholm image (or sequence) across a Ray cluster.")
+    parser = OneLineParser(prog="fredholm-ray", allow_abbrev=False,
+                           description="Render one Fredholm image (or sequence) across a Ray cluster.")
     commands = parser.add_subparsers(dest="command", required=True)
     render = commands.add_parser("render", allow_abbrev=False, epilog=USAGE_EPILOG,
                                  formatter_class=argparse.RawDescriptionHelpFormatter,
@@ -80,26 +88,23 @@ def find_binary(given):
     return found, name
 
 
-def take_env_option(options):
-    """Replaces the value of --env FILE / --env=FILE by ENV_TOKEN; returns (options, FILE or None)."""
-    out, env = [], None
+def take_option(options, name):
+    """Removes `name VALUE` / `name=VALUE` (the last one counts, as in fredholm); returns (options, VALUE or None)."""
+    rest, value = [], None
     i = 0
     while i < len(options):
-        option = options[i]
-        if option == "--env":
+        if options[i] == name:
             if i + 1 >= len(options):
-                raise UsageError("--env needs a file")
-            env = options[i + 1]
-            out += ["--env", ENV_TOKEN]
+                raise UsageError(f"{name} needs a value")
+            value = options[i + 1]
             i += 2
             continue
-        if option.startswith("--env="):
-            env = option[len("--env="):]
-            out += ["--env", ENV_TOKEN]
+        if options[i].startswith(name + "="):
+            value = options[i][len(name) + 1:]
         else:
-            out.append(option)
+            rest.append(options[i])
         i += 1
-    return out, env
+    return rest, value
 
 
 def check_pass_through(options, frames):
@@ -147,12 +152,19 @@ def parse_render_request(argv):
         if frames is not None:
             path = name_frame_file(path, frames[0])
         check_output(path, what)
-    options, env = take_env_option(options)
-    if env is not None and not os.path.isfile(env):
-        raise UsageError(f"--env {env} not found")
+    options, env = take_option(options, "--env")
+    if env is not None:
+        if not os.path.isfile(env):
+            raise UsageError(f"--env {env} not found")
+        options += ["--env", ENV_TOKEN]
+    merge_options = []
+    for name in ("--exposure", "--tonemap"):  # they shape the merged PNG, not the film
+        options, value = take_option(options, name)
+        if value is not None:
+            merge_options += [name, value]
     binary, binary_for_workers = find_binary(args.fredholm)
     return RenderRequest(scene=args.scene, output=args.output, png=args.png, spp=args.spp, chunks=args.chunks,
                          frames=frames, fps=args.fps, address=args.address, binary=binary,
                          binary_for_workers=binary_for_workers, retries=args.retries,
                          cpus_per_task=args.cpus_per_task, shared_storage=args.shared_storage, quiet=args.quiet,
-                         env=env, options=[SCENE_TOKEN] + options)
+                         env=env, options=[SCENE_TOKEN] + options, merge_options=merge_options)

@@ -104,9 +104,11 @@ def describe_failure(result, binary):
 def render_chunk(binary, files, scene, env, options, first, end, run_id, chunk_index):
     """Renders samples [first, end) with `binary render` and returns the part EXR's bytes.
 
-    files: bundle path -> bytes (None with shared storage: `scene` and `env` are then real paths); options: the
-    render options, with SCENE_TOKEN and ENV_TOKEN where the scene and --env paths go.
+    binary: None for this node's $FREDHOLM_BIN, else `fredholm` on its PATH; files: bundle path -> bytes (None with
+    shared storage: `scene` and `env` are then real paths); options: the render options, with SCENE_TOKEN and
+    ENV_TOKEN where the scene and --env paths go.
     """
+    binary = binary or os.environ.get("FREDHOLM_BIN") or "fredholm"
     record_attempt(run_id, chunk_index)
     remove_stale_folders()
     folder = tempfile.mkdtemp(prefix=f"fredholm-ray-{os.getpid()}-")
@@ -126,6 +128,8 @@ def render_chunk(binary, files, scene, env, options, first, end, run_id, chunk_i
             raise ChunkFailed(f"cannot run {binary}: {e.strerror}", describe_node()) from None
         if result.returncode != 0:
             raise ChunkFailed(describe_failure(result, binary), describe_node())
+        if not os.path.isfile(part):
+            raise ChunkFailed(f"{binary} exited with status 0 but wrote no part file", describe_node())
         with open(part, "rb") as f:
             return f.read()
     finally:
