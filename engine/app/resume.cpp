@@ -11,6 +11,7 @@ namespace {
 
 const char* const CHANNEL_LETTERS[3] = {"R", "G", "B"};
 const char* const COUNT_NAME = "fredholm.count";
+constexpr unsigned MAX_IMAGE_SIDE = 16384;  // as fredholm render --width/--height
 
 uint32_t (&channel_words(gpu::FilmPixel& p, int c))[gpu::FILM_WORDS] { return c == 0 ? p.sum_r : c == 1 ? p.sum_g : p.sum_b; }
 const uint32_t (&channel_words(const gpu::FilmPixel& p, int c))[gpu::FILM_WORDS] {
@@ -99,8 +100,10 @@ FilmFile read_film_file(const std::filesystem::path& file, const std::string& wh
     const std::string& size = find_key(f.metadata, "fredholm:image_size", prefix);
     unsigned w = 0, h = 0, x0 = 0, y0 = 0, x1 = 0, y1 = 0;
     char end = 0;
-    if (std::sscanf(size.c_str(), "%ux%u%c", &w, &h, &end) != 2 || w == 0 || h == 0)
-        throw std::runtime_error(prefix + "fredholm:image_size is not WIDTHxHEIGHT: " + size);
+    if (std::sscanf(size.c_str(), "%ux%u%c", &w, &h, &end) != 2 || w == 0 || h == 0 || w > MAX_IMAGE_SIDE ||
+        h > MAX_IMAGE_SIDE)
+        throw std::runtime_error(prefix + "fredholm:image_size is not WIDTHxHEIGHT (1 to " +
+                                 std::to_string(MAX_IMAGE_SIDE) + " each): " + size);
     f.image_width = w;
     f.image_height = h;
     const std::string& crop = find_key(f.metadata, "fredholm:crop", prefix);

@@ -332,11 +332,24 @@ TEST(Merge, RefusesPartsThatDoNotBelongTogetherWithOneLine) {
     render("top.exr", {"--crop", "0,0,16,4", "--samples", "0:4"});
     render("bottom.exr", {"--crop", "0,3,16,8", "--samples", "0:4"});
     render("bottom_short.exr", {"--crop", "0,4,16,8", "--samples", "0:2"});
+    // Parts whose metadata lies about their film: written here from a.exr with one key changed.
+    auto forge = [&](const std::string& name, const std::string& key, const std::string& value) {
+        fh::ImageMetadata metadata;
+        const fh::Image image = fh::read_exr(dir / "a.exr", &metadata);
+        metadata[key] = value;
+        fh::write_exr(dir / name, image, metadata, fh::read_exr_channels(dir / "a.exr", FILM));
+    };
+    forge("more_spp.exr", "fredholm:spp", "6");
+    forge("huge.exr", "fredholm:image_size", "100000x100000");
+    forge("outside.exr", "fredholm:crop", "0,0,17,8");
     struct Case {
         std::vector<std::string> parts;
         std::string expected;
     };
     const std::vector<Case> cases = {
+        {{"more_spp.exr", "b.exr"}, "more_spp.exr: cannot merge: pixel 0 holds 4 samples, not the 6 of its metadata"},
+        {{"huge.exr"}, "huge.exr: cannot merge: fredholm:image_size is not WIDTHxHEIGHT (1 to 16384 each)"},
+        {{"outside.exr"}, "outside.exr: cannot merge: fredholm:crop is not X0,Y0,X1,Y1 inside the image"},
         {{"a.exr", "overlap.exr"}, "a.exr and " + (dir / "overlap.exr").string() + " overlap: both hold samples 2:4"},
         {{"a.exr", "late.exr"}, "no part holds samples 4:6 of the whole image"},
         {{"a.exr", "seed.exr"}, "seed.exr: cannot merge: seed is 1 here but 0 in"},
