@@ -6,7 +6,8 @@
     metadata may differ, so their bytes are not compared);
 (b) the same while one Ray worker that is running a chunk is SIGKILLed (the worker, not only its fredholm): Ray
     reruns the chunk and the image is still identical;
-(c) a worker that cannot open the Vulkan device fails its chunk: one line names chunk, node and error; exit 1.
+(c) a worker that cannot open the Vulkan device fails its chunk: one line names chunk, node and error; exit 1;
+(d) the image split into 2x2 tiles (--crop parts) as well as sample ranges equals the single-process render.
 
   /opt/ray-venv/bin/python tests/cluster/test_ray_cluster.py --fredholm build/fredholm --scene scenes/cornell.gltf \\
       --workdir /tmp/fh-ray-test --compare-cmd "build/fh_compare {test} --identical {reference}"
@@ -68,9 +69,10 @@ def render_reference(args, spp, output):
         raise CheckFailed(f"reference render failed: {shlex.join(command)}: {result.stderr.strip()}")
 
 
-def start_fredholm_ray(args, cluster, spp, chunks, output, log_path):
+def start_fredholm_ray(args, cluster, spp, chunks, output, log_path, more=()):
     command = [sys.executable, "-m", "fredholm_ray", "render", args.scene, "-o", output, "--spp", str(spp),
-               "--chunks", str(chunks), "--address", cluster.address, "--fredholm", args.fredholm] + render_options(args)
+               "--chunks", str(chunks), "--address", cluster.address, "--fredholm", args.fredholm] + list(more)
+    command += render_options(args)
     env = make_client_env(cluster)
     env["PYTHONPATH"] = PACKAGE_DIR + os.pathsep + os.environ.get("PYTHONPATH", "")
     log = open(log_path, "w")
@@ -225,6 +227,17 @@ def check_worker_without_device(args, cluster, workdir):
     print(f"ok (c): a worker without the device fails its chunk with one line: {lines[0]}")
 
 
+def check_tiles(args, cluster, workdir, reference):
+    output = os.path.join(workdir, "ray_tiles.exr")
+    log_path = os.path.join(workdir, "fredholm_ray_d.log")
+    command, process, log = start_fredholm_ray(args, cluster, args.spp, 4, output, log_path, ["--tiles", "2x2"])
+    text = finish_fredholm_ray(command, process, log, log_path, args.timeout)
+    if "in 16 chunks" not in text:
+        raise CheckFailed(f"2x2 tiles of 4 chunks did not make 16 chunks: {text.strip()}")
+    compare(args, output, reference)
+    print("ok (d): 2x2 tiles x 4 sample ranges == single-process render")
+
+
 def choose_temp_dir(workdir):
     """Ray's temp dir under the workdir when the socket paths fit, else a fresh one in /tmp (removed after)."""
     own = os.path.join(workdir, "ray")
@@ -254,6 +267,7 @@ def main():
             reference = check_plain_render(args, cluster, workdir)
             check_render_with_kill(args, cluster, workdir, reference)
             check_worker_without_device(args, cluster, workdir)
+            check_tiles(args, cluster, workdir, reference)
     except (CheckFailed, RuntimeError) as e:
         print(f"FAIL: {e}")
         failed = True

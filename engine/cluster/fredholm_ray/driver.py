@@ -113,6 +113,8 @@ def submit_chunks(request, bundle, chunks, run_id):
         options = list(request.options)
         if chunk.time is not None:
             options += ["--time", chunk.time]
+        if chunk.crop is not None:
+            options += ["--crop", "{},{},{},{}".format(*chunk.crop)]
         ref = task.remote(request.binary_for_workers, files, scene, env, options, chunk.first, chunk.end, run_id,
                           chunk.index)
         refs[ref] = chunk
@@ -139,7 +141,9 @@ def collect_parts(request, refs, parts_dir, start):
                 # One line is the report: Ray would log each other chunk that failed meanwhile as "unhandled".
                 os.environ["RAY_IGNORE_UNHANDLED_ERRORS"] = "1"
                 raise RenderFailed(describe_task_error(chunk, e, request.retries))
-            name = f"part_{'still' if chunk.frame is None else chunk.frame}_{chunk.first:08d}_{chunk.end:08d}.exr"
+            frame = "still" if chunk.frame is None else chunk.frame
+            tile = "" if chunk.crop is None else "_{}_{}".format(*chunk.crop[:2])
+            name = f"part_{frame}{tile}_{chunk.first:08d}_{chunk.end:08d}.exr"
             path = os.path.join(parts_dir, name)
             with open(path, "wb") as f:
                 f.write(data)
@@ -161,7 +165,7 @@ def run_render(request):
     bundle = None if request.shared_storage else pack_scene(request.scene, request.env)  # errors before Ray starts
     connect(request.address)
     chunks_per_frame = request.chunks or count_task_slots(request.cpus_per_task)
-    chunks = make_chunks(request.spp, chunks_per_frame, request.frames, request.fps)
+    chunks = make_chunks(request.spp, chunks_per_frame, request.frames, request.fps, request.crops)
     run_id = uuid.uuid4().hex
     nodes = sum(1 for node in ray.nodes() if node.get("Alive"))
     refs = submit_chunks(request, bundle, chunks, run_id)

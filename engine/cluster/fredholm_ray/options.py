@@ -5,12 +5,13 @@ import shutil
 from dataclasses import dataclass
 from typing import List, Optional
 
-from .plan import UsageError, name_frame_file, parse_frames
+from .plan import UsageError, name_frame_file, parse_frames, parse_tiles
 from .worker import ENV_TOKEN, SCENE_TOKEN
 
 # Options fredholm-ray sets on every part itself, or that make no sense for a part: not accepted as pass-through.
 OWNED_OPTIONS = ("-o", "--output", "--samples", "--spp", "--frames", "--fps", "--png", "--stats", "--resume",
-                 "-q", "--quiet")
+                 "-q", "--quiet", "--crop")
+DEFAULT_SIZE = 512  # fredholm render's --width and --height
 
 USAGE_EPILOG = """\
 Any other option (or everything after --) is passed unchanged to every `fredholm render`, e.g.
@@ -26,6 +27,7 @@ class RenderRequest:
     spp: int
     chunks: Optional[int]              # None: one per CPU slot of the cluster
     frames: Optional[tuple]            # (first, last) inclusive, or None for a still
+    crops: Optional[list]              # --tiles: the (x0, y0, x1, y1) crops that tile the image, None for 1x1
     fps: float
     address: Optional[str]
     binary: str                        # fredholm on the driver (merge); also what the workers run
@@ -58,6 +60,8 @@ def make_parser():
     render.add_argument("--spp", type=int, required=True, help="samples per pixel of the merged image")
     render.add_argument("--chunks", type=int, help="sample ranges per frame, one Ray task each "
                         "(default: one per CPU slot of the cluster)")
+    render.add_argument("--tiles", default="1x1", help="also split the image into COLSxROWS crops, each rendered "
+                        "--chunks times (an image too large for one device's film; default 1x1)")
     render.add_argument("--frames", help="render frames A:B (inclusive) of the animation, frame f at time f / --fps")
     render.add_argument("--fps", type=float, default=24.0, help="frames per second of --frames (default 24)")
     render.add_argument("--address", help="Ray cluster address (default: $RAY_ADDRESS, else the running local "
@@ -107,9 +111,22 @@ def take_option(options, name):
     return rest, value
 
 
+def peek_option(options, name, default):
+    """The value of the last `name VALUE` / `name=VALUE` among the options, left in place, as an int."""
+    _, value = take_option(list(options), name)
+    if value is None:
+        return default
+    try:
+        return int(value)
+    except ValueError:
+        raise UsageError(f"{name} '{value}' is not a whole number")
+
+
 def check_pass_through(options, frames):
     for option in options:
         name = option.split("=", 1)[0]
+        if name == "--crop":
+            raise UsageError("--crop is set by fredholm-ray itself: split the image with --tiles COLSxROWS")
         if name in OWNED_OPTIONS:
             raise UsageError(f"{name} is set by fredholm-ray itself; see fredholm-ray render --help")
         if name == "--time" and frames is not None:
@@ -152,6 +169,8 @@ def parse_render_request(argv):
         if frames is not None:
             path = name_frame_file(path, frames[0])
         check_output(path, what)
+    crops = parse_tiles(args.tiles, peek_option(options, "--width", DEFAULT_SIZE),
+                        peek_option(options, "--height", DEFAULT_SIZE))
     options, env = take_option(options, "--env")
     if env is not None:
         if not os.path.isfile(env):
@@ -164,7 +183,7 @@ def parse_render_request(argv):
             merge_options += [name, value]
     binary, binary_for_workers = find_binary(args.fredholm)
     return RenderRequest(scene=args.scene, output=args.output, png=args.png, spp=args.spp, chunks=args.chunks,
-                         frames=frames, fps=args.fps, address=args.address, binary=binary,
+                         frames=frames, crops=crops, fps=args.fps, address=args.address, binary=binary,
                          binary_for_workers=binary_for_workers, retries=args.retries,
                          cpus_per_task=args.cpus_per_task, shared_storage=args.shared_storage, quiet=args.quiet,
                          env=env, options=[SCENE_TOKEN] + options, merge_options=merge_options)
