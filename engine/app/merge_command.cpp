@@ -32,16 +32,17 @@ std::string name_region(const FilmFile& f) {
 
 std::string name_samples(uint32_t a, uint32_t b) { return std::to_string(a) + ":" + std::to_string(b); }
 
+// `first` has been checked against itself, so its keys are all there.
 void check_same_render(const Part& first, const Part& part) {
     for (const std::string& key : matching_film_keys()) {
-        const std::string& want = first.film.metadata.at(key);
         const auto have = part.film.metadata.find(key);
         const std::string setting = key.substr(key.find(':') + 1);
         if (have == part.film.metadata.end())
             throw std::runtime_error(part.file.string() + ": cannot merge: it has no " + key + " metadata");
-        if (have->second != want)
+        const auto want = first.film.metadata.find(key);
+        if (want != first.film.metadata.end() && have->second != want->second)
             throw std::runtime_error(part.file.string() + ": cannot merge: " + setting + " is " + have->second +
-                                     " here but " + want + " in " + first.file.string());
+                                     " here but " + want->second + " in " + first.file.string());
     }
 }
 

@@ -17,7 +17,7 @@ void store_fixed(uint32_t (&w)[gpu::FILM_WORDS], Fixed value) {
     for (uint32_t i = 0; i < gpu::FILM_WORDS; ++i) w[i] = uint32_t(value >> (32 * i));
 }
 
-constexpr Fixed FIXED_NAN = Fixed(1) << 127;  // lib/film.glsl FIXED_NAN
+constexpr Fixed FIXED_NAN = Fixed(gpu::FILM_NAN_TOP_WORD) << 96;  // layout.h
 
 void add_fixed(uint32_t (&into)[gpu::FILM_WORDS], const uint32_t (&part)[gpu::FILM_WORDS]) {
     const Fixed a = load_fixed(into), b = load_fixed(part);

@@ -19,8 +19,7 @@ uvec4 add_fixed(uvec4 a, uvec4 b) {
     return r;
 }
 
-// -2^127, a sum no samples can reach: marks a pixel a non-finite sample reached (finite guard off); reads as NaN.
-const uvec4 FIXED_NAN = uvec4(0u, 0u, 0u, 0x80000000u);
+const uvec4 FIXED_NAN = uvec4(0u, 0u, 0u, FILM_NAN_TOP_WORD);  // layout.h
 bool is_fixed_nan(uvec4 a) { return a == FIXED_NAN; }
 
 uvec4 negate_fixed(uvec4 a) { return add_fixed(~a, uvec4(1u, 0u, 0u, 0u)); }

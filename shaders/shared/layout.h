@@ -455,6 +455,9 @@ struct ShadowRayItem {
 FH_CONST uint FILM_WORDS = 4u;
 FH_CONST int FILM_FRACTION_BITS = 56;
 FH_CONST int FILM_MAX_LOG2 = 47;
+// A sum of -2^127 (only this top word set), which no samples reach: the pixel a non-finite sample reached with the
+// finite guard off; it reads as NaN.
+FH_CONST uint FILM_NAN_TOP_WORD = 0x80000000u;
 struct FilmPixel {
     uint sum_r[FILM_WORDS];
     uint sum_g[FILM_WORDS];
