@@ -68,8 +68,9 @@ void main() {
     uint flags_before = effect_on(EFFECT_SPECTRAL) ? spectrum.flags : 0u;
     uint segments = push.depth + 1u;  // segments of this path including the ray just traced
     // Beer-Lambert along the segment just traced when the path is inside an absorbing volume.
-    uint medium = tracks_media() ? path_media[path] : INVALID_INDEX;
-    uint medium_before = medium;
+    uvec4 media = tracks_media() ? path_media[path] : uvec4(INVALID_INDEX);  // innermost first
+    uvec4 media_before = media;
+    uint medium = media.x;
     if (effect_on(EFFECT_ABSORPTION))
         beta *= eval_path_medium_transmittance(spectral, medium,
                                                hit.triangle == INVALID_INDEX ? uintBitsToFloat(0x7f800000u) : hit.t);
@@ -163,6 +164,9 @@ void main() {
                 volume = encloses_volume(s.material);
                 transmission = eval_transmission(s.material, hit.triangle, hit.b1, hit.b2);
             }
+            // The volumes across the surface: entering one (inside another, nested) or leaving back into the outer.
+            uvec4 media_beyond = volume ? (front ? enter_medium(media, s.material) : leave_medium(media, s.material))
+                                        : media;
             // Dispersion (KHR_materials_dispersion) where light refracts into a volume: the whole BSDF takes the hero
             // wavelength's index, and the other wavelengths stop here (their directions would differ).
             if (effect_on(EFFECT_SPECTRAL) && volume && transmission > 0.0f) {
@@ -177,7 +181,9 @@ void main() {
             }
             BsdfParams bsdf = make_bsdf_params(m);
             if (effect_on(EFFECT_TRANSMISSION)) {
-                float eta = volume && !front ? 1.0f / max(m.ior, 1.0e-4f) : m.ior;
+                // n beyond / n on this side: the outer volume's index, not air's, at a nested interface.
+                float eta = volume ? (front ? m.ior / medium_ior(medium) : medium_ior(media_beyond.x) / max(m.ior, 1.0e-4f))
+                                   : m.ior;
                 bsdf = with_transmission(bsdf, transmission, eta, volume ? 0u : 1u);
             }
             // Thin film (KHR_materials_iridescence) on the specular lobes; before anisotropy, which renormalises.
@@ -209,7 +215,7 @@ void main() {
                 }
             }
             bool transmits = has_transmission_lobe(bsdf);
-            uint medium_beyond = volume ? (front ? s.material : INVALID_INDEX) : medium;  // across the surface
+            uint medium_beyond = media_beyond.x;  // across the surface
 
             VertexSamples u = draw_vertex_samples(path, push.depth, rng);
             if ((params.flags & RENDER_NEE) != 0u && params.emitter_count > 0u) {
@@ -257,7 +263,10 @@ void main() {
             vec3 wi = to_world(frame, bs.wi);
             if (bs.valid != 0u && (transmits ? is_on_consistent_side(wi, ng, bs.wi) : dot(wi, ng) > 0.0f)) {
                 beta *= lift_color(spectral, bs.weight);
-                if (dot(wi, ng) < 0.0f) medium = medium_beyond;
+                if (dot(wi, ng) < 0.0f) {
+                    medium = medium_beyond;
+                    media = media_beyond;
+                }
                 bool survive = true;
                 // Russian roulette (unbiased: survivors are divided by the survival probability).
                 if ((params.flags & RENDER_RR) != 0u && segments >= params.rr_start_depth) {
@@ -292,7 +301,7 @@ void main() {
         path_spectra[path].throughput_3 = beta.w;
         if (spectrum.flags != flags_before) path_spectra[path].flags = spectrum.flags;
     }
-    if (tracks_media() && medium != medium_before) path_media[path] = medium;
+    if (tracks_media() && any(notEqual(media, media_before))) path_media[path] = media;
 
     uint slot;
     PUSH_TO_QUEUE(counters.ray_count[parity ^ 1u], push_ray, slot);

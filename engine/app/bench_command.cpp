@@ -18,6 +18,7 @@
 #include "render/memory_estimate.h"
 #include "render/ray_tracer.h"
 #include "render/renderer.h"
+#include "render/wave_size.h"
 #include "render/techniques.h"
 #include "scene/effects.h"
 #include "shared/layout.h"
@@ -206,10 +207,7 @@ int trace_ray_file(const vk::Context& context, const PreparedScene& prepared, co
 // beyond its film.
 void print_memory_figures(const PreparedScene& prepared, const RenderSettings& settings) {
     const uint32_t effects = select_effects(prepared.packed.effects.bits, settings.forced_effects, settings.disabled_effects);
-    const auto bytes = [&](uint32_t capacity) {
-        return estimate_render_memory(prepared.packed, 16, 16, capacity, effects).device_bytes();
-    };
-    const double per_path = double(bytes(1u << 16) - bytes(1u << 15)) / double(1u << 15);
+    const double per_path = bytes_per_path(prepared.packed, effects);
     uint64_t scene_bytes = 0, triangle_bytes = 0;
     for (const BufferEstimate& b : estimate_render_memory(prepared.packed, 16, 16, 1, effects).buffers) {
         if (b.name == "tri_positions" || b.name == "tri_shading" || b.name == "tri_attributes" || b.name == "nodes")
@@ -217,7 +215,7 @@ void print_memory_figures(const PreparedScene& prepared, const RenderSettings& s
         if (b.binding == BufferBinding::texels) scene_bytes += b.bytes;
     }
     const size_t stored = std::max<size_t>(prepared.scene.triangle_count(), 1);
-    std::printf("memory: %.0f bytes per path in flight (%.1f MiB for the default wave of %u paths); %.1f bytes per "
+    std::printf("memory: %.0f bytes per path in flight (%.1f MiB for this device's wave of %u paths); %.1f bytes per "
                 "stored triangle (positions, shading, attributes, BVH; %zu stored); scene arrays %.1f MiB\n",
                 per_path, per_path * settings.wave_paths / double(1 << 20), settings.wave_paths,
                 double(triangle_bytes) / double(stored), stored,
@@ -242,6 +240,7 @@ int run_bench(const BenchCommand& c) {
     if (c.motion && !base.has_shutter()) throw std::invalid_argument("--motion needs --shutter OPEN,CLOSE");
     PreparedScene prepared = prepare_scene(scene_file, base);
     auto context = make_compute_context(false, c.device);
+    base = with_wave_paths(base, *context, prepared.packed);
     SceneCamera camera = choose_camera(prepared.scene, -1);
     std::printf("scene %s: %zu triangles (%zu stored, %zu instances), loaded in %.3f s, BVH %zu nodes built in %.3f s "
                 "(SAH cost %.2f)\n",
@@ -250,8 +249,8 @@ int run_bench(const BenchCommand& c) {
                 prepared.bvh_nodes, prepared.bvh_build_seconds, prepared.sah_cost);
     print_memory_figures(prepared, base);
     if (!c.trace_rays.empty()) return trace_ray_file(*context, prepared, c);
-    std::printf("device %s; %u spp, max depth %u, median of %u\n\n", context->device_name().c_str(), c.spp,
-                c.max_depth, c.repeats);
+    std::printf("device %s; %u spp, max depth %u, waves of %u paths, median of %u\n\n", context->device_name().c_str(),
+                c.spp, c.max_depth, base.wave_paths, c.repeats);
     std::printf("%-9s %-18s %10s %12s %12s   %s\n", "size", "disabled", "seconds", "Msamples/s", "Mrays/s",
                 "stage seconds (GPU timestamps)");
 
@@ -380,8 +379,9 @@ int run_bench(const BenchCommand& c) {
         std::printf("\nrebase (host): load %.4f s with, %.4f s without\n", prepared.load_seconds, without.load_seconds);
     }
     if (!c.json.empty()) {
-        nlohmann::json j{{"scene", scene_file.string()}, {"device", context->device_name()}, {"max_depth", c.max_depth},
-                         {"repeats", c.repeats}, {"results", results}};
+        nlohmann::json j{{"scene", scene_file.string()}, {"device", context->device_name()},
+                         {"wave_paths", base.wave_paths}, {"max_depth", c.max_depth}, {"repeats", c.repeats},
+                         {"results", results}};
         write_file_atomically(c.json, [&](const std::filesystem::path& temp) { std::ofstream(temp) << j.dump(2) << "\n"; });
     }
     return 0;

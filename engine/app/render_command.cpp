@@ -20,6 +20,7 @@
 #include "render/lens.h"
 #include "render/memory_estimate.h"
 #include "render/techniques.h"
+#include "render/wave_size.h"
 
 namespace fh {
 namespace {
@@ -85,7 +86,8 @@ ImageMetadata make_metadata(const RenderCommand& c, const std::string& scene_has
 }
 
 void write_stats(const std::filesystem::path& file, const RenderCommand& c, const PreparedScene& prepared,
-                 const SceneCamera& camera, const RenderStats& stats, uint32_t first_sample, const std::string& device) {
+                 const SceneCamera& camera, const RenderStats& stats, uint32_t first_sample, const std::string& device,
+                 uint32_t camera_medium) {
     const RenderSettings& s = c.settings;
     double samples = double(s.film_width()) * s.film_height() * (stats.spp_done - first_sample);
     double rays = double(stats.traced_rays + stats.traced_shadow_rays);
@@ -98,6 +100,7 @@ void write_stats(const std::filesystem::path& file, const RenderCommand& c, cons
     j["first_sample"] = first_sample;  // where this run started (resumed or --samples); rates count its samples only
     j["crop"] = describe_crop(s.crop_x0, s.crop_y0, s.crop_x1, s.crop_y1);
     j["seed"] = s.seed;
+    j["wave_paths"] = s.wave_paths;
     j["max_depth"] = s.max_depth;
     j["render_seconds"] = stats.render_seconds;
     j["samples_per_second"] = stats.render_seconds > 0 ? samples / stats.render_seconds : 0.0;
@@ -122,6 +125,9 @@ void write_stats(const std::filesystem::path& file, const RenderCommand& c, cons
     j["disabled_effects"] = describe_effects(s.disabled_effects);
     j["forced_effects"] = describe_effects(s.forced_effects);
     j["environment"] = describe_environment(s);
+    // The volume the camera stands in (glTF material index), where its paths start.
+    j["camera_medium"] = camera_medium == gpu::INVALID_INDEX ? std::string("none")
+                                                              : "material " + std::to_string(camera_medium);
     j["lens"] = describe_lens(s.lens);
     j["animations"] = prepared.scene.animations;
     j["shutter"] = describe_shutter(s);
@@ -331,6 +337,7 @@ int run_frame(const RenderCommand& command, vk::Context* shared_context) {
     std::unique_ptr<vk::Context> owned;
     if (!shared_context) owned = make_compute_context(c.validation, c.device);
     vk::Context* context = shared_context ? shared_context : owned.get();
+    c.settings = with_wave_paths(c.settings, *context, prepared.packed);
     const SceneCamera camera = apply_lens(*context, prepared.packed,
                                           apply_camera_pose(choose_camera(prepared.scene, settings.camera), c.pose),
                                           settings);
@@ -363,7 +370,8 @@ int run_frame(const RenderCommand& command, vk::Context* shared_context) {
     write_exr(c.output, image, make_metadata(c, scene_hash, stats.spp_done, prepared.packed.effects.bits),
               film_channels(renderer.read_film_state()), window);
     if (!c.png.empty()) write_png(c.png, image, c.exposure_ev, c.tone_curve);
-    if (!c.stats.empty()) write_stats(c.stats, c, prepared, camera, stats, saved.end_sample, context->device_name());
+    if (!c.stats.empty()) write_stats(c.stats, c, prepared, camera, stats, saved.end_sample, context->device_name(),
+                                         renderer.camera_medium());
 
     const uint32_t rendered = stats.spp_done - saved.end_sample;
     if (!c.quiet)

@@ -38,7 +38,10 @@ void add_sampling_options(CLI::App& app, RenderSettings& s) {
     app.add_option("--rr", s.russian_roulette, "Russian roulette: on/off")->transform(CLI::CheckedTransformer(on_off));
     app.add_option("--rr-start-depth", s.rr_start_depth, "Russian roulette from this many segments on")
         ->check(CLI::Range(1u, 1000u));
-    app.add_option("--wave-paths", s.wave_paths, "paths in flight per wave")->check(CLI::Range(1024u, 1u << 22));
+    app.add_option("--wave-paths", s.wave_paths,
+                   "paths in flight per wave (default: 262144 on a CPU device such as lavapipe, 4194304 on a GPU, "
+                   "halved until the wave fits the device's buffer limits and a quarter of its memory)")
+        ->check(CLI::Range(1024u, 1u << 22));
 }
 
 void add_robustness_options(CLI::App& app, RenderSettings& s) {

@@ -37,7 +37,7 @@ struct GpuBuffers {
     vk::Buffer env_cdf;
     vk::Buffer instances;          // two-level BVH (one dummy element when the scene has none)
     vk::Buffer material_layers;    // KHR material extensions, one per material
-    vk::Buffer path_media;         // the volume each path is inside (EFFECT_VOLUME, _ABSORPTION; else one word)
+    vk::Buffer path_media;         // the volumes each path is inside (EFFECT_VOLUME, _ABSORPTION; else one stack)
     vk::Buffer path_spectra;       // each path's wavelengths (EFFECT_SPECTRAL; else one element)
     vk::Buffer path_times;         // each path's time in the shutter (EFFECT_MOTION_BLUR; else one word)
     vk::Buffer glass_albedo;       // the glass lobe's albedo table (EFFECT_GLASS_MULTISCATTER; else one word)

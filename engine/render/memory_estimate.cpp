@@ -36,7 +36,9 @@ uint64_t attribute_bytes(const PackedScene& scene, uint32_t effects) {
 }
 
 uint64_t path_media_bytes(uint32_t wave_capacity, uint32_t effects) {
-    return (effects & (gpu::EFFECT_VOLUME | gpu::EFFECT_ABSORPTION)) ? uint64_t(wave_capacity) * sizeof(uint32_t) : sizeof(uint32_t);
+    return (effects & (gpu::EFFECT_VOLUME | gpu::EFFECT_ABSORPTION))
+               ? uint64_t(wave_capacity) * gpu::MEDIUM_STACK_SIZE * sizeof(uint32_t)
+               : gpu::MEDIUM_STACK_SIZE * sizeof(uint32_t);
 }
 
 uint64_t glass_albedo_bytes(uint32_t effects) {
@@ -91,6 +93,7 @@ MemoryEstimate estimate_render_memory(const PackedScene& scene, uint32_t width, 
 }
 
 MemoryEstimate estimate_render_memory(const PackedScene& scene, const RenderSettings& s) {
+    if (s.wave_paths == 0) throw std::logic_error("estimate_render_memory: wave_paths not chosen (with_wave_paths)");
     const uint64_t samples = uint64_t(s.film_width()) * s.film_height() * s.spp;
     return estimate_render_memory(scene, s.film_width(), s.film_height(), uint32_t(std::min<uint64_t>(s.wave_paths, samples)),
                                   select_effects(scene.effects.bits, s.forced_effects, s.disabled_effects));
@@ -133,38 +136,49 @@ std::string remedy(const std::string& buffer) {
 }
 }  // namespace
 
-void check_render_memory(const MemoryEstimate& estimate, const DeviceMemoryLimits& limits) {
+std::string find_memory_problem(const MemoryEstimate& estimate, const DeviceMemoryLimits& limits) {
     for (const BufferEstimate& b : estimate.buffers) {
         const std::string split_note = remedy(b.name);
         if (b.binding == BufferBinding::storage && b.bytes > limits.max_storage_buffer_range)
-            throw std::runtime_error("the " + b.name + " buffer needs " + format_bytes(b.bytes) +
-                                     ", more than the device's maxStorageBufferRange of " +
-                                     format_bytes(limits.max_storage_buffer_range) + split_note);
+            return "the " + b.name + " buffer needs " + format_bytes(b.bytes) +
+                   ", more than the device's maxStorageBufferRange of " +
+                   format_bytes(limits.max_storage_buffer_range) + split_note;
         const uint64_t texel_limit = limits.max_texel_buffer_elements * gpu::TEXEL_BYTES;
         if (b.binding == BufferBinding::texels && b.bytes > texel_limit)
-            throw std::runtime_error("the " + b.name + " buffer needs " + format_bytes(b.bytes) +
-                                     ", more than the device's maxTexelBufferElements of " +
-                                     std::to_string(limits.max_texel_buffer_elements) + " 16-byte texels (" +
-                                     format_bytes(texel_limit) + ")" + split_note);
+            return "the " + b.name + " buffer needs " + format_bytes(b.bytes) +
+                   ", more than the device's maxTexelBufferElements of " +
+                   std::to_string(limits.max_texel_buffer_elements) + " 16-byte texels (" + format_bytes(texel_limit) +
+                   ")" + split_note;
         if (b.bytes > limits.max_allocation_size)
-            throw std::runtime_error("the " + b.name + " buffer needs " + format_bytes(b.bytes) +
-                                     ", more than the device's maxMemoryAllocationSize of " +
-                                     format_bytes(limits.max_allocation_size) + split_note);
+            return "the " + b.name + " buffer needs " + format_bytes(b.bytes) +
+                   ", more than the device's maxMemoryAllocationSize of " + format_bytes(limits.max_allocation_size) +
+                   split_note;
     }
     if (estimate.film_readback_bytes > limits.max_allocation_size)
-        throw std::runtime_error("reading the film back needs a staging buffer of " +
-                                 format_bytes(estimate.film_readback_bytes) +
-                                 ", more than the device's maxMemoryAllocationSize of " +
-                                 format_bytes(limits.max_allocation_size) + remedy("film"));
+        return "reading the film back needs a staging buffer of " + format_bytes(estimate.film_readback_bytes) +
+               ", more than the device's maxMemoryAllocationSize of " + format_bytes(limits.max_allocation_size) +
+               remedy("film");
     const uint64_t needed = estimate.device_bytes();
     if (limits.device_local_heap > 0 && needed > limits.device_local_heap) {
         const auto largest = std::max_element(estimate.buffers.begin(), estimate.buffers.end(),
                                               [](const auto& a, const auto& b) { return a.bytes < b.bytes; });
-        throw std::runtime_error("the render needs " + format_bytes(needed) +
-                                 " of device memory, more than the device-local heap of " +
-                                 format_bytes(limits.device_local_heap) + " (largest: " + largest->name + ", " +
-                                 format_bytes(largest->bytes) + ")");
+        return "the render needs " + format_bytes(needed) + " of device memory, more than the device-local heap of " +
+               format_bytes(limits.device_local_heap) + " (largest: " + largest->name + ", " +
+               format_bytes(largest->bytes) + ")";
     }
+    return {};
+}
+
+void check_render_memory(const MemoryEstimate& estimate, const DeviceMemoryLimits& limits) {
+    const std::string problem = find_memory_problem(estimate, limits);
+    if (!problem.empty()) throw std::runtime_error(problem);
+}
+
+double bytes_per_path(const PackedScene& scene, uint32_t effects) {
+    const auto bytes = [&](uint32_t capacity) {
+        return estimate_render_memory(scene, 16, 16, capacity, effects).device_bytes();
+    };
+    return double(bytes(1u << 16) - bytes(1u << 15)) / double(1u << 15);
 }
 
 }  // namespace fh

@@ -54,14 +54,21 @@ uint64_t glass_albedo_bytes(uint32_t effects);
 
 MemoryEstimate estimate_render_memory(const PackedScene& scene, uint32_t width, uint32_t height,
                                       uint32_t wave_capacity, uint32_t effects);
-// The same for a render with these settings (wave capacity as the Renderer picks it).
+// The same for a render with these settings (wave capacity as the Renderer picks it; wave_paths must be chosen:
+// render/wave_size.h with_wave_paths).
 MemoryEstimate estimate_render_memory(const PackedScene& scene, const RenderSettings& settings);
 
 DeviceMemoryLimits query_memory_limits(const vk::Context& context);
 
-// Throws std::runtime_error with one line naming the first buffer that breaks a limit (its size and the limit),
-// or the total needed against the heap. Large scenes and films are refused, not split across buffers.
+// One line naming the first buffer that breaks a limit (its size and the limit), or the total needed against the
+// heap; empty when the render fits. Large scenes and films are refused, not split across buffers.
+std::string find_memory_problem(const MemoryEstimate& estimate, const DeviceMemoryLimits& limits);
+// Throws std::runtime_error with find_memory_problem's line when there is one.
 void check_render_memory(const MemoryEstimate& estimate, const DeviceMemoryLimits& limits);
+
+// Device bytes each path in flight adds (the wave's buffers: path state, queues, and the per-path arrays of
+// `effects`), from the estimate at two wave sizes.
+double bytes_per_path(const PackedScene& scene, uint32_t effects);
 
 // "1.50 GiB (1610612736 bytes)"
 std::string format_bytes(uint64_t bytes);

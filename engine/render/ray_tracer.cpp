@@ -41,35 +41,40 @@ RayTracer::RayTracer(const vk::Context& context, const PackedScene& scene, uint3
     bind_gpu_buffers(stages_.bindings(), buffers_);
 }
 
-TracedRays RayTracer::trace(const std::vector<gpu::RayItem>& rays, uint32_t repeats) {
-    if (rays.empty() || rays.size() > capacity_)
-        throw std::invalid_argument("RayTracer: " + std::to_string(rays.size()) + " rays for a capacity of " +
-                                    std::to_string(capacity_));
+TracedRays trace_ray_queue(const vk::Context& context, const StageTable& stages, GpuBuffers& buffers,
+                           const std::vector<gpu::RayItem>& rays, uint32_t repeats) {
     std::vector<gpu::RayItem> items = rays;
     for (size_t i = 0; i < items.size(); ++i) items[i].path = uint32_t(i);
-    vk::upload_to_buffer(context_, buffers_.rays, items.data(), items.size() * sizeof(gpu::RayItem));
+    vk::upload_to_buffer(context, buffers.rays, items.data(), items.size() * sizeof(gpu::RayItem));
     TracedRays result;
     gpu::QueueCounters counters{};
     for (uint32_t r = 0; r < repeats; ++r) {
         counters = {};
         counters.ray_count[0] = uint32_t(rays.size());
         counters.extend_args = {uint32_t((rays.size() + gpu::WORKGROUP_SIZE - 1) / gpu::WORKGROUP_SIZE), 1, 1};
-        vk::upload_to_buffer(context_, buffers_.counters, &counters, sizeof(counters));
-        vk::CommandRecorder recorder(context_, 1);
+        vk::upload_to_buffer(context, buffers.counters, &counters, sizeof(counters));
+        vk::CommandRecorder recorder(context, 1);
         recorder.begin();
-        recorder.bind_table(stages_.bindings());
+        recorder.bind_table(stages.bindings());
         gpu::StagePush push{};
         recorder.push_constants(&push, sizeof(push));
         recorder.barrier_compute();
-        recorder.dispatch_indirect(stages_[Stage::extend], buffers_.counters, offsetof(gpu::QueueCounters, extend_args));
+        recorder.dispatch_indirect(stages[Stage::extend], buffers.counters, offsetof(gpu::QueueCounters, extend_args));
         recorder.submit_and_wait();
         for (const auto& [name, seconds] : recorder.dispatch_seconds()) result.seconds.push_back(seconds);
     }
     result.hits.resize(rays.size());
-    vk::download_from_buffer(context_, buffers_.hits, result.hits.data(), rays.size() * sizeof(gpu::HitItem));
-    vk::download_from_buffer(context_, buffers_.counters, &counters, sizeof(counters));
+    vk::download_from_buffer(context, buffers.hits, result.hits.data(), rays.size() * sizeof(gpu::HitItem));
+    vk::download_from_buffer(context, buffers.counters, &counters, sizeof(counters));
     result.escaped_rays = counters.escaped_rays;
     return result;
+}
+
+TracedRays RayTracer::trace(const std::vector<gpu::RayItem>& rays, uint32_t repeats) {
+    if (rays.empty() || rays.size() > capacity_)
+        throw std::invalid_argument("RayTracer: " + std::to_string(rays.size()) + " rays for a capacity of " +
+                                    std::to_string(capacity_));
+    return trace_ray_queue(context_, stages_, buffers_, rays, repeats);
 }
 
 }  // namespace fh

@@ -21,6 +21,11 @@ struct TracedRays {
     std::vector<double> seconds;     // GPU time of each repeat's extend dispatch
 };
 
+// Traces `rays` through the extend stage of `stages`, in `buffers` (its rays, hits and counters; at most as many rays as
+// the hits buffer holds), `repeats` times, one dispatch each. Leaves the counters as the last dispatch left them.
+TracedRays trace_ray_queue(const vk::Context& context, const StageTable& stages, GpuBuffers& buffers,
+                           const std::vector<gpu::RayItem>& rays, uint32_t repeats);
+
 class RayTracer {
 public:
     // Buffers for up to `capacity` rays; the stages compiled for the scene's effects.

@@ -8,7 +8,10 @@
 #include <stdexcept>
 
 #include "render/camera_setup.h"
+#include "render/camera_medium.h"
 #include "render/film.h"
+#include "render/ray_tracer.h"
+#include "render/wave_size.h"
 #include "vk/context.h"
 
 namespace fh {
@@ -69,6 +72,7 @@ gpu::FrameParams make_frame(const PackedScene& scene, const SceneCamera& camera,
     f.crop_y = s.has_crop() ? s.crop_y0 : 0u;
     f.film_width = s.film_width();
     f.film_height = s.film_height();
+    f.camera_medium = gpu::INVALID_INDEX;
     return f;
 }
 
@@ -110,14 +114,32 @@ StageOptions make_stage_options(const PackedScene& scene, const RenderSettings& 
 Renderer::Renderer(const vk::Context& context, const PackedScene& scene, const SceneCamera& camera,
                    const RenderSettings& settings)
     : context_(context),
-      settings_(settings),
-      frame_(make_frame(scene, camera, settings)),
+      settings_(with_wave_paths(settings, context, scene)),
+      frame_(make_frame(scene, camera, settings_)),
       stages_(context, make_stage_options(scene, settings, camera)),
       buffers_(create_gpu_buffers(context, scene, frame_, stages_.options().effects)),
       recorder_(context, MAX_DISPATCHES_PER_SUBMIT),
       has_lights_(!scene.emitters.empty()),
-      origin_(scene.origin) {
+      origin_(scene.origin),
+      scene_(scene) {
     bind_gpu_buffers(stages_.bindings(), buffers_);
+    update_camera_medium();
+}
+
+void Renderer::update_camera_medium() {
+    if ((stages_.options().effects & gpu::EFFECT_VOLUME) == 0u) return;
+    const std::vector<gpu::RayItem> probes =
+        make_medium_probe_rays(glm::vec3(frame_.camera_origin), std::min<uint32_t>(frame_.wave_capacity, 14u));
+    gpu::QueueCounters counters;  // the render's diagnostic counts survive the probes
+    vk::download_from_buffer(context_, buffers_.counters, &counters, sizeof(counters));
+    if (stages_.options().effects & gpu::EFFECT_MOTION_BLUR) {  // the probes at the shutter's centre
+        const std::vector<float> centre(probes.size(), 0.5f);
+        vk::upload_to_buffer(context_, buffers_.path_times, centre.data(), centre.size() * sizeof(float));
+    }
+    const TracedRays traced = trace_ray_queue(context_, stages_, buffers_, probes, 1);
+    vk::upload_to_buffer(context_, buffers_.counters, &counters, sizeof(counters));
+    frame_.camera_medium = vote_camera_medium(scene_, probes, traced.hits);
+    vk::upload_to_buffer(context_, buffers_.params, &frame_, sizeof(frame_));
 }
 
 RenderStats Renderer::render(const ProgressCallback& progress) {
@@ -224,6 +246,7 @@ void Renderer::set_camera(const SceneCamera& camera) {
         throw std::logic_error("Renderer::set_camera: a lens added or removed needs a new Renderer (EFFECT_THIN_LENS)");
     set_frame_camera(frame_, camera, settings_.width, settings_.height, origin_);
     vk::upload_to_buffer(context_, buffers_.params, &frame_, sizeof(frame_));
+    update_camera_medium();
 }
 
 std::vector<gpu::FilmPixel> Renderer::read_film_state() const {

@@ -56,7 +56,7 @@ public:
     RenderStats render_pixels(uint32_t pixel_begin, uint32_t pixel_count, uint32_t sample);
     // The film's mean radiance per pixel (scene-linear Rec.709).
     Image read_film() const;
-    // The raw film (compensated sums and sample counts), to save a render and resume it bit-exactly.
+    // The raw film (exact fixed-point sums and sample counts), to save a render and resume it bit-exactly.
     std::vector<gpu::FilmPixel> read_film_state() const;
     void write_film_state(const std::vector<gpu::FilmPixel>& film);
 
@@ -66,8 +66,13 @@ public:
     void set_camera(const SceneCamera& camera);
     // The film buffer (gpu::FilmPixel[width * height]), e.g. for a display pass that reads it in place.
     const vk::Buffer& film_buffer() const { return buffers_.film; }
+    // The volume (material index) the camera stands in, where its paths start; INVALID_INDEX: none
+    // (render/camera_medium.h; probed only when the scene has volumes).
+    uint32_t camera_medium() const { return frame_.camera_medium; }
 
 private:
+    // Probes which volume the camera stands in (EFFECT_VOLUME only) and sets FrameParams.camera_medium.
+    void update_camera_medium();
     void trace_wave(const Wave& wave, RenderStats& stats);
     void record_bounce(uint32_t depth, const Wave& wave);
     void submit(RenderStats& stats);
@@ -80,6 +85,7 @@ private:
     vk::CommandRecorder recorder_;
     bool has_lights_;
     glm::dvec3 origin_;  // world position of the render-space origin
+    const PackedScene& scene_;  // outlives the Renderer (read again when the camera moves)
 };
 
 }  // namespace fh

@@ -38,7 +38,7 @@ struct RenderSettings {
     bool mis = true;               // MIS between NEE and BSDF sampling
     bool russian_roulette = true;
     uint32_t rr_start_depth = 3;   // roulette from this many segments on
-    uint32_t wave_paths = 1u << 18;  // paths in flight per wave (memory ~ 160 bytes each)
+    uint32_t wave_paths = 0;  // paths in flight per wave; 0: chosen for the device (render/wave_size.h)
     uint32_t disabled_techniques = 0;  // layout.h TECHNIQUE_* bits switched off (cost measurements only)
     uint32_t bvh_max_leaf_size = 4;    // triangles per BVH leaf at most
     uint32_t disabled_effects = 0;     // --disable-effect: layout.h EFFECT_* bits compiled out (measurement only)

@@ -24,6 +24,7 @@ public:
     explicit StageTable(const vk::Context& context, const StageOptions& options = {});
     const vk::ComputePipeline& operator[](Stage stage) const { return *pipelines_[size_t(stage)]; }
     vk::BindingTable& bindings() { return bindings_; }
+    const vk::BindingTable& bindings() const { return bindings_; }
     const StageOptions& options() const { return options_; }
 
 private:

@@ -29,6 +29,24 @@ bool tracks_media() {
     return effect_on(EFFECT_VOLUME) || effect_on(EFFECT_ABSORPTION);
 }
 
+// Nested volumes (layout.h MEDIUM_STACK_SIZE): `media` lists the volumes a path is in, innermost first. Entering the
+// volume of `material` puts it in front (the innermost replaces the outer ones while inside it); leaving takes it out
+// wherever it is (overlapping meshes leave in any order); leaving one the path is not in changes nothing.
+uvec4 enter_medium(uvec4 media, uint material) {
+    return uvec4(material, media.x, media.y, media.z);
+}
+uvec4 leave_medium(uvec4 media, uint material) {
+    if (media.x == material) return uvec4(media.y, media.z, media.w, INVALID_INDEX);
+    if (media.y == material) return uvec4(media.x, media.z, media.w, INVALID_INDEX);
+    if (media.z == material) return uvec4(media.x, media.y, media.w, INVALID_INDEX);
+    if (media.w == material) return uvec4(media.x, media.y, media.z, INVALID_INDEX);
+    return media;
+}
+// The refractive index of the volume of `medium` (INVALID_INDEX: outside every volume, 1).
+float medium_ior(uint medium) {
+    return medium == INVALID_INDEX ? 1.0f : max(load_material(medium).ior, 1.0e-4f);
+}
+
 // What Russian roulette multiplies the throughput by inside the volume of `medium`: its ior^2, which undoes the
 // 1 / eta^2 of entering it (pbrt-v4's etaScale), so that a path is not rouletted for a scaling it will get
 // back on the way out (that made fireflies of up to 5x in a white furnace around a glass sphere).

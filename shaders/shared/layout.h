@@ -53,7 +53,10 @@ FH_CONST uint BINDING_ENV_RADIANCE = 18u;       // vec4[]: environment radiance 
 FH_CONST uint BINDING_ENV_CDF = 19u;            // float[]: marginal CDF (height + 1), then one CDF per row
 FH_CONST uint BINDING_INSTANCES = 20u;       // TEXELS Instance[] (two-level BVH), when the scene has instances
 FH_CONST uint BINDING_MATERIAL_LAYERS = 21u; // TEXELS MaterialLayers[] (KHR material extensions), parallel to Material[]
-FH_CONST uint BINDING_PATH_MEDIA = 22u;      // uint[wave capacity]: the volume a path is in (EFFECT_VOLUME, _ABSORPTION)
+FH_CONST uint BINDING_PATH_MEDIA = 22u;      // uvec4[wave capacity]: the volumes a path is in (EFFECT_VOLUME, _ABSORPTION)
+// A path remembers the volumes it is inside, innermost first (material indices, INVALID_INDEX past the last): entering
+// a volume puts it in front, leaving one takes it out (nested dielectrics, lib/transmission.glsl). A fifth is dropped.
+FH_CONST uint MEDIUM_STACK_SIZE = 4u;
 FH_CONST uint BINDING_PATH_SPECTRA = 23u;    // PathSpectrum[wave capacity]: a path's wavelengths (EFFECT_SPECTRAL)
 FH_CONST uint BINDING_GLASS_ALBEDO = 24u;    // float[]: glass_albedo_table.glsl (EFFECT_GLASS_MULTISCATTER; else one word)
 FH_CONST uint BINDING_PATH_TIMES = 25u;     // float[wave capacity]: a path's time in the shutter, 0..1 (EFFECT_MOTION_BLUR)
@@ -371,7 +374,10 @@ struct FrameParams {
     // The film covers pixels [crop_x, crop_x + film_width) x [crop_y, crop_y + film_height) of the width x height
     // image (--crop; else all of it). Film pixel p is image pixel (crop_y + p / film_width, crop_x + p % film_width).
     uint crop_x, crop_y, film_width, film_height;
-    uint pad_crop0, pad_crop1, pad_crop2;
+    // The volume (material index) the camera stands in, where paths start (render/camera_medium.h); INVALID_INDEX:
+    // outside every volume, and always without EFFECT_VOLUME.
+    uint camera_medium;
+    uint pad_crop1, pad_crop2;
 };
 
 // Push constants: what changes per wave and per depth.

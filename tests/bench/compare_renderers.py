@@ -42,12 +42,15 @@ _COMPONENT_DTYPES = {5120: np.int8, 5121: np.uint8, 5122: np.int16, 5123: np.uin
 _TYPE_SIZES = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT4": 16}
 
 
-def _load_buffers(doc, base_dir):
+def _load_buffers(doc, base_dir, glb_chunk=None):
     out = []
     for b in doc.get("buffers", []):
         uri = b.get("uri")
         if uri is None:
-            raise ValueError("GLB binary chunks are not supported; use a .gltf with embedded or external buffers")
+            if glb_chunk is None:
+                raise ValueError("a buffer without a uri outside a .glb")
+            out.append(glb_chunk)
+            continue
         if uri.startswith("data:"):
             data = base64.b64decode(uri.split(",", 1)[1])
         else:
@@ -95,11 +98,30 @@ def _node_matrix(node):
     return m
 
 
+def _read_document(path):
+    """The glTF JSON and, for a .glb, its binary chunk (glTF 2.0 section 4.4: 12-byte header, then chunks)."""
+    with open(path, "rb") as f:
+        data = f.read()
+    if data[:4] != b"glTF":
+        return json.loads(data.decode("utf-8")), None
+    offset, doc, chunk = 12, None, None
+    while offset + 8 <= len(data):
+        length, kind = int.from_bytes(data[offset:offset + 4], "little"), data[offset + 4:offset + 8]
+        body = data[offset + 8:offset + 8 + length]
+        if kind == b"JSON":
+            doc = json.loads(body.decode("utf-8"))
+        elif kind == b"BIN\0":
+            chunk = body
+        offset += 8 + length
+    if doc is None:
+        raise ValueError("%s: a .glb without a JSON chunk" % path)
+    return doc, chunk
+
+
 def load_gltf(path):
-    """Return {'meshes': [...], 'camera': {...}} with world-space triangle meshes."""
-    with open(path, "r") as f:
-        doc = json.load(f)
-    buffers = _load_buffers(doc, os.path.dirname(os.path.abspath(path)))
+    """Return {'meshes': [...], 'camera': {...}} with world-space triangle meshes (.gltf or .glb)."""
+    doc, chunk = _read_document(path)
+    buffers = _load_buffers(doc, os.path.dirname(os.path.abspath(path)), chunk)
     materials = doc.get("materials", [])
 
     def material(idx):

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "render/memory_estimate.h"
+#include "render/wave_size.h"
 
 namespace {
 
@@ -41,6 +42,7 @@ TEST(MemoryEstimate, WaveCapacityFollowsTheRenderer) {
     s.width = 4;
     s.height = 4;
     s.spp = 2;  // 32 paths in all: the wave holds no more than that
+    s.wave_paths = 1u << 18;
     const fh::MemoryEstimate e = fh::estimate_render_memory(fh::PackedScene{}, s);
     EXPECT_EQ(bytes_of(e, "paths"), 32 * sizeof(fh::gpu::PathState));
     EXPECT_EQ(bytes_of(e, "rays"), 2 * 32 * sizeof(fh::gpu::RayItem));
@@ -84,3 +86,28 @@ TEST(MemoryEstimate, ChecksAllocationSizeAndTheHeap) {
 }
 
 }  // namespace
+
+// Without --wave-paths the wave is sized for the device: 2^18 paths on a CPU device, 2^22 on a GPU, halved until the
+// wave's buffers keep to the device's limits and to a quarter of its memory.
+TEST(WaveSize, ChosenByDeviceKindAndHalvedToFitTheLimits) {
+    const fh::PackedScene scene;
+    EXPECT_EQ(fh::choose_wave_paths(true, LAVAPIPE, scene, 0u), fh::CPU_WAVE_PATHS);
+    // A GPU with lavapipe's 128 MiB storage range: the rays buffer (two 32-byte rays per path) caps it at 2^21.
+    EXPECT_EQ(fh::choose_wave_paths(false, LAVAPIPE, scene, 0u), 1u << 21);
+    fh::DeviceMemoryLimits large = LAVAPIPE;
+    large.max_storage_buffer_range = large.max_allocation_size = uint64_t(4) << 30;
+    large.device_local_heap = uint64_t(80) << 30;
+    EXPECT_EQ(fh::choose_wave_paths(false, large, scene, 0u), fh::GPU_WAVE_PATHS);
+    // A quarter of a 1 GiB heap holds 2^20 paths of this size, not 2^21.
+    fh::DeviceMemoryLimits small = large;
+    small.device_local_heap = uint64_t(1) << 30;
+    const double per_path = fh::bytes_per_path(scene, 0u);
+    ASSERT_GT(per_path * (1u << 21), 0.25 * double(small.device_local_heap));
+    ASSERT_LE(per_path * (1u << 20), 0.25 * double(small.device_local_heap));
+    EXPECT_EQ(fh::choose_wave_paths(false, small, scene, 0u), 1u << 20);
+}
+
+TEST(WaveSize, AnEstimateNeedsAChosenWave) {
+    fh::RenderSettings s;
+    EXPECT_THROW(fh::estimate_render_memory(fh::PackedScene{}, s), std::logic_error);
+}

@@ -1,0 +1,32 @@
+// How many paths a wave holds when --wave-paths is not given: chosen per device, by measurement (README "Speed").
+#pragma once
+#include <cstdint>
+
+#include "render/memory_estimate.h"
+#include "render/settings.h"
+#include "scene/pack.h"
+
+namespace fh {
+
+namespace vk {
+class Context;
+}
+
+// On a CPU device (lavapipe) 2^18 paths: larger waves were no faster there (Cornell 256 x 256, 64 spp: 4.2 s at
+// 2^18 and 2^20). On a GPU 2^22: an H100 rendered the Cornell box at 1024 x 1024, 64 spp in 0.25 s with 2^18 and
+// 0.094 s with 2^22 (the wave must fill the GPU and amortise each dispatch).
+constexpr uint32_t CPU_WAVE_PATHS = 1u << 18;
+constexpr uint32_t GPU_WAVE_PATHS = 1u << 22;
+constexpr uint32_t MIN_AUTO_WAVE_PATHS = 1u << 16;
+
+// The preferred size for the device, halved (not below MIN_AUTO_WAVE_PATHS) until every wave buffer keeps to the
+// device's buffer limits and the wave's buffers take at most a quarter of its device-local memory.
+// `cpu_device`: VK_PHYSICAL_DEVICE_TYPE_CPU.
+uint32_t choose_wave_paths(bool cpu_device, const DeviceMemoryLimits& limits, const PackedScene& scene,
+                           uint32_t effects);
+uint32_t choose_wave_paths(const vk::Context& context, const PackedScene& scene, uint32_t effects);
+
+// `settings` with wave_paths chosen for the device when it is 0 (--wave-paths not given); as it is otherwise.
+RenderSettings with_wave_paths(RenderSettings settings, const vk::Context& context, const PackedScene& scene);
+
+}  // namespace fh
