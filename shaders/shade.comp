@@ -181,9 +181,10 @@ void main() {
             }
             BsdfParams bsdf = make_bsdf_params(m);
             if (effect_on(EFFECT_TRANSMISSION)) {
-                // n beyond / n on this side: the outer volume's index, not air's, at a nested interface.
-                float eta = volume ? (front ? m.ior / medium_ior(medium) : medium_ior(media_beyond.x) / max(m.ior, 1.0e-4f))
-                                   : m.ior;
+                // n beyond / n on this side: the outer volume's index, not air's, at a nested interface. Leaving a
+                // volume that is not the innermost (overlapping meshes) changes nothing on either side: eta 1.
+                float here = media.x == s.material ? max(m.ior, 1.0e-4f) : medium_ior(medium);
+                float eta = volume ? (front ? m.ior / medium_ior(medium) : medium_ior(media_beyond.x) / here) : m.ior;
                 bsdf = with_transmission(bsdf, transmission, eta, volume ? 0u : 1u);
             }
             // Thin film (KHR_materials_iridescence) on the specular lobes; before anisotropy, which renormalises.

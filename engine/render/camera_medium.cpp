@@ -24,7 +24,11 @@ glm::vec3 row_times(const glm::vec4& r0, const glm::vec4& r1, const glm::vec4& r
     return {glm::dot(glm::vec3(r0), v), glm::dot(glm::vec3(r1), v), glm::dot(glm::vec3(r2), v)};
 }
 
-// The volume material the probe is inside by its first hit, else INVALID_INDEX.
+constexpr uint32_t ABSTAIN = gpu::INVALID_INDEX - 1u;
+
+// The probe's vote by its first hit: the volume material whose back face it hits; INVALID_INDEX (outside) when it
+// escapes; ABSTAIN when it hits anything else (an opaque or thin surface, the front of a volume), which says nothing
+// about where the camera stands.
 uint32_t medium_of_hit(const PackedScene& scene, const gpu::RayItem& ray, const gpu::HitItem& hit) {
     if (hit.triangle == gpu::INVALID_INDEX || hit.triangle >= scene.positions.size()) return gpu::INVALID_INDEX;
     const gpu::TrianglePositions& t = scene.positions[hit.triangle];
@@ -40,7 +44,7 @@ uint32_t medium_of_hit(const PackedScene& scene, const gpu::RayItem& ray, const 
     const bool back_face = glm::dot(ng, dir) > 0.0f;
     const bool volume = material < scene.material_layers.size() &&
                         (scene.material_layers[material].flags & gpu::LAYERS_VOLUME) != 0u;
-    return back_face && volume ? material : gpu::INVALID_INDEX;
+    return back_face && volume ? material : ABSTAIN;
 }
 
 }  // namespace
@@ -51,7 +55,7 @@ uint32_t vote_camera_medium(const PackedScene& scene, const std::vector<gpu::Ray
     for (size_t i = 0; i < probes.size() && i < hits.size(); ++i) ++votes[medium_of_hit(scene, probes[i], hits[i])];
     uint32_t best = gpu::INVALID_INDEX, best_votes = votes[gpu::INVALID_INDEX];
     for (const auto& [medium, n] : votes)
-        if (medium != gpu::INVALID_INDEX && n > best_votes) best = medium, best_votes = n;
+        if (medium != gpu::INVALID_INDEX && medium != ABSTAIN && n > best_votes) best = medium, best_votes = n;
     return best;
 }
 

@@ -14,9 +14,11 @@ namespace fh {
 std::vector<gpu::RayItem> make_medium_probe_rays(glm::vec3 origin, uint32_t count);
 
 // The material whose volume the probes find the camera inside, else INVALID_INDEX. A probe that first hits the back
-// face of a mesh whose material bounds a volume (LAYERS_VOLUME) votes for that material; one that hits a front face,
-// a surface without a volume, or nothing votes for "outside". The most votes win; a tie is "outside". The back-face
-// test uses the triangle's winding (geometric normal), as the shade stage does.
+// face of a mesh whose material bounds a volume (LAYERS_VOLUME) votes for that material; one that escapes votes for
+// "outside"; one that hits anything else (an opaque or thin surface, the front face of a volume) abstains. The most
+// votes win; a tie, or no vote at all, is "outside". The back-face test uses the triangle's winding (geometric
+// normal), as the shade stage does. Only the innermost volume is found (a camera in water in a glass starts in the
+// water alone).
 uint32_t vote_camera_medium(const PackedScene& scene, const std::vector<gpu::RayItem>& probes,
                             const std::vector<gpu::HitItem>& hits);
 

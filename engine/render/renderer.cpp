@@ -132,6 +132,9 @@ void Renderer::update_camera_medium() {
         make_medium_probe_rays(glm::vec3(frame_.camera_origin), std::min<uint32_t>(frame_.wave_capacity, 14u));
     gpu::QueueCounters counters;  // the render's diagnostic counts survive the probes
     vk::download_from_buffer(context_, buffers_.counters, &counters, sizeof(counters));
+    // Stochastic alpha keys on paths[].rng: the same (zero) state for the probes every time, whatever the buffer held.
+    const std::vector<gpu::PathState> probe_paths(probes.size(), gpu::PathState{});
+    vk::upload_to_buffer(context_, buffers_.paths, probe_paths.data(), probe_paths.size() * sizeof(gpu::PathState));
     if (stages_.options().effects & gpu::EFFECT_MOTION_BLUR) {  // the probes at the shutter's centre
         const std::vector<float> centre(probes.size(), 0.5f);
         vk::upload_to_buffer(context_, buffers_.path_times, centre.data(), centre.size() * sizeof(float));

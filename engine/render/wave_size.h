@@ -22,9 +22,11 @@ constexpr uint32_t MIN_AUTO_WAVE_PATHS = 1u << 16;
 // The preferred size for the device, halved (not below MIN_AUTO_WAVE_PATHS) until every wave buffer keeps to the
 // device's buffer limits and the wave's buffers take at most a quarter of its device-local memory.
 // `cpu_device`: VK_PHYSICAL_DEVICE_TYPE_CPU.
+// The film (film_width x film_height) counts towards the device's memory with the wave.
 uint32_t choose_wave_paths(bool cpu_device, const DeviceMemoryLimits& limits, const PackedScene& scene,
-                           uint32_t effects);
-uint32_t choose_wave_paths(const vk::Context& context, const PackedScene& scene, uint32_t effects);
+                           uint32_t effects, uint32_t film_width = 1, uint32_t film_height = 1);
+uint32_t choose_wave_paths(const vk::Context& context, const PackedScene& scene, uint32_t effects,
+                           uint32_t film_width, uint32_t film_height);
 
 // `settings` with wave_paths chosen for the device when it is 0 (--wave-paths not given); as it is otherwise.
 RenderSettings with_wave_paths(RenderSettings settings, const vk::Context& context, const PackedScene& scene);

@@ -57,6 +57,23 @@ TEST(CameraMedium, ABackFaceOfAVolumeMeansInside) {
     EXPECT_EQ(fh::vote_camera_medium(plane_scene(false), up, all), fh::gpu::INVALID_INDEX);
 }
 
+// Probes that hit an opaque surface (or the front of a volume) abstain: a camera under water near the sea bed is
+// still in the water when most probes see the bed.
+TEST(CameraMedium, ProbesThatHitOtherSurfacesAbstain) {
+    fh::PackedScene scene = plane_scene(true);
+    scene.positions.push_back(scene.positions[0]);  // triangle 1: the same plane, material 1 without a volume
+    scene.shading.push_back(scene.shading[0]);
+    scene.shading[1].material = 1;
+    scene.materials.resize(2);
+    scene.material_layers.resize(2);
+    auto probes = fh::make_medium_probe_rays({0, 0, 0}, 6);
+    for (auto& p : probes) p.dir_x = 0, p.dir_y = 0, p.dir_z = 1;  // all from behind the winding
+    std::vector<fh::gpu::HitItem> hits{hit_on(0), hit_on(0), hit_on(1), hit_on(1), hit_on(1), hit_on(1)};
+    EXPECT_EQ(fh::vote_camera_medium(scene, probes, hits), 0u);  // 2 votes for the volume, 4 abstain
+    hits[2] = hits[3] = hits[4] = MISS;                          // 3 escaped: outside wins 3 to 2
+    EXPECT_EQ(fh::vote_camera_medium(scene, probes, hits), fh::gpu::INVALID_INDEX);
+}
+
 TEST(CameraMedium, AnInstanceMaterialAndItsMapDecide) {
     fh::PackedScene scene = plane_scene(false);
     scene.materials.resize(2);
