@@ -39,11 +39,22 @@ layout(local_size_x = WORKGROUP_SIZE) in;
 
 float max_component(vec3 v) { return max(v.x, max(v.y, v.z)); }
 
-// Whether direction w (local frame: w_local) leaves on the same side of the geometric normal ng as of the
-// shading normal: a reflection must stay above both, a transmission below both, or light leaks.
-bool is_on_consistent_side(vec3 w, vec3 ng, vec3 w_local) {
+// Whether direction w (local frame: w_local) may leave here. A reflection (w_local.z > 0) must stay above the
+// geometric surface ng, or light leaks through it. A transmission (w_local.z < 0) below it crosses the surface; one
+// that stays above it (the interpolated normal tilts the shading frame away from the facet, at rims and silhouettes)
+// continues on wo's side without crossing, as Cycles lets it (README "Glass", "Interpolated normals").
+bool may_leave_towards(vec3 w, vec3 ng, vec3 w_local) {
     float g = dot(w, ng);
-    return (g > 0.0f && w_local.z > 0.0f) || (g < 0.0f && w_local.z < 0.0f);
+    return g != 0.0f && (w_local.z < 0.0f || g > 0.0f);
+}
+
+// What a transmission that stays on wo's side is multiplied by: the glass lobe's 1 / eta^2 converts between the
+// radiance of the two sides, and such a path never reaches the other side, so it is taken back (eta^2). Diffuse
+// transmission is thin-walled and has no such factor; with both lobes on one surface the path keeps the factor
+// (darker, never brighter).
+float same_side_transmission_scale(BsdfParams bsdf, bool volume, vec3 w, vec3 ng, vec3 w_local) {
+    if (!volume || has_diffuse_transmission(bsdf) || !(w_local.z < 0.0f) || !(dot(w, ng) > 0.0f)) return 1.0f;
+    return bsdf.glass.eta * bsdf.glass.eta;
 }
 
 void main() {
@@ -92,7 +103,7 @@ void main() {
             weight = (params.flags & RENDER_MIS) != 0u
                          ? power_heuristic(state.bsdf_pdf, params.env_pick_pdf * pdf_environment(dir))
                          : 0.0f;
-        radiance += film_color(spectral, beta * lift_color(spectral, eval_environment(dir))) * weight;
+        radiance += film_color(spectral, beta * lift_color(spectral, eval_environment(dir))) * weight * escape_scale(medium);
     }
     if (hit.triangle != INVALID_INDEX) {
         vec3 dir = vec3(ray.dir_x, ray.dir_y, ray.dir_z);
@@ -153,10 +164,6 @@ void main() {
             // BSDF would then return black (black facets at silhouettes). Shade such points with the
             // geometric normal (README "Numerical stability", case 8).
             if (dot(ns, wo) <= 0.0f) ns = ng;
-            if (effect_on(EFFECT_NORMAL_TEXTURE) && m.normal_texture != INVALID_INDEX)
-                ns = keep_reflection_above_surface(ns, ng, wo);
-            Frame frame = make_frame(ns);
-            vec3 wo_local = to_local(frame, wo);
             // Glass (KHR_materials_transmission): thin-walled, or the surface of a volume, entered from the front.
             bool volume = false;
             float transmission = 0.0f;
@@ -164,6 +171,15 @@ void main() {
                 volume = encloses_volume(s.material);
                 transmission = eval_transmission(s.material, hit.triangle, hit.b1, hit.b2);
             }
+            // A mirror reflection about the shading normal must stay above the geometric surface, or the path dies
+            // there: normal textures tilt it that far anywhere, and interpolated normals at the curved rims of thin
+            // glass, where light guided along the wall by total internal reflection meets it at every bounce
+            // (README "Glass", "Interpolated normals": 15% of a vase's light was lost so).
+            if ((effect_on(EFFECT_NORMAL_TEXTURE) && m.normal_texture != INVALID_INDEX) ||
+                (effect_on(EFFECT_TRANSMISSION) && transmission > 0.0f))
+                ns = keep_reflection_above_surface(ns, ng, wo);
+            Frame frame = make_frame(ns);
+            vec3 wo_local = to_local(frame, wo);
             // The volumes across the surface: entering one (inside another, nested) or leaving back into the outer.
             uvec4 media_beyond = volume ? (front ? enter_medium(media, s.material) : leave_medium(media, s.material))
                                         : media;
@@ -224,8 +240,11 @@ void main() {
                 vec3 wi = light.wi;
                 if (light.valid != 0u && (transmits || dot(wi, ng) > 0.0f)) {
                     vec3 wi_local = to_local(frame, wi);
-                    vec3 f = !transmits || is_on_consistent_side(wi, ng, wi_local) ? eval_bsdf(bsdf, wo_local, wi_local)
-                                                                                   : vec3(0.0f);
+                    vec3 f = !transmits ? eval_bsdf(bsdf, wo_local, wi_local)
+                             : may_leave_towards(wi, ng, wi_local)
+                                 ? eval_bsdf(bsdf, wo_local, wi_local) *
+                                       same_side_transmission_scale(bsdf, volume, wi, ng, wi_local)
+                                 : vec3(0.0f);
                     float weight = (params.flags & RENDER_MIS) != 0u && light.delta == 0u
                                        ? power_heuristic(light.pdf, pdf_bsdf(bsdf, wo_local, wi_local))
                                        : 1.0f;
@@ -240,10 +259,11 @@ void main() {
                             d /= len;
                             t_max = len * (1.0f - 1e-4f);  // pbrt's ShadowEpsilon
                         }
+                        uint shadow_medium = dot(wi, ng) < 0.0f ? medium_beyond : medium;
                         if (effect_on(EFFECT_ABSORPTION))
                             contrib *= eval_path_medium_transmittance(
-                                spectral, dot(wi, ng) < 0.0f ? medium_beyond : medium,
-                                light.at_infinity != 0u ? uintBitsToFloat(0x7f800000u) : t_max);
+                                spectral, shadow_medium, light.at_infinity != 0u ? uintBitsToFloat(0x7f800000u) : t_max);
+                        if (light.at_infinity != 0u) contrib *= escape_scale(shadow_medium);
                         vec3 contrib_rgb = film_color(spectral, contrib);
                         shadow.origin_x = origin.x;
                         shadow.origin_y = origin.y;
@@ -262,8 +282,8 @@ void main() {
 
             BsdfSample bs = sample_bsdf(bsdf, wo_local, u.bsdf);
             vec3 wi = to_world(frame, bs.wi);
-            if (bs.valid != 0u && (transmits ? is_on_consistent_side(wi, ng, bs.wi) : dot(wi, ng) > 0.0f)) {
-                beta *= lift_color(spectral, bs.weight);
+            if (bs.valid != 0u && (transmits ? may_leave_towards(wi, ng, bs.wi) : dot(wi, ng) > 0.0f)) {
+                beta *= lift_color(spectral, bs.weight) * same_side_transmission_scale(bsdf, volume, wi, ng, bs.wi);
                 if (dot(wi, ng) < 0.0f) {
                     medium = medium_beyond;
                     media = media_beyond;

@@ -56,6 +56,14 @@ float roulette_scale(uint medium) {
     return ior * ior;
 }
 
+// What light from the environment is multiplied by when it reaches a path that is still inside the volume of `medium`:
+// its ior^2. A closed mesh never lets that happen. An open one (a hole, as Blender's Suzanne has at its eyes) lets a
+// path leave its volume without crossing a surface; this gives back the eta^2 that crossing would have, so the path is
+// not left darkened by the 1 / eta^2 of the surface it entered by (README "Glass", "Open meshes").
+float escape_scale(uint medium) {
+    return roulette_scale(medium);
+}
+
 // Beer-Lambert transmittance over distance t (may be infinite) inside the volume of material `medium`
 // (INVALID_INDEX: outside every volume, 1). A channel that does not absorb stays 1 even for t = inf.
 vec3 eval_medium_transmittance(uint medium, float t) {

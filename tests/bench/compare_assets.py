@@ -23,11 +23,17 @@ Prints, per model, the luminance means of both over the whole image and over the
 alpha with a transparent film), their relative differences, and 16 x 16 block relative differences (median, 90th
 percentile, worst), and writes a contact sheet (Fredholm | Cycles | difference x4,
 tone-mapped with the sRGB curve) to OUT/contact_sheet.png.
+
+To isolate a cause: `--only-nodes NAME[,NAME]` renders only those root nodes of a model (for example the vase of
+GlassVaseFlowers without its flowers, `--only-nodes GlassTransmission`), `--white-furnace` lights the model by a
+uniform environment of radiance 1 (a white, lossless model then reads 1 everywhere), and `--without LAYER` and
+`--single-scattering` take a layer or Cycles' multiple-scattering GGX out of the comparison.
 """
 import argparse
 import json
 import math
 import os
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -172,6 +178,34 @@ def setup_blender(eye, yfov_deg, env, size, spp, seed):
     scene.render.image_settings.color_depth = "32"
 
 
+def keep_only_nodes(model, names, out):
+    """A copy of the model (its directory, in OUT) whose scene keeps only the root nodes named in `names`, so that
+    one part of an asset can be compared alone (a .gltf with its files beside it)."""
+    if model.suffix != ".gltf":
+        raise SystemExit(f"compare_assets: --only-nodes needs a .gltf, not {model}")
+    copy = out / f"{model.stem}_nodes"
+    shutil.rmtree(copy, ignore_errors=True)
+    shutil.copytree(model.parent, copy)
+    doc = json.loads(model.read_text())
+    scene = doc["scenes"][doc.get("scene", 0)]
+    kept = [i for i in scene["nodes"] if doc["nodes"][i].get("name") in names]
+    if not kept:
+        raise SystemExit(f"compare_assets: no root node of {model} is named {', '.join(sorted(names))}")
+    scene["nodes"] = kept
+    path = copy / model.name
+    path.write_text(json.dumps(doc))
+    return path
+
+
+def write_white_environment(path):
+    """A uniform environment of radiance 1: a lossless white model returns 1 in every pixel (a white furnace)."""
+    pixels = np.ones((32, 64, 3), np.float32)
+    header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
+    with OpenEXR.File(header, {"RGB": pixels}) as f:
+        f.write(str(path))
+    return path
+
+
 def read_exr(path):
     """R, G, B of an EXR as float64 rows top to bottom (PyPI OpenEXR: Blender cannot read Fredholm's extra
     film channels)."""
@@ -240,14 +274,19 @@ def main():
                                       "frames, deformation blur off (Fredholm poses skins and morphs at the centre)")
     ap.add_argument("--keep-punctual-lights", action="store_true",
                     help="keep the models' KHR_lights_punctual lights (their units differ between the renderers)")
+    ap.add_argument("--only-nodes", help="comma-separated root node names: render only these nodes of each model")
+    ap.add_argument("--white-furnace", action="store_true",
+                    help="light by a uniform environment of radiance 1 instead of --env (energy conservation)")
     args = ap.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else sys.argv[1:])
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    env = Path(args.env).resolve()
+    env = write_white_environment(out / "white.exr") if args.white_furnace else Path(args.env).resolve()
     rows, results = [], []
     for entry in args.models.split(","):
         model = find_model(entry)
         name = Path(entry).stem if entry.endswith((".gltf", ".glb")) else entry
+        if args.only_nodes:
+            model = keep_only_nodes(model, set(args.only_nodes.split(",")), out)
         lo, hi = import_model(model, args.keep_punctual_lights)
         eye, target = make_camera(lo, hi, args.yfov)
         f_exr, c_exr = out / f"{name}_fredholm.exr", out / f"{name}_cycles.exr"

@@ -21,6 +21,12 @@ looks straight down (-Z) at a white emitter of radiance 1 on the plane z = 0 thr
                              --background 1,1,1 white in every pixel, rough or not (the multiple-scattering lobe gives
                              back what single scattering loses; without it roughness 1 reads 0.64, README "Glass").
   glass_furnace_thin_r100.gltf  the same sphere thin-walled (no volume), roughness 1: white too.
+  glass_furnace_tube.gltf    a smooth glass tube with walls 0.05 thick and flat rims, its vertex normals smooth around
+                             it and bent 45 degrees at the rims (as modelled glassware): white too, although light
+                             guided along the walls by total internal reflection meets bent normals at every bounce
+                             (README "Glass", "Interpolated normals on glass").
+  glass_furnace_open.gltf    a glass box without its top face, seen from below (an open mesh, as modelled assets have
+                             them): white too, although light leaves the volume through the hole (README "Open meshes").
   glass_camera_inside.gltf   the camera at z = 3 inside a glass block (ior 1.5, attenuationColor 0.5 at distance 1)
                              from z = 0.5 to 5: the emitter is seen through 2.5 units of glass and one interface,
                              where radiance gains ior^2 (radiance / n^2 is what a ray conserves):
@@ -32,11 +38,12 @@ looks straight down (-Z) at a white emitter of radiance 1 on the plane z = 0 thr
                              this file with --expected). Treating water as if in air, and the glass below it as air
                              (no nesting), gives 0.628.
 """
+import math
 import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "stability" / "render"))
-from make_stability_scenes import Gltf, icosphere, quad  # noqa: E402
+from make_stability_scenes import Gltf, icosphere, quad, uv_sphere  # noqa: E402
 
 IOR = 1.5
 
@@ -150,6 +157,74 @@ def furnace(roughness, dispersion=None, volume=True):
     return g
 
 
+def rimmed_tube():
+    """A glass tube (outer radius 1, inner 0.95, height 2, 12 sides) closed at both ends by flat rims: one closed
+    volume whose vertex normals are smooth around the tube and, on the four rings at the rims, halfway between the
+    wall and the rim (45 degrees from either face), as modelled glassware has them. Triangles and per-corner normals."""
+    segments, heights = 12, (0.0, 0.1, 1.9, 2.0)
+
+    def unit(v):
+        n = math.sqrt(sum(c * c for c in v))
+        return tuple(c / n for c in v)
+
+    def corner(radius, h, i, outward):
+        a = 2.0 * math.pi * (i % segments) / segments
+        radial = (math.cos(a), 0.0, math.sin(a))
+        s = 1.0 if outward else -1.0
+        up = 1.0 if h == heights[-1] else (-1.0 if h == heights[0] else 0.0)
+        return (radius * radial[0], h - 1.0, radius * radial[2]), unit((s * radial[0], up, s * radial[2]))
+
+    tris, normals = [], []
+
+    def add(*corners):  # corners (position, normal), counter-clockwise seen from outside the glass
+        tris.append(tuple(p for p, _ in corners))
+        normals.extend(n for _, n in corners)
+
+    for i in range(segments):
+        for h0, h1 in zip(heights, heights[1:]):
+            a, b, c, d = (corner(1.0, h0, i, True), corner(1.0, h0, i + 1, True), corner(1.0, h1, i + 1, True),
+                          corner(1.0, h1, i, True))
+            add(a, c, b)
+            add(a, d, c)
+            a, b, c, d = (corner(0.95, h0, i, False), corner(0.95, h0, i + 1, False),
+                          corner(0.95, h1, i + 1, False), corner(0.95, h1, i, False))
+            add(a, b, c)
+            add(a, c, d)
+        for h in (heights[0], heights[-1]):
+            a, b, c, d = (corner(0.95, h, i, False), corner(0.95, h, i + 1, False), corner(1.0, h, i + 1, True),
+                          corner(1.0, h, i, True))
+            if h == heights[-1]:
+                add(a, b, c)
+                add(a, c, d)
+            else:
+                add(a, c, b)
+                add(a, d, c)
+    return tris, normals
+
+
+def tube_furnace():
+    """rimmed_tube() seen from above and in front, to be rendered in a white furnace."""
+    g = Gltf()
+    use_glass_extensions(g)
+    g.doc["materials"].append(glass())
+    tris, normals = rimmed_tube()
+    g.add_node({"mesh": g.add_mesh(tris, 0, normals)})
+    # 30 degrees down (a rotation about x), from above the rim: the rims, both walls and the inside are seen.
+    g.add_perspective_camera({"translation": [0.0, 1.6, 3.2], "rotation": [-0.258819, 0.0, 0.0, 0.9659258]}, 0.9)
+    return g
+
+
+def open_box_furnace():
+    """A box of glass (ior 1.5, from -1 to 1) without its top face, seen from below: light enters through the bottom
+    and leaves through the open top without crossing a surface."""
+    g = Gltf()
+    use_glass_extensions(g)
+    g.doc["materials"].append(glass())
+    g.add_node({"mesh": g.add_mesh(box(-1, -1, -1, 1, 1, 1)[2:], 0)})  # box()'s first two triangles: the top
+    g.add_perspective_camera({"translation": [0.0, 0.0, -3.0], "rotation": [1.0, 0.0, 0.0, 0.0]}, 0.8)  # looking up +z
+    return g
+
+
 def main():
     if sys.argv[1:] == ["--expected"]:
         print(f"glass_nested {NESTED_EXPECTED:.7f}")
@@ -168,6 +243,8 @@ def main():
         "glass_furnace_r30": furnace(0.3),
         "glass_furnace_r100": furnace(1.0),
         "glass_furnace_thin_r100": furnace(1.0, volume=False),
+        "glass_furnace_tube": tube_furnace(),
+        "glass_furnace_open": open_box_furnace(),
         # The camera (z = 3) inside an absorbing glass block from z = 0.5 to 5 (see the docstring).
         "glass_camera_inside": over_emitter(glass(attenuation=(0.5, 1.0)), box(-10, -10, 0.5, 10, 10, 5)),
         "glass_nested": nested_scene(),
