@@ -27,7 +27,8 @@ tone-mapped with the sRGB curve) to OUT/contact_sheet.png.
 To isolate a cause: `--only-nodes NAME[,NAME]` renders only those root nodes of a model (for example the vase of
 GlassVaseFlowers without its flowers, `--only-nodes GlassTransmission`), `--white-furnace` lights the model by a
 uniform environment of radiance 1 (a white, lossless model then reads 1 everywhere), and `--without LAYER` and
-`--single-scattering` take a layer or Cycles' multiple-scattering GGX out of the comparison.
+`--single-scattering` take a layer or Cycles' multiple-scattering GGX out of the comparison (`--fredholm-args
+"--disable-effect glass-multiscatter"` does the same for Fredholm's rough glass).
 """
 import argparse
 import json
@@ -274,6 +275,8 @@ def main():
                                       "frames, deformation blur off (Fredholm poses skins and morphs at the centre)")
     ap.add_argument("--keep-punctual-lights", action="store_true",
                     help="keep the models' KHR_lights_punctual lights (their units differ between the renderers)")
+    ap.add_argument("--fredholm-args", default="", help="more arguments for fredholm render, as one string "
+                                                         "(for example \"--disable-effect glass-multiscatter\")")
     ap.add_argument("--only-nodes", help="comma-separated root node names: render only these nodes of each model")
     ap.add_argument("--white-furnace", action="store_true",
                     help="light by a uniform environment of radiance 1 instead of --env (energy conservation)")
@@ -303,6 +306,7 @@ def main():
             cmd += ["--disable-effect", layer]
         if not args.keep_punctual_lights:
             cmd += ["--disable-effect", "punctual-lights"]
+        cmd += args.fredholm_args.split()
         done = subprocess.run(cmd, capture_output=True, text=True)
         warnings = [l for l in done.stderr.splitlines() if "warning" in l and "negative values" not in l]
         if done.returncode != 0:
