@@ -122,6 +122,26 @@ def remove_layer(layer):
                 socket.default_value = 0.0
 
 
+def give_thin_films(model):
+    """--cycles-thin-film: the KHR_materials_iridescence films that Cycles' Principled BSDF can reproduce (factor 1,
+    no textures: its Thin Film has no factor, and the thickness is then iridescenceThicknessMaximum), set on the
+    materials of the same name; prints the films it cannot give."""
+    doc = json.loads(Path(model).read_text()) if str(model).endswith(".gltf") else {}
+    for index, material in enumerate(doc.get("materials", [])):
+        film = material.get("extensions", {}).get("KHR_materials_iridescence")
+        if film is None:
+            continue
+        name = material.get("name", f"material {index}")
+        if (film.get("iridescenceFactor", 0.0) != 1.0 or "iridescenceTexture" in film
+                or "iridescenceThicknessTexture" in film or name not in bpy.data.materials):
+            print(f"compare_assets: {name}: film not given to Cycles (factor other than 1, a texture, or no name)")
+            continue
+        for node in bpy.data.materials[name].node_tree.nodes:
+            if node.type == "BSDF_PRINCIPLED":
+                node.inputs["Thin Film Thickness"].default_value = film.get("iridescenceThicknessMaximum", 400.0)
+                node.inputs["Thin Film IOR"].default_value = film.get("iridescenceIor", 1.3)
+
+
 def setup_blender(eye, yfov_deg, env, size, spp, seed):
     scene = bpy.context.scene
     cam_data = bpy.data.cameras.new("compare")
@@ -277,6 +297,9 @@ def main():
                     help="keep the models' KHR_lights_punctual lights (their units differ between the renderers)")
     ap.add_argument("--fredholm-args", default="", help="more arguments for fredholm render, as one string "
                                                          "(for example \"--disable-effect glass-multiscatter\")")
+    ap.add_argument("--cycles-thin-film", action="store_true",
+                    help="give Cycles the models' iridescence films of factor 1 without textures (Blender's importer "
+                         "reads none): make_film_spheres.py writes such models")
     ap.add_argument("--only-nodes", help="comma-separated root node names: render only these nodes of each model")
     ap.add_argument("--white-furnace", action="store_true",
                     help="light by a uniform environment of radiance 1 instead of --env (energy conservation)")
@@ -315,6 +338,8 @@ def main():
         setup_blender(eye, args.yfov, env, args.size, args.cycles_spp or args.spp, args.seed)
         if args.single_scattering:
             use_single_scattering()
+        if args.cycles_thin_film:
+            give_thin_films(model)
         for layer in args.without:
             remove_layer(layer)
         # The model's pixels: Cycles' alpha with a transparent film (4 samples), then the real render.
