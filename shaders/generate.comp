@@ -65,7 +65,8 @@ void main() {
     state.radiance_b = 0.0f;
     state.rng = rng;
     paths[i] = state;
-    if (effect_on(EFFECT_VOLUME) || effect_on(EFFECT_ABSORPTION)) path_media[i] = uvec4(params.camera_medium, INVALID_INDEX, INVALID_INDEX, INVALID_INDEX);
+    if (effect_on(EFFECT_VOLUME) || effect_on(EFFECT_ABSORPTION)) path_media[i] =
+        uvec4(params.camera_medium, params.camera_medium_outer, params.camera_medium_outermost, INVALID_INDEX);
     if (effect_on(EFFECT_SPECTRAL)) {
         PathSpectrum spectrum;
         spectrum.wavelength_u = camera_u.wavelength;

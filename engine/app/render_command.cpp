@@ -87,7 +87,7 @@ ImageMetadata make_metadata(const RenderCommand& c, const std::string& scene_has
 
 void write_stats(const std::filesystem::path& file, const RenderCommand& c, const PreparedScene& prepared,
                  const SceneCamera& camera, const RenderStats& stats, uint32_t first_sample, const std::string& device,
-                 uint32_t camera_medium) {
+                 const CameraMedia& camera_media) {
     const RenderSettings& s = c.settings;
     double samples = double(s.film_width()) * s.film_height() * (stats.spp_done - first_sample);
     double rays = double(stats.traced_rays + stats.traced_shadow_rays);
@@ -125,9 +125,11 @@ void write_stats(const std::filesystem::path& file, const RenderCommand& c, cons
     j["disabled_effects"] = describe_effects(s.disabled_effects);
     j["forced_effects"] = describe_effects(s.forced_effects);
     j["environment"] = describe_environment(s);
-    // The volume the camera stands in (glTF material index), where its paths start.
-    j["camera_medium"] = camera_medium == gpu::INVALID_INDEX ? std::string("none")
-                                                              : "material " + std::to_string(camera_medium);
+    // The volumes the camera stands in (glTF material indices, innermost first), where its paths start.
+    std::string media;
+    for (uint32_t m : camera_media)
+        if (m != gpu::INVALID_INDEX) media += (media.empty() ? "material " : " in material ") + std::to_string(m);
+    j["camera_medium"] = media.empty() ? std::string("none") : media;
     j["lens"] = describe_lens(s.lens);
     j["animations"] = prepared.scene.animations;
     j["shutter"] = describe_shutter(s);
@@ -371,7 +373,7 @@ int run_frame(const RenderCommand& command, vk::Context* shared_context) {
               film_channels(renderer.read_film_state()), window);
     if (!c.png.empty()) write_png(c.png, image, c.exposure_ev, c.tone_curve);
     if (!c.stats.empty()) write_stats(c.stats, c, prepared, camera, stats, saved.end_sample, context->device_name(),
-                                         renderer.camera_medium());
+                                         renderer.camera_media());
 
     const uint32_t rendered = stats.spp_done - saved.end_sample;
     if (!c.quiet)

@@ -72,7 +72,7 @@ gpu::FrameParams make_frame(const PackedScene& scene, const SceneCamera& camera,
     f.crop_y = s.has_crop() ? s.crop_y0 : 0u;
     f.film_width = s.film_width();
     f.film_height = s.film_height();
-    f.camera_medium = gpu::INVALID_INDEX;
+    f.camera_medium = f.camera_medium_outer = f.camera_medium_outermost = gpu::INVALID_INDEX;
     return f;
 }
 
@@ -139,9 +139,13 @@ void Renderer::update_camera_medium() {
         const std::vector<float> centre(probes.size(), 0.5f);
         vk::upload_to_buffer(context_, buffers_.path_times, centre.data(), centre.size() * sizeof(float));
     }
-    const TracedRays traced = trace_ray_queue(context_, stages_, buffers_, probes, 1);
+    const CameraMedia media = find_camera_media(scene_, probes, [&](const std::vector<gpu::RayItem>& rays) {
+        return trace_ray_queue(context_, stages_, buffers_, rays, 1).hits;
+    });
     vk::upload_to_buffer(context_, buffers_.counters, &counters, sizeof(counters));
-    frame_.camera_medium = vote_camera_medium(scene_, probes, traced.hits);
+    frame_.camera_medium = media[0];
+    frame_.camera_medium_outer = media[1];
+    frame_.camera_medium_outermost = media[2];
     vk::upload_to_buffer(context_, buffers_.params, &frame_, sizeof(frame_));
 }
 

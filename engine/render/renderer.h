@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "io/image.h"
+#include "render/camera_medium.h"
 #include "render/gpu_buffers.h"
 #include "render/settings.h"
 #include "render/stage_table.h"
@@ -66,12 +67,14 @@ public:
     void set_camera(const SceneCamera& camera);
     // The film buffer (gpu::FilmPixel[width * height]), e.g. for a display pass that reads it in place.
     const vk::Buffer& film_buffer() const { return buffers_.film; }
-    // The volume (material index) the camera stands in, where its paths start; INVALID_INDEX: none
-    // (render/camera_medium.h; probed only when the scene has volumes).
-    uint32_t camera_medium() const { return frame_.camera_medium; }
+    // The volumes (material indices) the camera stands in, innermost first, where its paths start; INVALID_INDEX past
+    // the last (render/camera_medium.h; probed only when the scene has volumes).
+    CameraMedia camera_media() const {
+        return {frame_.camera_medium, frame_.camera_medium_outer, frame_.camera_medium_outermost};
+    }
 
 private:
-    // Probes which volume the camera stands in (EFFECT_VOLUME only) and sets FrameParams.camera_medium.
+    // Probes which volumes the camera stands in (EFFECT_VOLUME only) and sets FrameParams.camera_medium*.
     void update_camera_medium();
     void trace_wave(const Wave& wave, RenderStats& stats);
     void record_bounce(uint32_t depth, const Wave& wave);

@@ -374,10 +374,10 @@ struct FrameParams {
     // The film covers pixels [crop_x, crop_x + film_width) x [crop_y, crop_y + film_height) of the width x height
     // image (--crop; else all of it). Film pixel p is image pixel (crop_y + p / film_width, crop_x + p % film_width).
     uint crop_x, crop_y, film_width, film_height;
-    // The volume (material index) the camera stands in, where paths start (render/camera_medium.h); INVALID_INDEX:
-    // outside every volume, and always without EFFECT_VOLUME.
+    // The volumes (material indices) the camera stands in, innermost first, where paths start
+    // (render/camera_medium.h); INVALID_INDEX past the last: outside every volume, and always without EFFECT_VOLUME.
     uint camera_medium;
-    uint pad_crop1, pad_crop2;
+    uint camera_medium_outer, camera_medium_outermost;
 };
 
 // Push constants: what changes per wave and per depth.

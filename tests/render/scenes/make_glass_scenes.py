@@ -37,6 +37,9 @@ looks straight down (-Z) at a white emitter of radiance 1 on the plane z = 0 thr
                              crosses 1 unit of glass: 0.4577985 with every interreflection (NESTED_EXPECTED; run
                              this file with --expected). Treating water as if in air, and the glass below it as air
                              (no nesting), gives 0.628.
+  glass_camera_nested.gltf   the same with the camera in the water (z = 1.5): its paths start in the water inside the
+                             glass, and see the emitter through water | glass, 0.5 units of glass and glass | air,
+                             times 1.33^2: NESTED_CAMERA_EXPECTED (--expected).
 """
 import math
 import sys
@@ -105,21 +108,21 @@ def prism_scene():
     return g
 
 
-def over_emitter(material, shape):
+def over_emitter(material, shape, camera_z=3.0):
     g = Gltf()
     use_glass_extensions(g)
     emitter = g.add_material(base=(0.0, 0.0, 0.0), emission=1.0)
     g.add_node({"mesh": g.add_mesh(quad(-20, -20, 20, 20, 0.0), emitter)})
     g.doc["materials"].append(material)
     g.add_node({"mesh": g.add_mesh(shape, len(g.doc["materials"]) - 1)})
-    g.add_orthographic_camera({"translation": [0.0, 0.0, 3.0]}, 1.0)
+    g.add_orthographic_camera({"translation": [0.0, 0.0, camera_z]}, 1.0)
     return g
 
 
-def transmittance_of_layers(layers):
-    """Normal-incidence transmittance of a stack of incoherent layers by the adding method: each element is (R front,
-    T front, R back, T back); an interface between indices n1, n2 has R = ((n1 - n2) / (n1 + n2))^2 both ways and
-    a slab of transmittance tau has R = 0, T = tau. Every interreflection counts."""
+def stack_of_layers(layers):
+    """Normal-incidence (R front, T front, R back, T back) of a stack of incoherent layers, listed front (top) to back,
+    by the adding method: an interface between indices n1, n2 has R = ((n1 - n2) / (n1 + n2))^2 both ways and a slab
+    of transmittance tau has R = 0, T = tau. Every interreflection counts."""
     def combine(a, b):
         d = 1.0 - a[2] * b[0]
         return (a[0] + a[1] * a[3] * b[0] / d, a[1] * b[1] / d, b[2] + b[3] * b[1] * a[2] / d, b[3] * a[3] / d)
@@ -131,13 +134,17 @@ def transmittance_of_layers(layers):
         else:
             layer = (0.0, layer[1], 0.0, layer[1])
         total = combine(total, layer)
-    return total[1]
+    return total
 
 
-def nested_scene():
+def transmittance_of_layers(layers):
+    return stack_of_layers(layers)[1]
+
+
+def nested_scene(camera_z=3.0):
     """Water (ior 1.33, clear) from z = 1 to 2 inside an absorbing glass block (ior 1.5, attenuationColor 0.5 at
-    distance 1) from z = 0.5 to 2.5, over the emitter; the camera above looks straight down."""
-    g = over_emitter(glass(attenuation=(0.5, 1.0)), box(-10, -10, 0.5, 10, 10, 2.5))
+    distance 1) from z = 0.5 to 2.5, over the emitter; the camera at camera_z looks straight down."""
+    g = over_emitter(glass(attenuation=(0.5, 1.0)), box(-10, -10, 0.5, 10, 10, 2.5), camera_z)
     g.doc["materials"].append(glass(ior=1.33))
     g.add_node({"mesh": g.add_mesh(box(-8, -8, 1.0, 8, 8, 2.0), len(g.doc["materials"]) - 1)})
     return g
@@ -146,6 +153,14 @@ def nested_scene():
 NESTED_EXPECTED = transmittance_of_layers([("interface", 1.0, 1.5), ("slab", 0.5 ** 0.5), ("interface", 1.5, 1.33),
                                            ("slab", 1.0), ("interface", 1.33, 1.5), ("slab", 0.5 ** 0.5),
                                            ("interface", 1.5, 1.0)])
+
+
+# The camera in the water (z = 1.5): it sees, below it, water | glass, 0.5 units of glass, glass | air and the emitter;
+# light reflected back up by that stack returns off the one above it (water | glass, glass, glass | air, then black).
+# Radiance in the water is the emitter's times 1.33^2 (radiance / n^2 is what a ray conserves).
+_BELOW = stack_of_layers([("interface", 1.33, 1.5), ("slab", 0.5 ** 0.5), ("interface", 1.5, 1.0)])
+_ABOVE = stack_of_layers([("interface", 1.0, 1.5), ("slab", 0.5 ** 0.5), ("interface", 1.5, 1.33)])
+NESTED_CAMERA_EXPECTED = 1.33 ** 2 * _BELOW[1] / (1.0 - _BELOW[0] * _ABOVE[2])
 
 
 def furnace(roughness, dispersion=None, volume=True):
@@ -228,6 +243,7 @@ def open_box_furnace():
 def main():
     if sys.argv[1:] == ["--expected"]:
         print(f"glass_nested {NESTED_EXPECTED:.7f}")
+        print(f"glass_camera_nested {NESTED_CAMERA_EXPECTED:.7f}")
         return
     out = Path(sys.argv[1])
     out.mkdir(parents=True, exist_ok=True)
@@ -248,6 +264,7 @@ def main():
         # The camera (z = 3) inside an absorbing glass block from z = 0.5 to 5 (see the docstring).
         "glass_camera_inside": over_emitter(glass(attenuation=(0.5, 1.0)), box(-10, -10, 0.5, 10, 10, 5)),
         "glass_nested": nested_scene(),
+        "glass_camera_nested": nested_scene(camera_z=1.5),
     }
     for name, g in scenes.items():
         g.write(out / f"{name}.gltf")
