@@ -3,7 +3,11 @@
 # Bonferroni-corrected; tests/render/image_compare.h).
 #
 #   cmake -DFREDHOLM=exe -DCOMPARE=exe -DOUT=dir -DNAME=name -DTEST_SCENE=file -DREFERENCE_SCENE=file
-#         -DBATCHES=K -DRENDER="args" [-DTEST_EXTRA="args"] -P run_batch_test.cmake
+#         -DBATCHES=K -DRENDER="args" [-DTEST_EXTRA="args"] [-DREFERENCE_NAME=name] -P run_batch_test.cmake
+#
+# The reference batches are the same renders for every test that shares a reference scene and RENDER: without
+# TEST_SCENE the script only renders them, named after NAME (a fixture, once per ctest run); with REFERENCE_NAME a
+# test reads the ones that fixture rendered under that name instead of rendering its own.
 cmake_minimum_required(VERSION 3.25)
 file(MAKE_DIRECTORY ${OUT})
 separate_arguments(render_args UNIX_COMMAND "${RENDER}")
@@ -31,8 +35,25 @@ function(render_batches scene prefix extra out_list)
   set(${out_list} "${joined}" PARENT_SCOPE)
 endfunction()
 
+if(NOT DEFINED TEST_SCENE)
+  render_batches(${REFERENCE_SCENE} ${NAME}_reference "" reference_images)
+  message(STATUS "${NAME}: rendered ${BATCHES} reference batches")
+  return()
+endif()
 render_batches(${TEST_SCENE} ${NAME}_test "${test_extra}" test_images)
-render_batches(${REFERENCE_SCENE} ${NAME}_reference "" reference_images)
+if(DEFINED REFERENCE_NAME)
+  set(images "")
+  foreach(seed RANGE 1 ${BATCHES})
+    set(image ${OUT}/${REFERENCE_NAME}_reference_${seed}.exr)
+    if(NOT EXISTS ${image})
+      message(FATAL_ERROR "${NAME}: no reference batch ${image} (rendered by the test ${REFERENCE_NAME})")
+    endif()
+    list(APPEND images ${image})
+  endforeach()
+  list(JOIN images "," reference_images)
+else()
+  render_batches(${REFERENCE_SCENE} ${NAME}_reference "" reference_images)
+endif()
 execute_process(COMMAND ${COMPARE} ${test_images} --same-distribution ${reference_images}
                         --diff-out ${OUT}/${NAME}.diff.exr RESULT_VARIABLE rc)
 if(NOT rc EQUAL 0)
