@@ -126,7 +126,10 @@ def give_thin_films(model):
     """--cycles-thin-film: the KHR_materials_iridescence films that Cycles' Principled BSDF can reproduce (factor 1,
     no textures: its Thin Film has no factor, and the thickness is then iridescenceThicknessMaximum), set on the
     materials of the same name; prints the films it cannot give."""
-    doc = json.loads(Path(model).read_text()) if str(model).endswith(".gltf") else {}
+    if not str(model).endswith(".gltf"):
+        print(f"compare_assets: {model}: films are read from .gltf files only; none given to Cycles")
+        return
+    doc = json.loads(Path(model).read_text())
     for index, material in enumerate(doc.get("materials", [])):
         film = material.get("extensions", {}).get("KHR_materials_iridescence")
         if film is None:

@@ -2,19 +2,28 @@
 # requires zero non-finite samples in each, then fh_compare --same-distribution (per-pixel Welch t test,
 # Bonferroni-corrected; tests/render/image_compare.h).
 #
-#   cmake -DFREDHOLM=exe -DCOMPARE=exe -DOUT=dir -DNAME=name -DTEST_SCENE=file -DREFERENCE_SCENE=file
-#         -DBATCHES=K -DRENDER="args" [-DTEST_EXTRA="args"] [-DREFERENCE_NAME=name] -P run_batch_test.cmake
+#   cmake -DFREDHOLM=exe -DCOMPARE=exe -DOUT=dir -DNAME=name -DBATCHES=K -DRENDER="args"
+#         (-DREFERENCE_SCENE=file | -DTEST_SCENE=file -DREFERENCE_NAME=name [-DTEST_EXTRA="args"]) -P run_batch_test.cmake
 #
-# The reference batches are the same renders for every test that shares a reference scene and RENDER: without
-# TEST_SCENE the script only renders them, named after NAME (a fixture, once per ctest run); with REFERENCE_NAME a
-# test reads the ones that fixture rendered under that name instead of rendering its own.
+# The reference batches are the same renders for every test that shares a reference scene and RENDER, so they are
+# rendered once: with REFERENCE_SCENE the script only renders them, named after NAME (a ctest fixture); with
+# TEST_SCENE it renders the test batches and compares them with those the fixture named REFERENCE_NAME rendered.
 cmake_minimum_required(VERSION 3.25)
 file(MAKE_DIRECTORY ${OUT})
 separate_arguments(render_args UNIX_COMMAND "${RENDER}")
 separate_arguments(test_extra UNIX_COMMAND "${TEST_EXTRA}")
 
-function(render_batches scene prefix extra out_list)
+# The images of batches 1..K named `prefix`, comma-separated.
+function(list_batches prefix out_list)
   set(images "")
+  foreach(seed RANGE 1 ${BATCHES})
+    list(APPEND images ${OUT}/${prefix}_${seed}.exr)
+  endforeach()
+  list(JOIN images "," joined)
+  set(${out_list} "${joined}" PARENT_SCOPE)
+endfunction()
+
+function(render_batches scene prefix extra)
   foreach(seed RANGE 1 ${BATCHES})
     set(image ${OUT}/${prefix}_${seed}.exr)
     set(stats ${OUT}/${prefix}_${seed}.json)
@@ -29,31 +38,23 @@ function(render_batches scene prefix extra out_list)
     if(NOT nonfinite EQUAL 0)
       message(FATAL_ERROR "${NAME}: ${nonfinite} non-finite samples\n  reproduce: ${printable}")
     endif()
-    list(APPEND images ${image})
   endforeach()
-  list(JOIN images "," joined)
-  set(${out_list} "${joined}" PARENT_SCOPE)
 endfunction()
 
-if(NOT DEFINED TEST_SCENE)
-  render_batches(${REFERENCE_SCENE} ${NAME}_reference "" reference_images)
+if(DEFINED REFERENCE_SCENE)
+  render_batches(${REFERENCE_SCENE} ${NAME}_reference "")
   message(STATUS "${NAME}: rendered ${BATCHES} reference batches")
   return()
 endif()
-render_batches(${TEST_SCENE} ${NAME}_test "${test_extra}" test_images)
-if(DEFINED REFERENCE_NAME)
-  set(images "")
-  foreach(seed RANGE 1 ${BATCHES})
-    set(image ${OUT}/${REFERENCE_NAME}_reference_${seed}.exr)
-    if(NOT EXISTS ${image})
-      message(FATAL_ERROR "${NAME}: no reference batch ${image} (rendered by the test ${REFERENCE_NAME})")
-    endif()
-    list(APPEND images ${image})
-  endforeach()
-  list(JOIN images "," reference_images)
-else()
-  render_batches(${REFERENCE_SCENE} ${NAME}_reference "" reference_images)
-endif()
+render_batches(${TEST_SCENE} ${NAME}_test "${test_extra}")
+list_batches(${NAME}_test test_images)
+list_batches(${REFERENCE_NAME}_reference reference_images)
+string(REPLACE "," ";" references "${reference_images}")
+foreach(image IN LISTS references)
+  if(NOT EXISTS ${image})
+    message(FATAL_ERROR "${NAME}: no reference batch ${image} (rendered by the fixture named ${REFERENCE_NAME})")
+  endif()
+endforeach()
 execute_process(COMMAND ${COMPARE} ${test_images} --same-distribution ${reference_images}
                         --diff-out ${OUT}/${NAME}.diff.exr RESULT_VARIABLE rc)
 if(NOT rc EQUAL 0)
