@@ -68,6 +68,7 @@ void add_bench_options(CLI::App& app, BenchCommand& c) {
     app.add_option("--hits-out", c.hits_out, "with --trace-rays: write each ray's hit distance (float32, inf: miss)");
     app.add_option("--json", c.json, "also write the figures as JSON");
     app.add_option("--device", c.device, "use the first Vulkan device whose name contains this");
+    app.add_option("--bvh-leaf-size", c.bvh_leaf_size, "most triangles per BVH leaf")->check(CLI::Range(1u, 64u));
 }
 
 namespace {
@@ -229,6 +230,7 @@ int run_bench(const BenchCommand& c) {
     RenderSettings base;
     base.spp = c.spp;
     base.max_depth = c.max_depth;
+    base.bvh_max_leaf_size = c.bvh_leaf_size;
     base.environment_file = c.environment_file;
     base.has_background = c.has_background;
     for (int i = 0; i < 3; ++i) base.background[i] = c.background[i];
@@ -323,7 +325,7 @@ int run_bench(const BenchCommand& c) {
         auto scene_bytes = [](const PackedScene& p) {
             return double(p.positions.size() * sizeof(gpu::TrianglePositions) + p.shading.size() * sizeof(gpu::TriangleShading) +
                           p.attributes.size() * sizeof(gpu::TriangleAttributes) +
-                          p.pair_nodes.size() * sizeof(gpu::BvhPairNode) + p.instances.size() * sizeof(gpu::Instance));
+                          p.nodes.size() * sizeof(gpu::BvhWideNode) + p.instances.size() * sizeof(gpu::Instance));
         };
         std::printf("\ninstancing: %zu instances; stored triangles %zu vs %zu copied; triangles, attributes, BVH and "
                     "instances %.2f MiB vs %.2f MiB (%.4f); load + BVH %.3f s vs %.3f s\n",

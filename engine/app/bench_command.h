@@ -21,6 +21,7 @@ struct BenchCommand {
     uint32_t spp = 64;
     uint32_t max_depth = 10;
     uint32_t repeats = 3;
+    uint32_t bvh_leaf_size = 4;  // RenderSettings::bvh_max_leaf_size
     std::filesystem::path json;
     std::filesystem::path trace_rays;     // --trace-rays: time the extend stage alone over these rays
     std::filesystem::path hits_out;       // --hits-out: their hit distances

@@ -89,7 +89,7 @@ GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& sce
                               uint32_t effects) {
     GpuBuffers b;
     b.params = make_filled_buffer(context, std::vector<gpu::FrameParams>{frame});
-    b.nodes = make_texel_buffer(context, scene.pair_nodes);
+    b.nodes = make_texel_buffer(context, scene.nodes);
     b.tri_positions = make_texel_buffer(context, scene.positions);
     b.tri_shading = make_texel_buffer(context, scene.shading);
     b.materials = make_texel_buffer(context, scene.materials);

@@ -61,7 +61,7 @@ MemoryEstimate estimate_render_memory(const PackedScene& scene, uint32_t width, 
     const BufferBinding storage = BufferBinding::storage, texels = BufferBinding::texels, other = BufferBinding::other;
     e.buffers = {
         {"params", sizeof(gpu::FrameParams), storage},
-        {"nodes", array_bytes(scene.pair_nodes), texels},
+        {"nodes", array_bytes(scene.nodes), texels},
         {"tri_positions", array_bytes(scene.positions), texels},
         {"tri_shading", array_bytes(scene.shading), texels},
         {"materials", array_bytes(scene.materials), texels},

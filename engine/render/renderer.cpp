@@ -16,13 +16,13 @@
 
 namespace fh {
 void set_frame_scene_bounds(gpu::FrameParams& f, const PackedScene& scene) {
-    if (scene.pair_nodes.empty()) return;
-    const gpu::BvhPairNode& r = scene.pair_nodes[0];  // the root pair's two boxes bound the scene (render space)
-    const bool b = r.b_index != gpu::INVALID_INDEX;
-    f.scene_min = glm::vec4(b ? std::min(r.a_min_x, r.b_min_x) : r.a_min_x, b ? std::min(r.a_min_y, r.b_min_y) : r.a_min_y,
-                            b ? std::min(r.a_min_z, r.b_min_z) : r.a_min_z, 0.0f);
-    f.scene_max = glm::vec4(b ? std::max(r.a_max_x, r.b_max_x) : r.a_max_x, b ? std::max(r.a_max_y, r.b_max_y) : r.a_max_y,
-                            b ? std::max(r.a_max_z, r.b_max_z) : r.a_max_z, 0.0f);
+    if (scene.nodes.empty()) return;
+    // Quantised boxes reach past their exact ones by up to two of their node's 255 steps (wide_bvh.cpp), so every box
+    // the GPU tests lies inside the scene's box grown by 1/64 of its extent: the padding traversal derives from these
+    // bounds then covers them all (intersect.glsl box_padding).
+    const glm::vec3 grow = (scene.bounds_hi - scene.bounds_lo) * (1.0f / 64.0f);
+    f.scene_min = glm::vec4(scene.bounds_lo - grow, 0.0f);
+    f.scene_max = glm::vec4(scene.bounds_hi + grow, 0.0f);
 }
 
 namespace {

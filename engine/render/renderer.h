@@ -34,7 +34,8 @@ struct Wave {
 // Splits samples [sample_begin, sample_end) of `pixel_count` pixels into waves of at most `capacity` paths.
 std::vector<Wave> plan_waves(uint32_t pixel_count, uint32_t sample_begin, uint32_t sample_end, uint32_t capacity);
 
-// FrameParams::scene_min / scene_max from the BVH's root: traversal pads its boxes by a bound computed from them.
+// FrameParams::scene_min / scene_max: the scene's box grown to hold every quantised box; traversal pads its boxes by a
+// bound computed from them.
 void set_frame_scene_bounds(gpu::FrameParams& frame, const PackedScene& scene);
 
 // Called after each wave with the samples per pixel finished so far; return false to stop early.

@@ -93,50 +93,12 @@ void pack_textures(const Scene& scene, PackedScene& packed) {
         if (used[i]) packed.texels.insert(packed.texels.end(), scene.images[i].texels.begin(), scene.images[i].texels.end());
 }
 
-uint32_t leaf_count(const gpu::BvhNode& node) {
-    return node.count_and_axis & ((1u << gpu::BVH_LEAF_COUNT_BITS) - 1u);
-}
-
 }  // namespace
 
 std::vector<gpu::MaterialLayers> material_layers_of(const Scene& scene) {
     std::vector<gpu::MaterialLayers> layers = scene.material_layers;
     layers.resize(scene.materials.size(), gltf::make_default_layers());
     return layers;
-}
-
-std::vector<gpu::BvhPairNode> make_pair_nodes(const std::vector<gpu::BvhNode>& nodes) {
-    std::vector<uint32_t> pair_of(nodes.size(), gpu::INVALID_INDEX);
-    uint32_t pair_count = 0;
-    for (size_t i = 0; i < nodes.size(); ++i)
-        if (leaf_count(nodes[i]) == 0) pair_of[i] = pair_count++;
-
-    // Child slot of a pair: bounds, and either the child's pair index or its triangle range.
-    struct Slot {
-        float lo[3], hi[3];
-        uint32_t index, count;
-    };
-    auto slot_of = [&](size_t c) {
-        const gpu::BvhNode& n = nodes[c];
-        const uint32_t count = leaf_count(n);
-        return Slot{{n.min_x, n.min_y, n.min_z}, {n.max_x, n.max_y, n.max_z},
-                    count ? n.child_or_first : pair_of[c], count};
-    };
-    auto make_pair = [](const Slot& a, const Slot& b) {
-        return gpu::BvhPairNode{a.lo[0], a.lo[1], a.lo[2], a.index, a.hi[0], a.hi[1], a.hi[2], a.count,
-                                b.lo[0], b.lo[1], b.lo[2], b.index, b.hi[0], b.hi[1], b.hi[2], b.count};
-    };
-
-    std::vector<gpu::BvhPairNode> pairs;
-    if (nodes.empty()) return pairs;
-    if (pair_count == 0) {  // the root is a leaf
-        pairs.push_back(make_pair(slot_of(0), Slot{{0, 0, 0}, {0, 0, 0}, gpu::INVALID_INDEX, 0}));
-        return pairs;
-    }
-    pairs.reserve(pair_count);
-    for (size_t i = 0; i < nodes.size(); ++i)
-        if (leaf_count(nodes[i]) == 0) pairs.push_back(make_pair(slot_of(i + 1), slot_of(nodes[i].child_or_first)));
-    return pairs;
 }
 
 double mean_emitted_luminance(const Scene& scene, size_t t, const gpu::Material& m) {
@@ -207,7 +169,9 @@ PackedScene pack_scene(const Scene& scene, const SceneBvh& bvh, EnvironmentMap e
     packed.origin = scene.origin;
     packed.motion_segments = scene.motion_segments;
     packed.effects = analyse_effects(scene, !environment.empty());
-    packed.pair_nodes = bvh.pair_nodes;
+    packed.nodes = bvh.nodes;
+    packed.bounds_lo = bvh.bounds_lo;
+    packed.bounds_hi = bvh.bounds_hi;
     packed.instances = bvh.instances;
     packed.materials = scene.materials;
     packed.material_layers = material_layers_of(scene);

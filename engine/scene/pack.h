@@ -13,7 +13,8 @@
 namespace fh {
 
 struct PackedScene {
-    std::vector<gpu::BvhPairNode> pair_nodes;       // the BVH as the GPU traverses it, root pair at 0 (scene_bvh.h)
+    std::vector<gpu::BvhWideNode> nodes;            // the BVH as the GPU traverses it, root at 0 (scene_bvh.h)
+    glm::vec3 bounds_lo{0.0f}, bounds_hi{0.0f};     // the scene's box (render space): SceneBvh's
     std::vector<gpu::Instance> instances;           // two-level BVH; empty: one level
     std::vector<gpu::TrianglePositions> positions;  // BVH leaf order
     std::vector<gpu::TriangleShading> shading;      // same order
@@ -32,10 +33,6 @@ struct PackedScene {
     glm::dvec3 origin{0.0};                         // world position of the render-space origin (Scene::origin)
     uint32_t motion_segments = 1;                   // Scene::motion_segments
 };
-
-// The pair nodes of a depth-first linear BVH (layout.h): one per interior node, in node order; a BVH that is
-// a single leaf gives one pair whose child b is absent.
-std::vector<gpu::BvhPairNode> make_pair_nodes(const std::vector<gpu::BvhNode>& nodes);
 
 // scene.material_layers, one per material (a scene built without them, as in the tests, gets none).
 std::vector<gpu::MaterialLayers> material_layers_of(const Scene& scene);

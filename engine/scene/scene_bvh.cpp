@@ -8,16 +8,10 @@
 #include <span>
 
 #include "scene/pack.h"
+#include "scene/wide_bvh.h"
 
 namespace fh {
 namespace {
-
-// Calls f(index, count) on both child slots of a pair node; f may rewrite them.
-template <typename F>
-void for_each_child(gpu::BvhPairNode& p, F&& f) {
-    f(p.a_index, p.a_count);
-    f(p.b_index, p.b_count);
-}
 
 // Rows of the 3x4 affine part of `m` (column-major glm).
 void write_rows(const glm::dmat4& m, gpu::vec4& r0, gpu::vec4& r1, gpu::vec4& r2) {
@@ -52,11 +46,30 @@ void map_box(const SceneInstance& instance, const gpu::BvhNode& root, glm::vec3&
     }
 }
 
+// The root's box: what the scene's triangles (or instances) span, in render space.
+void set_bounds(const std::vector<gpu::BvhNode>& nodes, SceneBvh& s) {
+    const gpu::BvhNode& root = nodes.at(0);
+    s.bounds_lo = glm::vec3(root.min_x, root.min_y, root.min_z);
+    s.bounds_hi = glm::vec3(root.max_x, root.max_y, root.max_z);
+}
+
+// A tree deeper than the GPU's traversal stack would lose subtrees; no build gets near it (the binary tree's depth is
+// capped at BvhOptions::max_depth and each wide level opens two binary ones), so this is an invariant, checked.
+void check_stack_bound(SceneBvh& s) {
+    s.stack_bound = measure_stack_bound(s.nodes, s.instances);
+    if (s.stack_bound > gpu::TRAVERSAL_STACK_SIZE)
+        throw std::invalid_argument("scene_bvh.cpp: the BVH needs a traversal stack of " + std::to_string(s.stack_bound) +
+                                    " entries, more than the GPU's " + std::to_string(gpu::TRAVERSAL_STACK_SIZE) +
+                                    " (a larger --bvh-leaf-size makes a shallower tree)");
+}
+
 }  // namespace
 
 SceneBvh make_single_level(const Bvh& bvh) {
     SceneBvh s;
-    s.pair_nodes = make_pair_nodes(bvh.nodes);
+    s.nodes = make_wide_nodes(bvh.nodes);
+    set_bounds(bvh.nodes, s);
+    check_stack_bound(s);
     s.triangle_order = bvh.triangle_order;
     s.sah_cost = bvh.sah_cost;
     s.node_count = bvh.nodes.size();
@@ -83,7 +96,7 @@ SceneBvh build_scene_bvh(const Scene& scene, const BvhOptions& options) {
     SceneBvh s;
     std::vector<uint32_t> root_of(meshes.size()), leaf_offset(meshes.size());
     std::vector<gpu::BvhNode> roots(meshes.size());
-    std::vector<gpu::BvhPairNode> mesh_pairs;
+    std::vector<gpu::BvhWideNode> mesh_nodes;
     uint32_t deepest_mesh = 0;
     for (size_t m = 0; m < meshes.size(); ++m) {
         const std::span<const glm::vec3> positions(scene.positions.data() + 3 * meshes[m].first_triangle,
@@ -94,12 +107,10 @@ SceneBvh build_scene_bvh(const Scene& scene, const BvhOptions& options) {
         deepest_mesh = std::max(deepest_mesh, bvh.max_depth);
         leaf_offset[m] = uint32_t(s.triangle_order.size());
         for (uint32_t t : bvh.triangle_order) s.triangle_order.push_back(uint32_t(meshes[m].first_triangle) + t);
-        root_of[m] = uint32_t(mesh_pairs.size());  // relative to the first mesh pair, fixed below
-        for (gpu::BvhPairNode p : make_pair_nodes(bvh.nodes)) {
-            for_each_child(p, [&](uint32_t& index, uint32_t count) {
-                if (index != gpu::INVALID_INDEX) index += count == 0 ? root_of[m] : leaf_offset[m];
-            });
-            mesh_pairs.push_back(p);
+        root_of[m] = uint32_t(mesh_nodes.size());  // relative to the first mesh node, fixed below
+        for (gpu::BvhWideNode w : make_wide_nodes(bvh.nodes)) {
+            for_each_wide_child(w, [&](uint32_t& index, uint32_t count) { index += count == 0 ? root_of[m] : leaf_offset[m]; });
+            mesh_nodes.push_back(w);
         }
     }
 
@@ -112,19 +123,20 @@ SceneBvh build_scene_bvh(const Scene& scene, const BvhOptions& options) {
     s.node_count += tlas.nodes.size();
     s.sah_cost = tlas.sah_cost;
     s.max_depth = tlas.max_depth + 1 + deepest_mesh;
-    s.pair_nodes = make_pair_nodes(tlas.nodes);
-    const uint32_t mesh_base = uint32_t(s.pair_nodes.size());
-    for (gpu::BvhPairNode& p : s.pair_nodes)
-        for_each_child(p, [&](uint32_t& index, uint32_t& count) {
-            if (index == gpu::INVALID_INDEX || count == 0) return;
+    s.nodes = make_wide_nodes(tlas.nodes);
+    set_bounds(tlas.nodes, s);
+    const uint32_t mesh_base = uint32_t(s.nodes.size());
+    for (gpu::BvhWideNode& w : s.nodes)
+        for_each_wide_child(w, [&](uint32_t& index, uint32_t& count) {
+            if (count == 0) return;
             index = tlas.triangle_order[index];  // the instance
-            count = gpu::INSTANCE_LEAF;
+            count = gpu::WIDE_INSTANCE_COUNT;
         });
-    for (gpu::BvhPairNode p : mesh_pairs) {
-        for_each_child(p, [&](uint32_t& index, uint32_t count) {
-            if (index != gpu::INVALID_INDEX && count == 0) index += mesh_base;
+    for (gpu::BvhWideNode w : mesh_nodes) {
+        for_each_wide_child(w, [&](uint32_t& index, uint32_t count) {
+            if (count == 0) index += mesh_base;
         });
-        s.pair_nodes.push_back(p);
+        s.nodes.push_back(w);
     }
 
     s.instances.resize(placements.size());
@@ -149,6 +161,7 @@ SceneBvh build_scene_bvh(const Scene& scene, const BvhOptions& options) {
             }
         }
     }
+    check_stack_bound(s);
     s.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return s;
 }

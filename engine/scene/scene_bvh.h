@@ -11,12 +11,14 @@
 namespace fh {
 
 struct SceneBvh {
-    std::vector<gpu::BvhPairNode> pair_nodes;  // root pair at 0 (the top level when instanced), meshes' after
+    std::vector<gpu::BvhWideNode> nodes;       // root at 0 (the top level when instanced), meshes' after (wide_bvh.h)
     std::vector<uint32_t> triangle_order;      // leaf order -> scene triangle
     std::vector<gpu::Instance> instances;      // empty: one level
     double sah_cost = 0.0;                     // of the one level, or of the top level
     size_t node_count = 0;                     // BvhNodes built, over every level
-    uint32_t max_depth = 0;                    // deepest leaf, top level and mesh level together
+    uint32_t max_depth = 0;                    // deepest binary leaf, top level and mesh level together
+    uint32_t stack_bound = 0;                  // traversal stack entries the wide tree can need (wide_bvh.h)
+    glm::vec3 bounds_lo{0.0f}, bounds_hi{0.0f};  // the root's box (render space)
     double build_seconds = 0.0;
 };
 

@@ -1,4 +1,4 @@
-// Closest-hit and any-hit traversal of the pair-node BVH, shared by the extend and connect stages.
+// Closest-hit and any-hit traversal of the 4-wide BVH (layout.h BvhWideNode), shared by the extend and connect stages.
 // Box and triangle tests come from intersect.glsl: a slab test without 0 x inf, padded as the watertight
 // triangle test requires (Woop et al. 2013, sec. 5) and with the far distance enlarged by 1 + 2 gamma(3)
 // (Ize 2013, "Robust BVH Ray Traversal", JCGT 2(2)).
@@ -9,8 +9,6 @@
 #include "material.glsl"
 #include "instance.glsl"
 #include "motion.glsl"
-
-const uint TRAVERSAL_STACK_SIZE = 64u;
 
 struct TraceHit {
     float t;
@@ -35,7 +33,7 @@ struct TraceHit {
 // world one) and traversal goes on at the mesh BVH's root on the same stack. Entries pushed from then on sit at
 // or above `instance_base`; popping one below it returns to the top level with the world-space ray.
 //
-// "While-while" traversal (Aila & Laine 2009): the inner loop descends through pair nodes until this lane
+// "While-while" traversal (Aila & Laine 2009): the inner loop descends through wide nodes until this lane
 // holds a leaf, then the lanes test their leaves' triangles together. On lavapipe every branch of an `if`
 // runs (masked) for the whole SIMD group, so keeping triangle tests out of the node loop means a node step
 // never pays for a triangle test, and each leaf loop tests the triangles of all lanes at once.
@@ -54,6 +52,59 @@ bool is_same_surface(uint tri, TrianglePositions tp, uint origin_triangle, vec3 
     float c = dot(triangle_unit_normal(tp), origin_normal);
     return abs(c) > 0.99999f;  // parallel within ~0.26 degrees
 }
+
+// A child of a wide node as traversal sorts it: where its box is entered (MISSED_CHILD: not hit), and what it is.
+const float MISSED_CHILD = 3.0e38f;  // above any entry distance a hit box has (at most best.t, finite)
+struct ChildEntry {
+    float entry;
+    uint index;
+    uint count;  // 0: a node; INSTANCE_LEAF: an instance; else triangles
+};
+
+// Child slot `shift / 8` of a wide node: its box dequantised exactly as the host rounded it (wide_bvh.cpp: the
+// product is exact, the sum rounds once), then the padded slab test.
+ChildEntry test_child(uint child, uint counts, uint shift, vec3 node_origin, vec3 step, uvec3 lo_q, uvec3 hi_q,
+                      vec3 origin, vec3 inv_dir, float t_max, float pad) {
+    vec3 lo = node_origin + vec3(lo_q >> shift & 0xffu) * step;
+    vec3 hi = node_origin + vec3(hi_q >> shift & 0xffu) * step;
+    vec2 range = box_entry_exit(origin, inv_dir, lo, hi, t_max, pad);
+    uint c = counts >> shift & 0xffu;
+    ChildEntry e;
+    e.entry = range.x <= range.y && child != INVALID_INDEX ? range.x : MISSED_CHILD;
+    e.index = child;
+    e.count = c == WIDE_INSTANCE_COUNT ? INSTANCE_LEAF : c;
+    return e;
+}
+
+void order_entries(inout ChildEntry a, inout ChildEntry b) {
+    bool swap = b.entry < a.entry;
+    ChildEntry first = swap ? b : a;
+    b = swap ? a : b;
+    a = first;
+}
+
+// A macro, not a function: GLSL passes arrays by copy, and the stack is trace_ray's. The host keeps every tree within
+// the stack (scene_bvh.cpp check_stack_bound); the bound check only keeps a write in range.
+#define PUSH_ENTRY(e)                                                          \
+    if ((e).entry < MISSED_CHILD && stack_size < TRAVERSAL_STACK_SIZE) {        \
+        stack_index[stack_size] = (e).index;                                    \
+        stack_count[stack_size] = (e).count;                                    \
+        ++stack_size;                                                           \
+    }
+
+// Takes the top stack entry; one pushed at the top level (below instance_base) returns the ray to world space.
+#define POP_ENTRY()                                                                            \
+    --stack_size;                                                                              \
+    index = stack_index[stack_size];                                                           \
+    count = stack_count[stack_size];                                                           \
+    if (scene_has_instances && instance != INVALID_INDEX && stack_size < instance_base) {      \
+        instance = INVALID_INDEX;                                                              \
+        origin = world_origin;                                                                 \
+        dir = world_dir;                                                                       \
+        pre = make_ray_precomp(origin, dir);                                                   \
+        inv_dir = make_safe_inverse_dir(dir);                                                  \
+        pad = world_pad;                                                                       \
+    }
 
 // alpha_seed: with EFFECT_ALPHA, the ray's key for stochastic alpha (material.glsl is_surface_present); a
 // candidate hit on a cut-out or not-drawn-this-time point is skipped as if the triangle were not there.
@@ -79,7 +130,7 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin
     uint stack_index[TRAVERSAL_STACK_SIZE];
     uint stack_count[TRAVERSAL_STACK_SIZE];
     uint stack_size = 0u;
-    uint index = 0u;  // the root pair node
+    uint index = 0u;  // the root node
     uint count = 0u;
     vec3 origin_normal = origin_triangle != INVALID_INDEX ? triangle_unit_normal(load_triangle_positions(origin_triangle))
                                                           : vec3(0.0f);
@@ -103,22 +154,31 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin
                 count = 0u;
                 continue;
             }
-            BvhPairNode n = load_bvh_node(index);
-            vec2 a = box_entry_exit(origin, inv_dir, vec3(n.a_min_x, n.a_min_y, n.a_min_z),
-                                    vec3(n.a_max_x, n.a_max_y, n.a_max_z), best.t, pad);
-            vec2 b = box_entry_exit(origin, inv_dir, vec3(n.b_min_x, n.b_min_y, n.b_min_z),
-                                    vec3(n.b_max_x, n.b_max_y, n.b_max_z), best.t, pad);
-            bool hit_a = a.x <= a.y && n.a_index != INVALID_INDEX;
-            bool hit_b = b.x <= b.y && n.b_index != INVALID_INDEX;
-            // Nearer child first (ties: a); when both are hit the other waits on the stack.
-            bool b_first = hit_b && (!hit_a || b.x < a.x);
-            if (hit_a && hit_b && stack_size < TRAVERSAL_STACK_SIZE) {
-                stack_index[stack_size] = b_first ? n.a_index : n.b_index;
-                stack_count[stack_size] = b_first ? n.a_count : n.b_count;
-                ++stack_size;
+            BvhWideNode n = load_bvh_node(index);
+            vec3 node_origin = vec3(n.origin_x, n.origin_y, n.origin_z);
+            vec3 step = uintBitsToFloat((uvec3(n.exponents) >> uvec3(0u, 8u, 16u) & 0xffu) << 23u);
+            uvec3 lo_q = uvec3(n.lo_x, n.lo_y, n.lo_z), hi_q = uvec3(n.hi_x, n.hi_y, n.hi_z);
+            ChildEntry c0 = test_child(n.index_0, n.counts, 0u, node_origin, step, lo_q, hi_q, origin, inv_dir, best.t, pad);
+            ChildEntry c1 = test_child(n.index_1, n.counts, 8u, node_origin, step, lo_q, hi_q, origin, inv_dir, best.t, pad);
+            ChildEntry c2 = test_child(n.index_2, n.counts, 16u, node_origin, step, lo_q, hi_q, origin, inv_dir, best.t, pad);
+            ChildEntry c3 = test_child(n.index_3, n.counts, 24u, node_origin, step, lo_q, hi_q, origin, inv_dir, best.t, pad);
+            // Nearest first: a sorting network of five compare-exchanges (missed children sort last).
+            order_entries(c0, c1);
+            order_entries(c2, c3);
+            order_entries(c0, c2);
+            order_entries(c1, c3);
+            order_entries(c1, c2);
+            // The nearest is next; the other hit ones wait on the stack, farthest deepest.
+            PUSH_ENTRY(c3)
+            PUSH_ENTRY(c2)
+            PUSH_ENTRY(c1)
+            index = c0.entry < MISSED_CHILD ? c0.index : INVALID_INDEX;
+            count = c0.entry < MISSED_CHILD ? c0.count : 0u;
+            // A lane that missed every child takes its next entry here rather than idle (masked) until every lane of
+            // the SIMD group holds a leaf.
+            if (c0.entry >= MISSED_CHILD && stack_size > 0u) {
+                POP_ENTRY()
             }
-            index = b_first ? n.b_index : (hit_a ? n.a_index : INVALID_INDEX);
-            count = b_first ? n.b_count : (hit_a ? n.a_count : 0u);
         }
         bool tie_break = !any_hit && FH_TECHNIQUE_ON(TECHNIQUE_TIE_BREAK);
         for (uint k = 0u; k < count; ++k) {
@@ -142,20 +202,11 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin
                 if (any_hit) return best;
             }
         }
-        // One pop site: on lavapipe every site runs masked on every pass, so fewer sites cost less.
         if (stack_size == 0u) break;
-        --stack_size;
-        index = stack_index[stack_size];
-        count = stack_count[stack_size];
-        if (scene_has_instances && instance != INVALID_INDEX && stack_size < instance_base) {
-            instance = INVALID_INDEX;  // the popped entry was pushed at the top level
-            origin = world_origin;
-            dir = world_dir;
-            pre = make_ray_precomp(origin, dir);
-            inv_dir = make_safe_inverse_dir(dir);
-            pad = world_pad;
-        }
+        POP_ENTRY()
     }
     return best;
 }
+#undef PUSH_ENTRY
+#undef POP_ENTRY
 #endif

@@ -31,7 +31,7 @@ FH_CONST uint WORKGROUP_SIZE = 64u;  // lavapipe: 8-lane subgroups, 64..256 per 
 // texel buffer reaches maxTexelBufferElements x 16 bytes (2 GiB on lavapipe) where a storage buffer stops at
 // maxStorageBufferRange (128 MiB). The others are storage buffers, but for the one uniform buffer.
 FH_CONST uint BINDING_PARAMS = 0u;          // FrameParams, one element
-FH_CONST uint BINDING_BVH_NODES = 1u;       // TEXELS BvhPairNode[], depth-first, root at 0
+FH_CONST uint BINDING_BVH_NODES = 1u;       // TEXELS BvhWideNode[], depth-first, root at 0
 FH_CONST uint BINDING_TRI_POSITIONS = 2u;   // TEXELS TrianglePositions[], in BVH leaf order
 FH_CONST uint BINDING_TRI_SHADING = 3u;     // TEXELS TriangleShading[], same order
 FH_CONST uint BINDING_MATERIALS = 4u;       // TEXELS Material[]
@@ -151,7 +151,10 @@ FH_CONST uint RENDER_NEE = 1u;             // FrameParams.flags: next-event esti
 FH_CONST uint RENDER_MIS = 2u;             // combine NEE and BSDF sampling by MIS (else NEE only)
 FH_CONST uint RENDER_RR = 4u;              // Russian roulette
 FH_CONST uint BVH_LEAF_COUNT_BITS = 16u;   // BvhNode.count_and_axis: low bits count, high bits axis
-FH_CONST uint INSTANCE_LEAF = 0x80000000u; // BvhPairNode child count of a top-level leaf: index = Instance
+FH_CONST uint INSTANCE_LEAF = 0x80000000u; // traversal's count of a top-level leaf (stack entries): index = Instance
+FH_CONST uint BVH_WIDTH = 4u;              // children per BvhWideNode
+FH_CONST uint WIDE_INSTANCE_COUNT = 255u;  // BvhWideNode.counts byte of a top-level leaf; leaves hold 1 .. 254
+FH_CONST uint TRAVERSAL_STACK_SIZE = 96u;  // entries; the host checks that a BVH never needs more (wide_bvh.h)
 FH_CONST uint PUNCTUAL_LIGHT_BIT = 0x80000000u;  // Emitter.light: set = PunctualLight index, clear = triangle
 FH_CONST uint ENVIRONMENT_LIGHT = 0x7fffffffu;  // Emitter.light: the environment (EFFECT_ENVIRONMENT)
 FH_CONST uint ALPHA_OPAQUE = 0u;           // Material.alpha_mode (glTF alphaMode)
@@ -178,19 +181,22 @@ struct BvhNode {
     uint count_and_axis;  // triangle count (0 = interior) | split axis << BVH_LEAF_COUNT_BITS
 };
 
-// What the GPU traverses: one node per interior node of the BVH above, holding the bounds of both children,
-// so one visit tests two boxes and descends into the nearer (Aila & Laine 2009, "Understanding the
-// Efficiency of Ray Traversal on GPUs"). A child is another pair node (count 0, index = its BvhPairNode) or
-// a leaf (index = first triangle, count triangles); index INVALID_INDEX: no child (a BVH that is one leaf).
-struct BvhPairNode {
-    float a_min_x, a_min_y, a_min_z;
-    uint a_index;
-    float a_max_x, a_max_y, a_max_z;
-    uint a_count;
-    float b_min_x, b_min_y, b_min_z;
-    uint b_index;
-    float b_max_x, b_max_y, b_max_z;
-    uint b_count;
+// What the GPU traverses: a 4-wide BVH with quantised child boxes, 64 bytes (four texels) for four children where
+// two-child nodes of full floats took 128 (Ylitie et al. 2017, "Efficient Incoherent Ray Traversal on GPUs Through
+// Compressed Wide BVHs", with four children and one index per child). One visit tests four boxes: half the visits and
+// half the node words of the binary tree (scene/wide_bvh.h collapses the binary BVH into it).
+// Child k's box along an axis is [origin + lo * step, origin + hi * step] with lo, hi byte k of lo_x.. / hi_x..
+// and step = 2^(exponent - 127), rounded outwards on the host so that the float sums the shader computes contain the
+// child's exact box. Child k is another wide node (count 0), a leaf (index = first triangle), a top-level leaf
+// (count WIDE_INSTANCE_COUNT, index = Instance) or absent (index INVALID_INDEX).
+struct BvhWideNode {
+    float origin_x, origin_y, origin_z;
+    uint exponents;  // the step's biased float exponent per axis: x in bits 0-7, y 8-15, z 16-23
+    uint lo_x, lo_y, lo_z;  // byte k: child k's low corner, in steps above origin
+    uint hi_x, hi_y, hi_z;  // byte k: its high corner
+    uint counts;            // byte k: child k's triangle count (0: a node; WIDE_INSTANCE_COUNT: an instance)
+    uint index_0, index_1, index_2, index_3;
+    uint unused;
 };
 
 // One placement of a mesh in a two-level BVH (SPEC_HAS_INSTANCES): a top-level leaf (count INSTANCE_LEAF) enters
@@ -199,7 +205,7 @@ struct BvhPairNode {
 struct Instance {
     vec4 object_from_render_0, object_from_render_1, object_from_render_2;
     vec4 render_from_object_0, render_from_object_1, render_from_object_2;
-    uint root_node;         // the mesh BVH's root pair node
+    uint root_node;         // the mesh BVH's root BvhWideNode
     uint first_triangle;    // the mesh's triangles (TrianglePositions order) start here
     uint material;          // replaces the triangles' material (meshes sharing geometry), else INVALID_INDEX
     // Motion blur: INVALID_INDEX for an instance that stands still; else the first of FrameParams.motion_segments + 1

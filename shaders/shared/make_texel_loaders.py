@@ -15,7 +15,7 @@ import sys
 
 # struct, load function, its parameter, binding constant, sampler name
 TEXEL_STRUCTS = [
-    ("BvhPairNode", "load_bvh_node", "index", "BINDING_BVH_NODES", "node_texels"),
+    ("BvhWideNode", "load_bvh_node", "index", "BINDING_BVH_NODES", "node_texels"),
     ("TrianglePositions", "load_triangle_positions", "triangle", "BINDING_TRI_POSITIONS", "tri_position_texels"),
     ("TriangleShading", "load_triangle_shading", "triangle", "BINDING_TRI_SHADING", "tri_shading_texels"),
     ("Material", "load_material", "material", "BINDING_MATERIALS", "material_texels"),

@@ -10,6 +10,7 @@
 #include "gltf_builder.h"
 #include "scene/effects.h"
 #include "scene/pack.h"
+#include "scene/wide_bvh.h"
 #include "scene/scene.h"
 #include "scene/scene_bvh.h"
 
@@ -137,11 +138,12 @@ TEST(GltfInstancing, TwoLevelBvhReachesEveryTriangleThroughItsInstances) {
     std::multiset<uint32_t> order(bvh.triangle_order.begin(), bvh.triangle_order.end());
     EXPECT_EQ(order, (std::multiset<uint32_t>{0, 1}));
     std::set<uint32_t> leaves;
-    for (const fh::gpu::BvhPairNode& p : bvh.pair_nodes)
-        for (auto [index, count] : {std::pair{p.a_index, p.a_count}, std::pair{p.b_index, p.b_count}})
-            if (count == fh::gpu::INSTANCE_LEAF) leaves.insert(index);
+    for (fh::gpu::BvhWideNode w : bvh.nodes)
+        fh::for_each_wide_child(w, [&](uint32_t index, uint32_t count) {
+            if (count == fh::gpu::WIDE_INSTANCE_COUNT) leaves.insert(index);
+        });
     EXPECT_EQ(leaves, (std::set<uint32_t>{0, 1, 2, 3, 4, 5}));
-    for (const fh::gpu::Instance& inst : bvh.instances) EXPECT_LT(inst.root_node, bvh.pair_nodes.size());
+    for (const fh::gpu::Instance& inst : bvh.instances) EXPECT_LT(inst.root_node, bvh.nodes.size());
     EXPECT_THROW(fh::pack_scene(s, fh::build_bvh(s.positions)), std::invalid_argument);
     EXPECT_EQ(fh::pack_scene(s, bvh).instances.size(), 6u);
 }
@@ -161,9 +163,9 @@ TEST(GltfInstancing, MetalRoughSpheresStoreAboutOneNinetyEighthOfTheTriangles) {
     const fh::PackedScene a = fh::pack_scene(instanced, fh::build_scene_bvh(instanced, {}));
     const fh::PackedScene b = fh::pack_scene(flat, fh::build_scene_bvh(flat, {}));
     const double bytes_a = double(a.positions.size() * sizeof(a.positions[0]) + a.shading.size() * sizeof(a.shading[0]) +
-                                  a.pair_nodes.size() * sizeof(a.pair_nodes[0]) + a.instances.size() * sizeof(a.instances[0]));
+                                  a.nodes.size() * sizeof(a.nodes[0]) + a.instances.size() * sizeof(a.instances[0]));
     const double bytes_b = double(b.positions.size() * sizeof(b.positions[0]) + b.shading.size() * sizeof(b.shading[0]) +
-                                  b.pair_nodes.size() * sizeof(b.pair_nodes[0]));
+                                  b.nodes.size() * sizeof(b.nodes[0]));
     EXPECT_LT(bytes_a / bytes_b, 1.5 / 98.0);
     std::printf("MetalRoughSpheresNoTextures: %zu stored of %zu rendered triangles; scene buffers %.2f MiB vs %.2f MiB "
                 "flattened (%.4f)\n", instanced.triangle_count(), flat.triangle_count(), bytes_a / 1048576.0,

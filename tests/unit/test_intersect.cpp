@@ -1,4 +1,4 @@
-// intersect.glsl compiled as C++: single-triangle cases, then a linear-BVH traversal that must agree with
+// intersect.glsl compiled as C++: single-triangle cases, then a wide-BVH traversal that must agree with
 // brute force (float and double precision) and must not leak through shared vertices and edges (watertight).
 #include <algorithm>
 #include <cmath>
@@ -10,6 +10,7 @@ namespace fh::glsl {
 #include "lib/intersect.glsl"
 }
 #include "scene/bvh.h"
+#include "scene/wide_bvh.h"
 #include "test_meshes.h"
 
 namespace {
@@ -31,41 +32,42 @@ TriangleHit intersect(vec3 o, vec3 d, vec3 p0, vec3 p1, vec3 p2, float t_max = I
     return intersect_triangle(make_ray_precomp(o, d), p0, p1, p2, t_max);
 }
 
-// Triangles and their BVH in leaf order, as the GPU sees them.
+// Triangles and their BVH in leaf order, as the GPU sees them: the wide nodes' quantised boxes.
 struct Accel {
     std::vector<vec3> positions;  // leaf order, 3 per triangle
     fh::Bvh bvh;
-    explicit Accel(const std::vector<vec3>& p) : bvh(fh::build_bvh(p)) {
+    std::vector<fh::gpu::BvhWideNode> wide;
+    explicit Accel(const std::vector<vec3>& p) : bvh(fh::build_bvh(p)), wide(fh::make_wide_nodes(bvh.nodes)) {
         for (uint32_t t : bvh.triangle_order) positions.insert(positions.end(), {p[3 * t], p[3 * t + 1], p[3 * t + 2]});
     }
     size_t triangle_count() const { return positions.size() / 3; }
 };
 
+// Every child whose dequantised box the padded slab test enters (each box padded for itself, less than the GPU's
+// scene-wide padding), in slot order.
 Hit trace_bvh(const Accel& a, vec3 o, vec3 d) {
     const auto pre = make_ray_precomp(o, d);
     const vec3 inv_dir = fh::glsl::make_safe_inverse_dir(d);
     Hit best;
-    uint32_t stack[64], size = 0, index = 0;
-    while (true) {
-        const fh::gpu::BvhNode& n = a.bvh.nodes[index];
-        if (fh::glsl::intersect_box(o, inv_dir, {n.min_x, n.min_y, n.min_z}, {n.max_x, n.max_y, n.max_z}, best.t)) {
-            const uint32_t count = n.count_and_axis & 0xffffu;
-            if (count == 0) {
-                const bool negative = d[int(n.count_and_axis >> 16)] < 0.0f;
-                stack[size++] = negative ? index + 1 : n.child_or_first;
-                index = negative ? n.child_or_first : index + 1;
+    std::vector<uint32_t> stack = {0};
+    while (!stack.empty()) {
+        const fh::gpu::BvhWideNode& n = a.wide[stack.back()];
+        stack.pop_back();
+        for (uint32_t k = 0; k < fh::gpu::BVH_WIDTH; ++k) {
+            const fh::WideChild c = fh::read_wide_child(n, k);
+            if (c.index == fh::gpu::INVALID_INDEX || !fh::glsl::intersect_box(o, inv_dir, c.lo, c.hi, best.t)) continue;
+            if (c.count == 0) {
+                stack.push_back(c.index);
                 continue;
             }
-            for (uint32_t k = 0; k < count; ++k) {
-                const uint32_t t = n.child_or_first + k;
+            for (uint32_t t = c.index; t < c.index + c.count; ++t) {
                 const TriangleHit h = intersect_triangle(pre, a.positions[3 * t], a.positions[3 * t + 1],
                                                          a.positions[3 * t + 2], best.t);
                 if (h.hit != 0u) best = {h.t, t, h.b1, h.b2};
             }
         }
-        if (size == 0) return best;
-        index = stack[--size];
     }
+    return best;
 }
 
 Hit trace_brute_force(const Accel& a, vec3 o, vec3 d) {

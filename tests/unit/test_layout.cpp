@@ -24,18 +24,17 @@ FH_OFFSET(BvhNode, child_or_first, 12);
 FH_OFFSET(BvhNode, max_x, 16);
 FH_OFFSET(BvhNode, count_and_axis, 28);
 
-FH_SIZE(BvhPairNode, 64);
-FH_OFFSET(BvhPairNode, a_min_x, 0);
-FH_OFFSET(BvhPairNode, a_index, 12);
-FH_OFFSET(BvhPairNode, a_max_x, 16);
-FH_OFFSET(BvhPairNode, a_count, 28);
-FH_OFFSET(BvhPairNode, b_min_x, 32);
-FH_OFFSET(BvhPairNode, b_index, 44);
-FH_OFFSET(BvhPairNode, b_max_x, 48);
-FH_OFFSET(BvhPairNode, b_count, 60);
+FH_SIZE(BvhWideNode, 64);
+FH_OFFSET(BvhWideNode, origin_x, 0);
+FH_OFFSET(BvhWideNode, exponents, 12);
+FH_OFFSET(BvhWideNode, lo_x, 16);
+FH_OFFSET(BvhWideNode, hi_x, 28);
+FH_OFFSET(BvhWideNode, counts, 40);
+FH_OFFSET(BvhWideNode, index_0, 44);
+FH_OFFSET(BvhWideNode, index_3, 56);
 
 // The scene arrays bound as texel buffers (layout.h TEXELS) are read as whole 16-byte RGBA32UI texels.
-static_assert(sizeof(BvhPairNode) % TEXEL_BYTES == 0 && sizeof(TrianglePositions) % TEXEL_BYTES == 0 &&
+static_assert(sizeof(BvhWideNode) % TEXEL_BYTES == 0 && sizeof(TrianglePositions) % TEXEL_BYTES == 0 &&
                   sizeof(TriangleShading) % TEXEL_BYTES == 0 && sizeof(Material) % TEXEL_BYTES == 0 &&
                   sizeof(Emitter) % TEXEL_BYTES == 0 && sizeof(PunctualLight) % TEXEL_BYTES == 0 &&
                   sizeof(TriangleAttributes) % TEXEL_BYTES == 0 && sizeof(Instance) % TEXEL_BYTES == 0 &&
@@ -200,7 +199,7 @@ TEST(Layout, ArrayStridesFollowStd430) {
     EXPECT_TRUE(has_std430_array_stride<Material>(true));
     EXPECT_TRUE(has_std430_array_stride<MaterialLayers>(true));
     EXPECT_TRUE(has_std430_array_stride<FrameParams>(true));
-    for (size_t size : {sizeof(BvhNode), sizeof(BvhPairNode), sizeof(TrianglePositions), sizeof(TriangleShading), sizeof(Emitter),
+    for (size_t size : {sizeof(BvhNode), sizeof(BvhWideNode), sizeof(TrianglePositions), sizeof(TriangleShading), sizeof(Emitter),
                         sizeof(QueueCounters), sizeof(PathState), sizeof(PathSpectrum), sizeof(RayItem), sizeof(HitItem),
                         sizeof(ShadowRayItem), sizeof(FilmPixel), sizeof(StagePush)})
         EXPECT_EQ(size % 4, 0u);
@@ -209,7 +208,7 @@ TEST(Layout, ArrayStridesFollowStd430) {
 TEST(Layout, SizesMatchTheGpuStructs) {
     // Repeated as runtime checks so a failing build is not the only report.
     EXPECT_EQ(sizeof(BvhNode), 32u);
-    EXPECT_EQ(sizeof(BvhPairNode), 64u);
+    EXPECT_EQ(sizeof(BvhWideNode), 64u);
     EXPECT_EQ(sizeof(TrianglePositions), 48u);
     EXPECT_EQ(sizeof(TriangleShading), 48u);
     EXPECT_EQ(sizeof(Material), 96u);

@@ -9,6 +9,7 @@
 
 #include "scene/alias_table.h"
 #include "scene/pack.h"
+#include "scene/wide_bvh.h"
 #include "test_meshes.h"
 
 namespace {
@@ -72,7 +73,7 @@ TEST(Pack, StoresTrianglesInLeafOrder) {
     const fh::PackedScene packed = fh::pack_scene(s, bvh);
     ASSERT_EQ(packed.positions.size(), 500u);
     ASSERT_EQ(packed.shading.size(), 500u);
-    EXPECT_EQ(packed.pair_nodes.size(), fh::make_pair_nodes(bvh.nodes).size());
+    EXPECT_EQ(packed.nodes.size(), fh::make_wide_nodes(bvh.nodes).size());
     EXPECT_EQ(packed.materials.size(), 3u);
     for (size_t i = 0; i < 500; ++i) {
         const uint32_t t = bvh.triangle_order[i];

@@ -1,0 +1,46 @@
+// The BVH as the GPU traverses it: the binary SAH tree collapsed into 4-wide nodes with quantised child boxes
+// (layout.h BvhWideNode).
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "shared/layout.h"
+
+namespace fh {
+
+// One child slot of a wide node as traversal reads it.
+struct WideChild {
+    glm::vec3 lo{0.0f}, hi{0.0f};  // the box the GPU tests: the float sums origin + q * step, as the shader forms them
+    uint32_t index = gpu::INVALID_INDEX;  // wide node, first triangle or Instance; INVALID_INDEX: no child
+    uint32_t count = 0;                   // 0: a wide node; gpu::WIDE_INSTANCE_COUNT: an instance; else triangles
+};
+
+// The wide nodes of a depth-first binary BVH (layout.h BvhNode), depth-first with the root at 0, so that every
+// child comes after its parent. Each wide node takes the children of a binary interior node and opens the child of
+// largest surface area until it has four (or only leaves are left). A BVH that is one leaf gives one node with that
+// leaf as its only child. Leaves keep their triangle ranges; each quantised box contains its binary node's box.
+// Throws std::invalid_argument for a leaf of more than 254 triangles.
+std::vector<gpu::BvhWideNode> make_wide_nodes(const std::vector<gpu::BvhNode>& nodes);
+
+WideChild read_wide_child(const gpu::BvhWideNode& node, uint32_t k);
+
+// Calls f(index, count) on every present child slot of `node` (count as in WideChild); f may rewrite both.
+template <typename F>
+void for_each_wide_child(gpu::BvhWideNode& node, F&& f) {
+    uint32_t* indices[gpu::BVH_WIDTH] = {&node.index_0, &node.index_1, &node.index_2, &node.index_3};
+    for (uint32_t k = 0; k < gpu::BVH_WIDTH; ++k) {
+        if (*indices[k] == gpu::INVALID_INDEX) continue;
+        uint32_t count = (node.counts >> (8 * k)) & 0xffu;
+        f(*indices[k], count);
+        node.counts = (node.counts & ~(0xffu << (8 * k))) | ((count & 0xffu) << (8 * k));
+    }
+}
+
+// The most entries the traversal stack (traverse.glsl) can hold while tracing through `nodes` from the root: a visit
+// pushes every hit child but the nearest, so the bound is the largest sum of (children - 1) over the nodes on one
+// root-to-leaf path, through instances into their meshes' trees.
+uint32_t measure_stack_bound(const std::vector<gpu::BvhWideNode>& nodes, const std::vector<gpu::Instance>& instances);
+
+}  // namespace fh

@@ -1,0 +1,142 @@
+// make_wide_nodes: every quantised box holds its subtree's triangles exactly as the GPU dequantises it, every triangle
+// is in one leaf, children follow their parents, and the traversal stack bound is what a walk of the tree gives.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include <gtest/gtest.h>
+
+#include "scene/bvh.h"
+#include "scene/scene_bvh.h"
+#include "scene/wide_bvh.h"
+#include "test_meshes.h"
+
+namespace {
+using fh::gpu::BvhWideNode;
+
+struct Box {
+    glm::vec3 lo{INFINITY}, hi{-INFINITY};
+    void grow(glm::vec3 p) {
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+    }
+    void grow(const Box& b) {
+        lo = glm::min(lo, b.lo);
+        hi = glm::max(hi, b.hi);
+    }
+};
+
+struct Walk {
+    std::vector<int> seen;  // per leaf-order triangle
+    uint32_t nodes = 0, children = 0;
+};
+
+// The exact box of the triangles under wide node `index`, checking every child's quantised box holds its part.
+Box check_node(const std::vector<BvhWideNode>& wide, const fh::Bvh& bvh, std::span<const glm::vec3> p, uint32_t index,
+               Walk& walk) {
+    ++walk.nodes;
+    Box all;
+    std::vector<std::pair<fh::WideChild, Box>> present;
+    for (uint32_t k = 0; k < fh::gpu::BVH_WIDTH; ++k) {
+        const fh::WideChild c = fh::read_wide_child(wide.at(index), k);
+        if (c.index == fh::gpu::INVALID_INDEX) continue;
+        Box exact;
+        if (c.count == 0) {
+            EXPECT_GT(c.index, index) << "children come after their parent";
+            exact = check_node(wide, bvh, p, c.index, walk);
+        } else {
+            for (uint32_t t = c.index; t < c.index + c.count; ++t) {
+                ++walk.seen.at(t);
+                for (int v = 0; v < 3; ++v) exact.grow(p[3 * size_t(bvh.triangle_order[t]) + v]);
+            }
+        }
+        present.push_back({c, exact});
+        all.grow(exact);
+    }
+    for (const auto& [c, exact] : present)
+        for (int a = 0; a < 3; ++a) {
+            EXPECT_LE(c.lo[a], exact.lo[a]) << "node " << index << " axis " << a;
+            EXPECT_GE(c.hi[a], exact.hi[a]) << "node " << index << " axis " << a;
+            // Rounded outwards by at most two of the node's 255 steps, plus the sum's rounding.
+            const float slack = 2.0f * (all.hi[a] - all.lo[a]) / 255.0f +
+                                4.0f * std::max(std::abs(all.lo[a]), std::abs(all.hi[a])) * 1.2e-7f;
+            EXPECT_LE(exact.lo[a] - c.lo[a], slack) << "node " << index << " axis " << a;
+            EXPECT_LE(c.hi[a] - exact.hi[a], slack) << "node " << index << " axis " << a;
+        }
+    walk.children += uint32_t(present.size());
+    EXPECT_GE(present.size(), 1u);
+    return all;
+}
+
+std::vector<BvhWideNode> check_wide(std::span<const glm::vec3> p, const fh::BvhOptions& options = {}) {
+    const fh::Bvh bvh = fh::build_bvh(p, options);
+    const std::vector<BvhWideNode> wide = fh::make_wide_nodes(bvh.nodes);
+    Walk walk;
+    walk.seen.assign(p.size() / 3, 0);
+    check_node(wide, bvh, p, 0, walk);
+    EXPECT_EQ(walk.nodes, wide.size()) << "every node is reached once";
+    EXPECT_EQ(std::count(walk.seen.begin(), walk.seen.end(), 1), std::ptrdiff_t(p.size() / 3))
+        << "every triangle in exactly one leaf";
+    // Each wide node replaces one to three binary interior nodes.
+    const size_t interior = (bvh.nodes.size() - 1) / 2;
+    EXPECT_LE(wide.size(), std::max<size_t>(interior, 1));
+    std::printf("%zu triangles: %zu binary interior nodes, %zu wide nodes, %.2f children per wide node\n", p.size() / 3,
+                interior, wide.size(), double(walk.children) / double(walk.nodes));
+    return wide;
+}
+
+TEST(WideBvh, RandomSoupBoxesHoldTheirTriangles) {
+    check_wide(fh::test::make_random_soup(20000, 3));
+}
+
+TEST(WideBvh, FarFromTheOriginAndTinyBoxesStayConservative) {
+    // A 1e-3 soup at (148376, 1234, -223423): the quantisation step is below the coordinates' float spacing, so the
+    // host's rounding of origin + q * step decides the boxes.
+    auto p = fh::test::make_random_soup(3000, 5, 1e-2f, 1e-3f);
+    for (glm::vec3& v : p) v += glm::vec3(148376.0f, 1234.0f, -223423.0f);
+    check_wide(p);
+    // Flat boxes (a grid in a plane) and huge coordinates.
+    const auto grid = fh::test::make_grid(40);
+    check_wide(grid.flatten());
+    auto huge = fh::test::make_random_soup(2000, 7, 1e18f, 1e17f);
+    check_wide(huge);
+}
+
+TEST(WideBvh, OneLeafIsOneNodeWithOneChild) {
+    const std::vector<glm::vec3> one = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    const std::vector<BvhWideNode> wide = check_wide(one);
+    ASSERT_EQ(wide.size(), 1u);
+    EXPECT_EQ(fh::read_wide_child(wide[0], 0).count, 1u);
+    EXPECT_EQ(fh::read_wide_child(wide[0], 1).index, fh::gpu::INVALID_INDEX);
+    EXPECT_EQ(fh::measure_stack_bound(wide, {}), 0u);
+}
+
+TEST(WideBvh, StackBoundIsTheWorstPathsPushes) {
+    // Two leaves: one push. Eight leaves of one triangle in a balanced tree: the root takes four subtrees of two
+    // leaves each, so three pushes at the root and one below.
+    const std::vector<glm::vec3> two = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {10, 0, 0}, {11, 0, 0}, {10, 1, 0}};
+    EXPECT_EQ(fh::measure_stack_bound(check_wide(two, {1, 16, 64}), {}), 1u);
+    std::vector<glm::vec3> eight;
+    for (int i = 0; i < 8; ++i)
+        eight.insert(eight.end(), {{10.0f * i, 0, 0}, {10.0f * i + 1, 0, 0}, {10.0f * i, 1, 0}});
+    const auto wide = check_wide(eight, {1, 16, 64});
+    EXPECT_EQ(wide.size(), 5u);
+    EXPECT_EQ(fh::measure_stack_bound(wide, {}), 4u);
+    // A deep, list-like tree (RespectsMaxDepth's nested triangles) stays within the GPU's stack.
+    std::vector<glm::vec3> nested;
+    float s = 1.0f;
+    for (int i = 0; i < 1000; ++i, s *= 0.98f) nested.insert(nested.end(), {{s, 0, 0}, {0, s, 0}, {0, 0, s}});
+    const fh::SceneBvh deep = fh::make_single_level(fh::build_bvh(nested));
+    EXPECT_GT(deep.stack_bound, 10u);
+    EXPECT_LE(deep.stack_bound, fh::gpu::TRAVERSAL_STACK_SIZE);
+}
+
+TEST(WideBvh, RefusesLeavesItCannotCount) {
+    fh::gpu::BvhNode leaf{0, 0, 0, 0, 1, 1, 1, 255u};
+    EXPECT_THROW(fh::make_wide_nodes({leaf}), std::invalid_argument);
+    leaf.count_and_axis = 254u;
+    EXPECT_EQ(fh::make_wide_nodes({leaf}).size(), 1u);
+}
+
+}  // namespace
