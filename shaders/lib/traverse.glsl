@@ -61,12 +61,18 @@ struct ChildEntry {
     uint count;  // 0: a node; INSTANCE_LEAF: an instance; else triangles
 };
 
+// float(q) for q < 2^23 as an OR and a subtraction (2^23 + q has q in its mantissa), exact like the conversion it
+// replaces: on lavapipe the extend stage ran about 5% faster with it (README "Speed").
+vec3 byte_to_float(uvec3 q) {
+    return uintBitsToFloat(q | 0x4b000000u) - 8388608.0f;
+}
+
 // Child slot `shift / 8` of a wide node: its box dequantised exactly as the host rounded it (wide_bvh.cpp: the
 // product is exact, the sum rounds once), then the padded slab test.
 ChildEntry test_child(uint child, uint counts, uint shift, vec3 node_origin, vec3 step, uvec3 lo_q, uvec3 hi_q,
                       vec3 origin, vec3 inv_dir, float t_max, float pad) {
-    vec3 lo = node_origin + vec3(lo_q >> shift & 0xffu) * step;
-    vec3 hi = node_origin + vec3(hi_q >> shift & 0xffu) * step;
+    vec3 lo = node_origin + byte_to_float(lo_q >> shift & 0xffu) * step;
+    vec3 hi = node_origin + byte_to_float(hi_q >> shift & 0xffu) * step;
     vec2 range = box_entry_exit(origin, inv_dir, lo, hi, t_max, pad);
     uint c = counts >> shift & 0xffu;
     ChildEntry e;
