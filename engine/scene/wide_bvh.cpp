@@ -48,30 +48,50 @@ uint32_t quantise_up(float origin, float step, float hi) {
     return q;
 }
 
+// Up to four binary nodes: a wide node's children.
+struct Children {
+    uint32_t node[gpu::BVH_WIDTH];
+    uint32_t size = 0;
+};
+
 // The binary nodes a wide node over binary node `root` gets as children: root's two, then the interior child of
 // largest surface area opened into its two, until four (kept in tree order, first child first).
-std::vector<uint32_t> collect_children(const std::vector<gpu::BvhNode>& nodes, uint32_t root) {
-    std::vector<uint32_t> children = {root + 1, nodes[root].child_or_first};
-    while (children.size() < gpu::BVH_WIDTH) {
-        int open = -1;
-        for (size_t k = 0; k < children.size(); ++k)
-            if (leaf_count(nodes[children[k]]) == 0 &&
-                (open < 0 || surface_area(nodes[children[k]]) > surface_area(nodes[children[size_t(open)]])))
-                open = int(k);
-        if (open < 0) break;
-        const uint32_t c = children[size_t(open)];
-        children[size_t(open)] = c + 1;
-        children.insert(children.begin() + open + 1, nodes[c].child_or_first);
+Children collect_children(const std::vector<gpu::BvhNode>& nodes, uint32_t root) {
+    Children c;
+    if (leaf_count(nodes[root])) {  // a BVH that is one leaf
+        c.node[c.size++] = root;
+        return c;
     }
-    return children;
+    c.node[c.size++] = root + 1;
+    c.node[c.size++] = nodes[root].child_or_first;
+    while (c.size < gpu::BVH_WIDTH) {
+        int open = -1;
+        float open_area = 0.0f;
+        for (uint32_t k = 0; k < c.size; ++k) {
+            if (leaf_count(nodes[c.node[k]])) continue;
+            const float area = surface_area(nodes[c.node[k]]);
+            if (open < 0 || area > open_area) {
+                open = int(k);
+                open_area = area;
+            }
+        }
+        if (open < 0) break;
+        const uint32_t opened = c.node[open];
+        for (uint32_t k = c.size; k > uint32_t(open) + 1; --k) c.node[k] = c.node[k - 1];
+        c.node[open] = opened + 1;
+        c.node[open + 1] = nodes[opened].child_or_first;
+        ++c.size;
+    }
+    return c;
 }
 
 // Writes the quantised boxes of `children` (binary nodes) into `w`, in slots 0 .. children.size() - 1.
-void quantise_boxes(const std::vector<gpu::BvhNode>& nodes, const std::vector<uint32_t>& children, gpu::BvhWideNode& w) {
+void quantise_boxes(const std::vector<gpu::BvhNode>& nodes, const Children& children, gpu::BvhWideNode& w) {
     glm::vec3 lo(INFINITY), hi(-INFINITY);
-    for (uint32_t c : children) {
-        lo = glm::min(lo, glm::vec3(nodes[c].min_x, nodes[c].min_y, nodes[c].min_z));
-        hi = glm::max(hi, glm::vec3(nodes[c].max_x, nodes[c].max_y, nodes[c].max_z));
+    for (uint32_t k = 0; k < children.size; ++k) {
+        const gpu::BvhNode& n = nodes[children.node[k]];
+        lo = glm::min(lo, glm::vec3(n.min_x, n.min_y, n.min_z));
+        hi = glm::max(hi, glm::vec3(n.max_x, n.max_y, n.max_z));
     }
     w.origin_x = lo.x;
     w.origin_y = lo.y;
@@ -82,8 +102,8 @@ void quantise_boxes(const std::vector<gpu::BvhNode>& nodes, const std::vector<ui
         const uint32_t biased = choose_exponent(lo[axis], hi[axis]);
         const float step = step_of(biased);
         w.exponents |= biased << (8 * axis);
-        for (size_t k = 0; k < children.size(); ++k) {
-            const gpu::BvhNode& n = nodes[children[k]];
+        for (uint32_t k = 0; k < children.size; ++k) {
+            const gpu::BvhNode& n = nodes[children.node[k]];
             const float child_lo[3] = {n.min_x, n.min_y, n.min_z}, child_hi[3] = {n.max_x, n.max_y, n.max_z};
             *lo_words[axis] |= quantise_down(lo[axis], step, child_lo[axis]) << (8 * k);
             *hi_words[axis] |= quantise_up(lo[axis], step, child_hi[axis]) << (8 * k);
@@ -117,18 +137,17 @@ std::vector<gpu::BvhWideNode> make_wide_nodes(const std::vector<gpu::BvhNode>& n
         const uint32_t here = uint32_t(wide.size());
         if (task.parent != gpu::INVALID_INDEX) *index_slot(wide[task.parent], task.slot) = here;
         wide.push_back(make_empty());
-        const std::vector<uint32_t> children =
-            leaf_count(nodes[task.binary]) ? std::vector<uint32_t>{task.binary} : collect_children(nodes, task.binary);
+        const Children children = collect_children(nodes, task.binary);
         quantise_boxes(nodes, children, wide[here]);
-        for (size_t k = children.size(); k-- > 0;) {  // pushed last to first: the first child's subtree comes next
-            const gpu::BvhNode& n = nodes[children[k]];
+        for (uint32_t k = children.size; k-- > 0;) {  // pushed last to first: the first child's subtree comes next
+            const gpu::BvhNode& n = nodes[children.node[k]];
             const uint32_t count = leaf_count(n);
             if (count >= gpu::WIDE_INSTANCE_COUNT)
                 throw std::invalid_argument("wide_bvh.cpp: a BVH leaf of " + std::to_string(count) +
                                             " triangles; wide nodes hold at most 254");
             wide[here].counts |= count << (8 * k);
             if (count) *index_slot(wide[here], k) = n.child_or_first;
-            else tasks.push_back({children[k], here, uint32_t(k)});
+            else tasks.push_back({children.node[k], here, k});
         }
     }
     return wide;
