@@ -309,7 +309,7 @@ Subtree join_subtrees(const NodeSplit& split, const Subtree& left, const Subtree
     for (const Subtree* child : {&left, &right}) {
         const uint32_t offset = uint32_t(out.nodes.size());
         for (gpu::BvhNode node : child->nodes) {
-            const bool leaf = (node.count_and_axis & ((1u << gpu::BVH_LEAF_COUNT_BITS) - 1u)) != 0;
+            const bool leaf = leaf_count(node) != 0;
             if (!leaf) node.child_or_first += offset;  // a leaf's first triangle is already global
             out.nodes.push_back(node);
         }

@@ -30,6 +30,11 @@ struct Bvh {
     double build_seconds = 0.0;
 };
 
+// Triangles in a leaf (0: an interior node).
+inline uint32_t leaf_count(const gpu::BvhNode& node) {
+    return node.count_and_axis & ((1u << gpu::BVH_LEAF_COUNT_BITS) - 1u);
+}
+
 // Builds a BVH over `positions` (3 per triangle). Deterministic: the same input gives the same nodes.
 // Throws std::invalid_argument for no triangles, non-finite positions or options out of range (including
 // more than max_leaf_size * 2^max_depth triangles).

@@ -1,6 +1,8 @@
 // Collapsing the binary BVH into quantised 4-wide nodes (layout.h BvhWideNode), and reading them back.
 #include "scene/wide_bvh.h"
 
+#include "scene/bvh.h"
+
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -9,10 +11,6 @@
 
 namespace fh {
 namespace {
-
-uint32_t leaf_count(const gpu::BvhNode& node) {
-    return node.count_and_axis & ((1u << gpu::BVH_LEAF_COUNT_BITS) - 1u);
-}
 
 float surface_area(const gpu::BvhNode& n) {
     const glm::vec3 d = glm::max(glm::vec3(n.max_x - n.min_x, n.max_y - n.min_y, n.max_z - n.min_z), glm::vec3(0.0f));
@@ -111,11 +109,6 @@ void quantise_boxes(const std::vector<gpu::BvhNode>& nodes, const Children& chil
     }
 }
 
-uint32_t* index_slot(gpu::BvhWideNode& w, size_t k) {
-    uint32_t* indices[gpu::BVH_WIDTH] = {&w.index_0, &w.index_1, &w.index_2, &w.index_3};
-    return indices[k];
-}
-
 }  // namespace
 
 std::vector<gpu::BvhWideNode> make_wide_nodes(const std::vector<gpu::BvhNode>& nodes) {
@@ -135,7 +128,7 @@ std::vector<gpu::BvhWideNode> make_wide_nodes(const std::vector<gpu::BvhNode>& n
         const Task task = tasks.back();
         tasks.pop_back();
         const uint32_t here = uint32_t(wide.size());
-        if (task.parent != gpu::INVALID_INDEX) *index_slot(wide[task.parent], task.slot) = here;
+        if (task.parent != gpu::INVALID_INDEX) wide_child_index(wide[task.parent], task.slot) = here;
         wide.push_back(make_empty());
         const Children children = collect_children(nodes, task.binary);
         quantise_boxes(nodes, children, wide[here]);
@@ -146,7 +139,7 @@ std::vector<gpu::BvhWideNode> make_wide_nodes(const std::vector<gpu::BvhNode>& n
                 throw std::invalid_argument("wide_bvh.cpp: a BVH leaf of " + std::to_string(count) +
                                             " triangles; wide nodes hold at most 254");
             wide[here].counts |= count << (8 * k);
-            if (count) *index_slot(wide[here], k) = n.child_or_first;
+            if (count) wide_child_index(wide[here], k) = n.child_or_first;
             else tasks.push_back({children.node[k], here, k});
         }
     }

@@ -26,14 +26,20 @@ std::vector<gpu::BvhWideNode> make_wide_nodes(const std::vector<gpu::BvhNode>& n
 
 WideChild read_wide_child(const gpu::BvhWideNode& node, uint32_t k);
 
+// Child k's index field.
+inline uint32_t& wide_child_index(gpu::BvhWideNode& node, uint32_t k) {
+    uint32_t* indices[gpu::BVH_WIDTH] = {&node.index_0, &node.index_1, &node.index_2, &node.index_3};
+    return *indices[k];
+}
+
 // Calls f(index, count) on every present child slot of `node` (count as in WideChild); f may rewrite both.
 template <typename F>
 void for_each_wide_child(gpu::BvhWideNode& node, F&& f) {
-    uint32_t* indices[gpu::BVH_WIDTH] = {&node.index_0, &node.index_1, &node.index_2, &node.index_3};
     for (uint32_t k = 0; k < gpu::BVH_WIDTH; ++k) {
-        if (*indices[k] == gpu::INVALID_INDEX) continue;
+        uint32_t& index = wide_child_index(node, k);
+        if (index == gpu::INVALID_INDEX) continue;
         uint32_t count = (node.counts >> (8 * k)) & 0xffu;
-        f(*indices[k], count);
+        f(index, count);
         node.counts = (node.counts & ~(0xffu << (8 * k))) | ((count & 0xffu) << (8 * k));
     }
 }

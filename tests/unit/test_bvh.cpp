@@ -13,7 +13,7 @@ using fh::Bvh;
 using fh::BvhOptions;
 using fh::gpu::BvhNode;
 
-uint32_t leaf_size(const BvhNode& n) { return n.count_and_axis & ((1u << fh::gpu::BVH_LEAF_COUNT_BITS) - 1u); }
+uint32_t leaf_size(const BvhNode& n) { return fh::leaf_count(n); }
 uint32_t split_axis(const BvhNode& n) { return n.count_and_axis >> fh::gpu::BVH_LEAF_COUNT_BITS; }
 
 bool contains(const BvhNode& outer, const BvhNode& inner) {
