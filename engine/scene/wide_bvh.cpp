@@ -116,7 +116,7 @@ std::vector<gpu::BvhWideNode> make_wide_nodes(const std::vector<gpu::BvhNode>& n
     if (nodes.empty()) return wide;
     auto make_empty = [] {
         gpu::BvhWideNode w{};
-        w.index_0 = w.index_1 = w.index_2 = w.index_3 = gpu::INVALID_INDEX;
+        w.child_0 = w.child_1 = w.child_2 = w.child_3 = gpu::INVALID_INDEX;
         return w;
     };
     // Depth-first: (binary interior node, the wide node and slot that point at it).
@@ -128,7 +128,7 @@ std::vector<gpu::BvhWideNode> make_wide_nodes(const std::vector<gpu::BvhNode>& n
         const Task task = tasks.back();
         tasks.pop_back();
         const uint32_t here = uint32_t(wide.size());
-        if (task.parent != gpu::INVALID_INDEX) wide_child_index(wide[task.parent], task.slot) = here;
+        if (task.parent != gpu::INVALID_INDEX) wide_child_word(wide[task.parent], task.slot) = pack_wide_child(here, 0);
         wide.push_back(make_empty());
         const Children children = collect_children(nodes, task.binary);
         quantise_boxes(nodes, children, wide[here]);
@@ -137,20 +137,32 @@ std::vector<gpu::BvhWideNode> make_wide_nodes(const std::vector<gpu::BvhNode>& n
             const uint32_t count = leaf_count(n);
             if (count >= gpu::WIDE_INSTANCE_COUNT)
                 throw std::invalid_argument("wide_bvh.cpp: a BVH leaf of " + std::to_string(count) +
-                                            " triangles; wide nodes hold at most 254");
-            wide[here].counts |= count << (8 * k);
-            if (count) wide_child_index(wide[here], k) = n.child_or_first;
+                                            " triangles; wide nodes hold at most " +
+                                            std::to_string(gpu::WIDE_INSTANCE_COUNT - 1));
+            if (count) wide_child_word(wide[here], k) = pack_wide_child(n.child_or_first, count);
             else tasks.push_back({children.node[k], here, k});
         }
     }
     return wide;
 }
 
+uint32_t pack_wide_child(uint32_t index, uint32_t count) {
+    if (index > gpu::WIDE_MAX_INDEX)
+        throw std::invalid_argument("wide_bvh.cpp: BVH child index " + std::to_string(index) + " is above the " +
+                                    std::to_string(gpu::WIDE_MAX_INDEX) + " a wide node can hold");
+    if (count > gpu::WIDE_INSTANCE_COUNT)
+        throw std::invalid_argument("wide_bvh.cpp: BVH child count " + std::to_string(count) + " is above " +
+                                    std::to_string(gpu::WIDE_INSTANCE_COUNT));
+    return index << gpu::WIDE_COUNT_BITS | count;
+}
+
 WideChild read_wide_child(const gpu::BvhWideNode& node, uint32_t k) {
-    const uint32_t indices[gpu::BVH_WIDTH] = {node.index_0, node.index_1, node.index_2, node.index_3};
+    const uint32_t words[gpu::BVH_WIDTH] = {node.child_0, node.child_1, node.child_2, node.child_3};
     WideChild c;
-    c.index = indices[k];
-    c.count = (node.counts >> (8 * k)) & 0xffu;
+    if (words[k] != gpu::INVALID_INDEX) {
+        c.index = words[k] >> gpu::WIDE_COUNT_BITS;
+        c.count = words[k] & ((1u << gpu::WIDE_COUNT_BITS) - 1u);
+    }
     const float origin[3] = {node.origin_x, node.origin_y, node.origin_z};
     const uint32_t lo[3] = {node.lo_x, node.lo_y, node.lo_z}, hi[3] = {node.hi_x, node.hi_y, node.hi_z};
     for (int axis = 0; axis < 3; ++axis) {

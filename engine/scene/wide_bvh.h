@@ -21,26 +21,30 @@ struct WideChild {
 // child comes after its parent. Each wide node takes the children of a binary interior node and opens the child of
 // largest surface area until it has four (or only leaves are left). A BVH that is one leaf gives one node with that
 // leaf as its only child. Leaves keep their triangle ranges; each quantised box contains its binary node's box.
-// Throws std::invalid_argument for a leaf of more than 254 triangles.
+// Throws std::invalid_argument for a leaf of more than 62 triangles or an index above gpu::WIDE_MAX_INDEX.
 std::vector<gpu::BvhWideNode> make_wide_nodes(const std::vector<gpu::BvhNode>& nodes);
 
 WideChild read_wide_child(const gpu::BvhWideNode& node, uint32_t k);
 
-// Child k's index field.
-inline uint32_t& wide_child_index(gpu::BvhWideNode& node, uint32_t k) {
-    uint32_t* indices[gpu::BVH_WIDTH] = {&node.index_0, &node.index_1, &node.index_2, &node.index_3};
-    return *indices[k];
+// Child k's word: index << gpu::WIDE_COUNT_BITS | count, or gpu::INVALID_INDEX when absent.
+inline uint32_t& wide_child_word(gpu::BvhWideNode& node, uint32_t k) {
+    uint32_t* words[gpu::BVH_WIDTH] = {&node.child_0, &node.child_1, &node.child_2, &node.child_3};
+    return *words[k];
 }
+
+// The word of a child: index up to gpu::WIDE_MAX_INDEX, count up to gpu::WIDE_INSTANCE_COUNT. Throws
+// std::invalid_argument for either out of range.
+uint32_t pack_wide_child(uint32_t index, uint32_t count);
 
 // Calls f(index, count) on every present child slot of `node` (count as in WideChild); f may rewrite both.
 template <typename F>
 void for_each_wide_child(gpu::BvhWideNode& node, F&& f) {
     for (uint32_t k = 0; k < gpu::BVH_WIDTH; ++k) {
-        uint32_t& index = wide_child_index(node, k);
-        if (index == gpu::INVALID_INDEX) continue;
-        uint32_t count = (node.counts >> (8 * k)) & 0xffu;
+        uint32_t& word = wide_child_word(node, k);
+        if (word == gpu::INVALID_INDEX) continue;
+        uint32_t index = word >> gpu::WIDE_COUNT_BITS, count = word & ((1u << gpu::WIDE_COUNT_BITS) - 1u);
         f(index, count);
-        node.counts = (node.counts & ~(0xffu << (8 * k))) | ((count & 0xffu) << (8 * k));
+        word = pack_wide_child(index, count);
     }
 }
 

@@ -28,7 +28,7 @@ struct TraceHit {
 // source_index), not to the one visited first. Triangles are tested up to the next float above the best t
 // so that ties come back; the index is loaded only for a tie.
 //
-// Two-level BVH (scene_has_instances): a top-level leaf (count INSTANCE_LEAF) names an Instance; the ray is
+// Two-level BVH (scene_has_instances): a top-level leaf (count WIDE_INSTANCE_COUNT) names an Instance; the ray is
 // mapped to the mesh's object space (an affine map keeps t: the object-space ray is parametrised like the
 // world one) and traversal goes on at the mesh BVH's root on the same stack. Entries pushed from then on sit at
 // or above `instance_base`; popping one below it returns to the top level with the world-space ray.
@@ -57,8 +57,7 @@ bool is_same_surface(uint tri, TrianglePositions tp, uint origin_triangle, vec3 
 const float MISSED_CHILD = 3.0e38f;  // above any entry distance a hit box has (at most best.t, finite)
 struct ChildEntry {
     float entry;
-    uint index;
-    uint count;  // 0: a node; INSTANCE_LEAF: an instance; else triangles
+    uint word;  // BvhWideNode.child_k: index << WIDE_COUNT_BITS | count (0: a node; WIDE_INSTANCE_COUNT: an instance)
 };
 
 // float(q) for q < 2^23 as an OR and a subtraction (2^23 + q has q in its mantissa), exact like the conversion it
@@ -69,16 +68,14 @@ vec3 byte_to_float(uvec3 q) {
 
 // Child slot `shift / 8` of a wide node: its box dequantised exactly as the host rounded it (wide_bvh.cpp: the
 // product is exact, the sum rounds once), then the padded slab test.
-ChildEntry test_child(uint child, uint counts, uint shift, vec3 node_origin, vec3 step, uvec3 lo_q, uvec3 hi_q,
-                      vec3 origin, vec3 inv_dir, float t_max, float pad) {
+ChildEntry test_child(uint child, uint shift, vec3 node_origin, vec3 step, uvec3 lo_q, uvec3 hi_q, vec3 origin,
+                      vec3 inv_dir, float t_max, float pad) {
     vec3 lo = node_origin + byte_to_float(lo_q >> shift & 0xffu) * step;
     vec3 hi = node_origin + byte_to_float(hi_q >> shift & 0xffu) * step;
     vec2 range = box_entry_exit(origin, inv_dir, lo, hi, t_max, pad);
-    uint c = counts >> shift & 0xffu;
     ChildEntry e;
     e.entry = range.x <= range.y && child != INVALID_INDEX ? range.x : MISSED_CHILD;
-    e.index = child;
-    e.count = c == WIDE_INSTANCE_COUNT ? INSTANCE_LEAF : c;
+    e.word = child;
     return e;
 }
 
@@ -89,20 +86,24 @@ void order_entries(inout ChildEntry a, inout ChildEntry b) {
     a = first;
 }
 
+uint child_index(uint word) { return word >> WIDE_COUNT_BITS; }
+uint child_count(uint word) { return word & ((1u << WIDE_COUNT_BITS) - 1u); }
+
 // A macro, not a function: GLSL passes arrays by copy, and the stack is trace_ray's. The host keeps every tree within
-// the stack (scene_bvh.cpp check_stack_bound); the bound check only keeps a write in range.
+// the stack (scene_bvh.cpp check_stack_bound); the bound check only keeps a write in range. An entry is the child's
+// word as the node holds it: one word where index and count took two (on lavapipe the stack lives in scratch memory,
+// one scattered store per word and lane; the extend stage traced the 1.31 M-triangle mesh's rays about 15% faster).
 #define PUSH_ENTRY(e)                                                          \
     if ((e).entry < MISSED_CHILD && stack_size < TRAVERSAL_STACK_SIZE) {        \
-        stack_index[stack_size] = (e).index;                                    \
-        stack_count[stack_size] = (e).count;                                    \
+        stack[stack_size] = (e).word;                                           \
         ++stack_size;                                                           \
     }
 
 // Takes the top stack entry; one pushed at the top level (below instance_base) returns the ray to world space.
 #define POP_ENTRY()                                                                            \
     --stack_size;                                                                              \
-    index = stack_index[stack_size];                                                           \
-    count = stack_count[stack_size];                                                           \
+    index = child_index(stack[stack_size]);                                                    \
+    count = child_count(stack[stack_size]);                                                    \
     if (scene_has_instances && instance != INVALID_INDEX && stack_size < instance_base) {      \
         instance = INVALID_INDEX;                                                              \
         origin = world_origin;                                                                 \
@@ -133,8 +134,7 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin
     // box; in an instance's object space by that bound times the most its map stretches a distance.
     float world_pad = box_padding(origin, params.scene_min.xyz, params.scene_max.xyz);
     float pad = world_pad;
-    uint stack_index[TRAVERSAL_STACK_SIZE];
-    uint stack_count[TRAVERSAL_STACK_SIZE];
+    uint stack[TRAVERSAL_STACK_SIZE];  // child words (BvhWideNode.child_k)
     uint stack_size = 0u;
     uint index = 0u;  // the root node
     uint count = 0u;
@@ -143,8 +143,8 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin
     uint best_source = INVALID_INDEX;  // the best hit's TrianglePositions.source_index (tie-break)
     while (true) {
         // Descend until this lane holds a leaf, or finds nothing below (index INVALID_INDEX, count 0).
-        while ((count == 0u || (scene_has_instances && count == INSTANCE_LEAF)) && index != INVALID_INDEX) {
-            if (scene_has_instances && count == INSTANCE_LEAF) {
+        while ((count == 0u || (scene_has_instances && count == WIDE_INSTANCE_COUNT)) && index != INVALID_INDEX) {
+            if (scene_has_instances && count == WIDE_INSTANCE_COUNT) {
                 Instance inst = move_instance(load_instance(index), time);
                 instance = index;
                 instance_base = stack_size;
@@ -164,10 +164,10 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin
             vec3 node_origin = vec3(n.origin_x, n.origin_y, n.origin_z);
             vec3 step = uintBitsToFloat((uvec3(n.exponents) >> uvec3(0u, 8u, 16u) & 0xffu) << 23u);
             uvec3 lo_q = uvec3(n.lo_x, n.lo_y, n.lo_z), hi_q = uvec3(n.hi_x, n.hi_y, n.hi_z);
-            ChildEntry c0 = test_child(n.index_0, n.counts, 0u, node_origin, step, lo_q, hi_q, origin, inv_dir, best.t, pad);
-            ChildEntry c1 = test_child(n.index_1, n.counts, 8u, node_origin, step, lo_q, hi_q, origin, inv_dir, best.t, pad);
-            ChildEntry c2 = test_child(n.index_2, n.counts, 16u, node_origin, step, lo_q, hi_q, origin, inv_dir, best.t, pad);
-            ChildEntry c3 = test_child(n.index_3, n.counts, 24u, node_origin, step, lo_q, hi_q, origin, inv_dir, best.t, pad);
+            ChildEntry c0 = test_child(n.child_0, 0u, node_origin, step, lo_q, hi_q, origin, inv_dir, best.t, pad);
+            ChildEntry c1 = test_child(n.child_1, 8u, node_origin, step, lo_q, hi_q, origin, inv_dir, best.t, pad);
+            ChildEntry c2 = test_child(n.child_2, 16u, node_origin, step, lo_q, hi_q, origin, inv_dir, best.t, pad);
+            ChildEntry c3 = test_child(n.child_3, 24u, node_origin, step, lo_q, hi_q, origin, inv_dir, best.t, pad);
             // Nearest first: a sorting network of five compare-exchanges (missed children sort last).
             order_entries(c0, c1);
             order_entries(c2, c3);
@@ -178,8 +178,8 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin
             PUSH_ENTRY(c3)
             PUSH_ENTRY(c2)
             PUSH_ENTRY(c1)
-            index = c0.entry < MISSED_CHILD ? c0.index : INVALID_INDEX;
-            count = c0.entry < MISSED_CHILD ? c0.count : 0u;
+            index = c0.entry < MISSED_CHILD ? child_index(c0.word) : INVALID_INDEX;
+            count = c0.entry < MISSED_CHILD ? child_count(c0.word) : 0u;
             // A lane that missed every child takes its next entry here rather than idle (masked) until every lane of
             // the SIMD group holds a leaf.
             if (c0.entry >= MISSED_CHILD && stack_size > 0u) {

@@ -151,9 +151,10 @@ FH_CONST uint RENDER_NEE = 1u;             // FrameParams.flags: next-event esti
 FH_CONST uint RENDER_MIS = 2u;             // combine NEE and BSDF sampling by MIS (else NEE only)
 FH_CONST uint RENDER_RR = 4u;              // Russian roulette
 FH_CONST uint BVH_LEAF_COUNT_BITS = 16u;   // BvhNode.count_and_axis: low bits count, high bits axis
-FH_CONST uint INSTANCE_LEAF = 0x80000000u; // traversal's count of a top-level leaf (stack entries): index = Instance
 FH_CONST uint BVH_WIDTH = 4u;              // children per BvhWideNode
-FH_CONST uint WIDE_INSTANCE_COUNT = 255u;  // BvhWideNode.counts byte of a top-level leaf; leaves hold 1 .. 254
+FH_CONST uint WIDE_COUNT_BITS = 6u;        // BvhWideNode.child_k (and a traversal stack entry): index << 6 | count
+FH_CONST uint WIDE_INSTANCE_COUNT = 63u;   // the count of a top-level leaf (index = Instance); leaves hold 1 .. 62
+FH_CONST uint WIDE_MAX_INDEX = 0x3fffffeu; // the largest index a child can name (all ones is INVALID_INDEX: no child)
 FH_CONST uint TRAVERSAL_STACK_SIZE = 96u;  // entries; the host checks that a BVH never needs more (wide_bvh.h)
 FH_CONST uint PUNCTUAL_LIGHT_BIT = 0x80000000u;  // Emitter.light: set = PunctualLight index, clear = triangle
 FH_CONST uint ENVIRONMENT_LIGHT = 0x7fffffffu;  // Emitter.light: the environment (EFFECT_ENVIRONMENT)
@@ -188,18 +189,20 @@ struct BvhNode {
 // Child k's box along an axis is [origin + lo * step, origin + hi * step] with lo, hi byte k of lo_x.. / hi_x..
 // and step = 2^(exponent - 127), rounded outwards on the host so that the float sums the shader computes contain the
 // child's exact box. Child k is another wide node (count 0), a leaf (index = first triangle), a top-level leaf
-// (count WIDE_INSTANCE_COUNT, index = Instance) or absent (index INVALID_INDEX).
+// (count WIDE_INSTANCE_COUNT, index = Instance) or absent (child_k INVALID_INDEX). Index and count share one word,
+// index << WIDE_COUNT_BITS | count, which traversal pushes on its stack as it is: one stack word per entry. Indices
+// stay below 2^26 (WIDE_MAX_INDEX): the texel buffers the triangles and nodes live in end before that (lavapipe and
+// NVIDIA allow 2^27 texels of 16 bytes, and a triangle takes 3, a node 4); the host checks it (wide_bvh.h).
 struct BvhWideNode {
     float origin_x, origin_y, origin_z;
     uint exponents;  // the step's biased float exponent per axis: x in bits 0-7, y 8-15, z 16-23
     uint lo_x, lo_y, lo_z;  // byte k: child k's low corner, in steps above origin
     uint hi_x, hi_y, hi_z;  // byte k: its high corner
-    uint counts;            // byte k: child k's triangle count (0: a node; WIDE_INSTANCE_COUNT: an instance)
-    uint index_0, index_1, index_2, index_3;
-    uint unused;
+    uint child_0, child_1, child_2, child_3;  // index << WIDE_COUNT_BITS | count (0: a node), or INVALID_INDEX
+    uint unused_0, unused_1;
 };
 
-// One placement of a mesh in a two-level BVH (SPEC_HAS_INSTANCES): a top-level leaf (count INSTANCE_LEAF) enters
+// One placement of a mesh in a two-level BVH (SPEC_HAS_INSTANCES): a top-level leaf (count WIDE_INSTANCE_COUNT) enters
 // the mesh's own BVH with the ray mapped to object space. Rows of 3x4 affine maps; render space is world space
 // minus Scene::origin. Normals go to render space by the transpose of object_from_render's linear part.
 struct Instance {

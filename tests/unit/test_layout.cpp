@@ -29,9 +29,8 @@ FH_OFFSET(BvhWideNode, origin_x, 0);
 FH_OFFSET(BvhWideNode, exponents, 12);
 FH_OFFSET(BvhWideNode, lo_x, 16);
 FH_OFFSET(BvhWideNode, hi_x, 28);
-FH_OFFSET(BvhWideNode, counts, 40);
-FH_OFFSET(BvhWideNode, index_0, 44);
-FH_OFFSET(BvhWideNode, index_3, 56);
+FH_OFFSET(BvhWideNode, child_0, 40);
+FH_OFFSET(BvhWideNode, child_3, 52);
 
 // The scene arrays bound as texel buffers (layout.h TEXELS) are read as whole 16-byte RGBA32UI texels.
 static_assert(sizeof(BvhWideNode) % TEXEL_BYTES == 0 && sizeof(TrianglePositions) % TEXEL_BYTES == 0 &&

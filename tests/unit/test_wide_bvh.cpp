@@ -134,10 +134,33 @@ TEST(WideBvh, StackBoundIsTheWorstPathsPushes) {
 }
 
 TEST(WideBvh, RefusesLeavesItCannotCount) {
-    fh::gpu::BvhNode leaf{0, 0, 0, 0, 1, 1, 1, 255u};
+    fh::gpu::BvhNode leaf{0, 0, 0, 0, 1, 1, 1, fh::gpu::WIDE_INSTANCE_COUNT};
     EXPECT_THROW(fh::make_wide_nodes({leaf}), std::invalid_argument);
-    leaf.count_and_axis = 254u;
+    leaf.count_and_axis = fh::gpu::WIDE_INSTANCE_COUNT - 1u;
     EXPECT_EQ(fh::make_wide_nodes({leaf}).size(), 1u);
+    EXPECT_EQ(fh::read_wide_child(fh::make_wide_nodes({leaf})[0], 0).count, fh::gpu::WIDE_INSTANCE_COUNT - 1u);
+}
+
+// Index and count share a child's word: both come back as packed, and an index the word cannot hold is refused
+// rather than cut.
+TEST(WideBvh, PacksChildIndexAndCount) {
+    fh::gpu::BvhWideNode w{};
+    w.child_0 = fh::pack_wide_child(fh::gpu::WIDE_MAX_INDEX, fh::gpu::WIDE_INSTANCE_COUNT);
+    w.child_1 = fh::pack_wide_child(12345u, 0u);
+    w.child_2 = fh::gpu::INVALID_INDEX;
+    w.child_3 = fh::pack_wide_child(0u, 3u);
+    EXPECT_EQ(fh::read_wide_child(w, 0).index, fh::gpu::WIDE_MAX_INDEX);
+    EXPECT_EQ(fh::read_wide_child(w, 0).count, fh::gpu::WIDE_INSTANCE_COUNT);
+    EXPECT_EQ(fh::read_wide_child(w, 1).index, 12345u);
+    EXPECT_EQ(fh::read_wide_child(w, 1).count, 0u);
+    EXPECT_EQ(fh::read_wide_child(w, 2).index, fh::gpu::INVALID_INDEX);
+    EXPECT_EQ(fh::read_wide_child(w, 3).count, 3u);
+    EXPECT_NE(w.child_0, fh::gpu::INVALID_INDEX);  // the largest index with the instance count is still a child
+    EXPECT_THROW(fh::pack_wide_child(fh::gpu::WIDE_MAX_INDEX + 1u, 0u), std::invalid_argument);
+    EXPECT_THROW(fh::pack_wide_child(0u, fh::gpu::WIDE_INSTANCE_COUNT + 1u), std::invalid_argument);
+    // Offsets added to a mesh's nodes (two-level builds) go through the same check.
+    EXPECT_THROW(fh::for_each_wide_child(w, [](uint32_t& index, uint32_t) { index += 1u << 30; }),
+                 std::invalid_argument);
 }
 
 }  // namespace
