@@ -194,7 +194,10 @@ PackedScene pack_scene(const Scene& scene, const SceneBvh& bvh, EnvironmentMap e
         const size_t t = bvh.triangle_order[i];
         const glm::vec3* p = &scene.positions[3 * t];
         const glm::vec3* nrm = &scene.normals[3 * t];
-        packed.positions[i] = {p[0].x, p[0].y, p[0].z, p[1].x, p[1].y, p[1].z, p[2].x, p[2].y, p[2].z, uint32_t(t), 0.0f, 0.0f};
+        const bool alpha_tested = scene.triangle_material[t] < scene.materials.size() &&
+                                  scene.materials[scene.triangle_material[t]].alpha_mode != gpu::ALPHA_OPAQUE;
+        packed.positions[i] = {p[0].x, p[0].y, p[0].z, p[1].x, p[1].y, p[1].z, p[2].x, p[2].y, p[2].z, uint32_t(t),
+                               alpha_tested ? gpu::TRIANGLE_ALPHA_TESTED : 0u, 0.0f};
         if (attributes) packed.attributes[i] = pack_attributes(scene, t);
         gpu::TriangleShading& s = packed.shading[i];
         s = {nrm[0].x, nrm[0].y, nrm[0].z, nrm[1].x, nrm[1].y, nrm[1].z, nrm[2].x, nrm[2].y, nrm[2].z,

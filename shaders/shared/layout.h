@@ -147,6 +147,7 @@ FH_CONST uint MATERIAL_UNLIT = 2u;         // Material.flags: KHR_materials_unli
 FH_CONST uint PATH_SECONDARIES_TERMINATED = 1u;  // PathSpectrum.flags: only the hero wavelength goes on
 FH_CONST uint LAYERS_VOLUME = 1u;          // MaterialLayers.flags: the mesh bounds a volume (thicknessFactor > 0)
 FH_CONST uint TRIANGLE_HAS_NORMALS = 1u;   // TriangleShading.flags: vertex normals present
+FH_CONST uint TRIANGLE_ALPHA_TESTED = 1u;  // TrianglePositions.flags: its material is not ALPHA_OPAQUE (EFFECT_ALPHA)
 FH_CONST uint RENDER_NEE = 1u;             // FrameParams.flags: next-event estimation
 FH_CONST uint RENDER_MIS = 2u;             // combine NEE and BSDF sampling by MIS (else NEE only)
 FH_CONST uint RENDER_RR = 4u;              // Russian roulette
@@ -224,7 +225,8 @@ struct TrianglePositions {
     float p1_x, p1_y, p1_z;
     float p2_x, p2_y, p2_z;
     uint source_index;  // the triangle's index in scene order: equal-t hits go to the lowest (BVH-independent)
-    float pad1, pad2;
+    uint flags;         // TRIANGLE_ALPHA_TESTED: a hit on it waits for the material's coverage (traverse.glsl)
+    float pad;
 };
 
 // What the shade stage needs of a hit triangle besides its positions.

@@ -42,6 +42,7 @@ static_assert(sizeof(BvhWideNode) % TEXEL_BYTES == 0 && sizeof(TrianglePositions
 
 FH_SIZE(TrianglePositions, 48);
 FH_OFFSET(TrianglePositions, source_index, 36);
+FH_OFFSET(TrianglePositions, flags, 40);
 FH_OFFSET(TrianglePositions, p1_x, 12);
 FH_OFFSET(TrianglePositions, p2_z, 32);
 

@@ -85,6 +85,24 @@ TEST(Pack, StoresTrianglesInLeafOrder) {
     }
 }
 
+// Traversal leaves its loops to ask the material about coverage only on triangles flagged TRIANGLE_ALPHA_TESTED:
+// exactly those whose material is MASK or BLEND.
+TEST(Pack, FlagsTrianglesOfAlphaTestedMaterials) {
+    fh::Scene s = make_test_scene(300);
+    s.materials[1].alpha_mode = fh::gpu::ALPHA_MASK;
+    s.materials[2].alpha_mode = fh::gpu::ALPHA_BLEND;
+    const fh::Bvh bvh = fh::build_bvh(s.positions);
+    const fh::PackedScene packed = fh::pack_scene(s, bvh);
+    size_t flagged = 0;
+    for (size_t i = 0; i < packed.positions.size(); ++i) {
+        const uint32_t material = s.triangle_material[bvh.triangle_order[i]];
+        const uint32_t expected = material == 0 ? 0u : fh::gpu::TRIANGLE_ALPHA_TESTED;
+        EXPECT_EQ(packed.positions[i].flags, expected) << i;
+        flagged += expected != 0u;
+    }
+    EXPECT_EQ(flagged, 200u);  // materials 1 and 2: two triangles in three
+}
+
 TEST(Pack, WeighsEmittersByPower) {
     const fh::Scene s = make_test_scene(500);
     const fh::PackedScene packed = fh::pack_scene(s, fh::build_bvh(s.positions));

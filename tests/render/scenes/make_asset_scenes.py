@@ -7,6 +7,7 @@ Each scene has an analytic or comparative criterion, stated beside its test in t
   env_plane.gltf           diffuse plane of albedo RHO (no specular), seen from above: under --background 1,1,1
                            every pixel reads RHO (the plane sees only the environment above it).
   env_plane_textured.gltf  the same with a baseColorTexture of constant sRGB byte TEXEL: reads decode(TEXEL).
+  env_plane_cutouts.gltf   env_plane.gltf under three planes that MASK cuts out entirely: the same bits.
   furnace_textured.gltf    the closed furnace with its albedo from a constant texture: LE / (1 - decode(TEXEL)).
   mask_shadow.gltf         a 2x2 checker MASK quad between a directional light and a floor; the camera sees the
                            shadow on the floor only. mask_shadow_geometry.gltf has the opaque cells as geometry:
@@ -87,10 +88,16 @@ def diffuse(base=(RHO, RHO, RHO, 1.0), texture=None, **extra):
     return m
 
 
-def env_plane(textured):
+def env_plane(textured, cutouts=0):
     g = AssetGltf()
     texture = g.add_texture(1, 1, [(TEXEL, TEXEL, TEXEL, 255)]) if textured else None
     material = g.add_raw_material(diffuse((1.0, 1.0, 1.0, 1.0) if textured else (RHO, RHO, RHO, 1.0), texture))
+    # Planes over the floor that MASK cuts out entirely (alpha 0 < cutoff 0.5), as if not there. Written before the
+    # floor, so that a leaf holding them all lists the floor after them.
+    if cutouts:
+        hole = g.add_raw_material(diffuse((RHO, RHO, RHO, 0.0), alphaMode="MASK", alphaCutoff=0.5))
+        for k in range(cutouts):
+            g.add_node({"mesh": g.add_uv_mesh(quad(-10, -10, 10, 10, 0.4 * (k + 1)), quad_uv(), hole)})
     g.add_node({"mesh": g.add_uv_mesh(quad(-10, -10, 10, 10, 0.0), quad_uv(), material)})
     g.add_orthographic_camera({"translation": [0.0, 0.0, 2.0]}, 1.0)
     return g
@@ -166,6 +173,7 @@ def main():
     out.mkdir(parents=True, exist_ok=True)
     env_plane(False).write(out / "env_plane.gltf")
     env_plane(True).write(out / "env_plane_textured.gltf")
+    env_plane(False, cutouts=3).write(out / "env_plane_cutouts.gltf")
     furnace_textured().write(out / "furnace_textured.gltf")
     for kind in ("mask", "mask_geometry", "blend", "lit"):
         shadow_scene(kind).write(out / ("floor_lit.gltf" if kind == "lit" else kind + "_shadow.gltf"))
