@@ -8,13 +8,14 @@ The rays are diffuse bounces: origins uniform by area over every triangle of the
 two rays are alike and neighbours in the list are unrelated, as a path tracer's second bounce is. Both tracers get
 exactly these rays (Fredholm: `fredholm bench SCENE --trace-rays FILE`, which times the extend stage alone on the
 device; Embree: `EmbreeScene.run` of the whole array, one call per thread, wall clock), and their hit distances are
-compared ray by ray (they must agree: the same mesh, the same rays). Reads .glb files whose nodes carry no transform
-(tests/bench/make_displaced_sphere.py writes them). Needs numpy and embreex (tests/bench/README.md).
+compared ray by ray (they must agree: the same mesh, the same rays). Reads .gltf and .glb files (node transforms applied;
+not Draco, meshopt or quantised meshes), such as tests/bench/make_displaced_sphere.py's spheres and the Khronos sample
+models. Alpha-tested materials make Fredholm pass through cut-out texels, which Embree does not: those rays disagree.
+Needs numpy and embreex (tests/bench/README.md).
 """
 import argparse
 import json
 import os
-import struct
 import subprocess
 import sys
 import tempfile
@@ -25,35 +26,19 @@ import numpy as np
 from embreex import rtcore_scene
 from embreex.mesh_construction import TriangleMesh
 
+from compare_renderers import load_gltf
+
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 
-def read_glb_triangles(path):
-    """Every triangle of every mesh primitive (indexed or not), as an (n, 3, 3) float32 array."""
-    data = open(path, "rb").read()
-    magic, _, _ = struct.unpack_from("<III", data, 0)
-    if magic != 0x46546C67:
-        raise SystemExit(f"compare_embree: {path}: not a .glb")
-    json_length, _ = struct.unpack_from("<II", data, 12)
-    doc = json.loads(data[20:20 + json_length])
-    blob = data[20 + json_length + 8:]
-    if any(k in n for n in doc["nodes"] for k in ("matrix", "translation", "rotation", "scale") if "mesh" in n):
-        raise SystemExit(f"compare_embree: {path}: mesh nodes with transforms are not supported here")
-
-    def accessor(i, components):
-        a = doc["accessors"][i]
-        view = doc["bufferViews"][a["bufferView"]]
-        dtype = {5126: np.float32, 5125: np.uint32, 5123: np.uint16, 5121: np.uint8}[a["componentType"]]
-        start = view.get("byteOffset", 0) + a.get("byteOffset", 0)
-        return np.frombuffer(blob, dtype=dtype, count=a["count"] * components, offset=start).reshape(a["count"], components)
-
-    triangles = []
-    for mesh in doc["meshes"]:
-        for p in mesh["primitives"]:
-            positions = accessor(p["attributes"]["POSITION"], 3)
-            indices = accessor(p["indices"], 1).reshape(-1) if "indices" in p else np.arange(len(positions))
-            triangles.append(positions[indices.reshape(-1, 3)])
-    return np.concatenate(triangles).astype(np.float32)
+def read_triangles(path):
+    """Every triangle of the scene's default scene graph in world space (every node's transform applied, as Fredholm
+    loads it), as an (n, 3, 3) float32 array."""
+    try:
+        meshes = load_gltf(path, need_camera=False)["meshes"]
+    except (ValueError, KeyError, OSError) as e:
+        raise SystemExit(f"compare_embree: {path}: {e}")
+    return np.concatenate([m["positions"][m["faces"]] for m in meshes]).astype(np.float32)
 
 
 def diffuse_rays(triangles, count, seed):
@@ -125,7 +110,7 @@ def main():
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--json", help="also write the figures here")
     args = ap.parse_args()
-    triangles = read_glb_triangles(args.scene)
+    triangles = read_triangles(args.scene)
     origins, directions = diffuse_rays(triangles, args.rays, args.seed)
     with tempfile.TemporaryDirectory() as tmp:
         ray_file, hit_file, stats_file = (os.path.join(tmp, n) for n in ("rays.bin", "hits.bin", "stats.json"))

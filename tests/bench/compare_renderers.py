@@ -118,8 +118,14 @@ def _read_document(path):
     return doc, chunk
 
 
-def load_gltf(path):
-    """Return {'meshes': [...], 'camera': {...}} with world-space triangle meshes (.gltf or .glb)."""
+def load_gltf(path, need_camera=True):
+    """Return {'meshes': [...], 'camera': {...}} with world-space triangle meshes (.gltf or .glb): every node of the
+    default scene, its transform applied. The camera is the first camera node's; without one, a ValueError, or
+    None when need_camera is False."""
+    doc_check, _ = _read_document(path)
+    for ext in ("KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_mesh_quantization"):
+        if ext in doc_check.get("extensionsUsed", []):
+            raise ValueError("%s: %s is not read here" % (path, ext))
     doc, chunk = _read_document(path)
     buffers = _load_buffers(doc, os.path.dirname(os.path.abspath(path)), chunk)
     materials = doc.get("materials", [])
@@ -186,7 +192,7 @@ def load_gltf(path):
 
     for r in roots:
         visit(r, np.eye(4))
-    if camera is None:
+    if camera is None and need_camera:
         raise ValueError("the scene has no camera node")
     return {"meshes": meshes, "camera": camera}
 
