@@ -155,24 +155,9 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin
     bool finished = false;
     while (!finished) {  // once, and once more after each alpha-tested candidate
         while (true) {
-            // Descend until this lane holds a leaf, or finds nothing below (index INVALID_INDEX, count 0).
-            while ((count == 0u || (scene_has_instances && count == WIDE_INSTANCE_COUNT)) && index != INVALID_INDEX) {
-                if (scene_has_instances && count == WIDE_INSTANCE_COUNT) {
-                    Instance inst = move_instance(load_instance(index), time);
-                    instance = index;
-                    instance_base = stack_size;
-                    origin = map_point(inst.object_from_render_0, inst.object_from_render_1, inst.object_from_render_2,
-                                       world_origin);
-                    dir = map_vector(inst.object_from_render_0, inst.object_from_render_1, inst.object_from_render_2,
-                                     world_dir);
-                    pre = make_ray_precomp(origin, dir);
-                    inv_dir = make_safe_inverse_dir(dir);
-                    pad = world_pad * max_axis_stretch(inst.object_from_render_0, inst.object_from_render_1,
-                                                       inst.object_from_render_2);
-                    index = inst.root_node;
-                    count = 0u;
-                    continue;
-                }
+            // Descend until this lane holds a leaf (of triangles or an instance), or finds nothing below (index
+            // INVALID_INDEX, count 0).
+            while (count == 0u && index != INVALID_INDEX) {
                 BvhWideNode n = load_bvh_node(index);
                 vec3 node_origin = vec3(n.origin_x, n.origin_y, n.origin_z);
                 vec3 step = uintBitsToFloat((uvec3(n.exponents) >> uvec3(0u, 8u, 16u) & 0xffu) << 23u);
@@ -198,6 +183,24 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin
                 if (c0.entry >= MISSED_CHILD && stack_size > 0u) {
                     POP_ENTRY()
                 }
+            }
+            // Entering an instance maps the ray into its mesh's space and descends on from the mesh's root. Here rather
+            // than in the descent loop, where (masked, on lavapipe) it ran at every node step.
+            if (scene_has_instances && count == WIDE_INSTANCE_COUNT) {
+                Instance inst = move_instance(load_instance(index), time);
+                instance = index;
+                instance_base = stack_size;
+                origin = map_point(inst.object_from_render_0, inst.object_from_render_1, inst.object_from_render_2,
+                                   world_origin);
+                dir = map_vector(inst.object_from_render_0, inst.object_from_render_1, inst.object_from_render_2,
+                                 world_dir);
+                pre = make_ray_precomp(origin, dir);
+                inv_dir = make_safe_inverse_dir(dir);
+                pad = world_pad * max_axis_stretch(inst.object_from_render_0, inst.object_from_render_1,
+                                                   inst.object_from_render_2);
+                index = inst.root_node;
+                count = 0u;
+                continue;
             }
             bool tie_break = !any_hit && FH_TECHNIQUE_ON(TECHNIQUE_TIE_BREAK);
             for (uint k = 0u; k < count; ++k) {
