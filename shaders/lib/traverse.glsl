@@ -99,7 +99,7 @@ uint child_count(uint word) { return word & ((1u << WIDE_COUNT_BITS) - 1u); }
 // A macro, not a function: GLSL passes arrays by copy, and the stack is trace_ray's. The host keeps every tree within
 // the stack (scene_bvh.cpp check_stack_bound); the bound check only keeps a write in range. An entry is the child's
 // word as the node holds it: one word where index and count took two (on lavapipe the stack lives in scratch memory,
-// one scattered store per word and lane; the extend stage traced the 1.31 M-triangle mesh's rays about 15% faster).
+// one scattered store per word and lane; README "Wide BVH nodes" has the A/B rounds).
 #define PUSH_ENTRY(e)                                                          \
     if ((e).entry < MISSED_CHILD && stack_size < TRAVERSAL_STACK_SIZE) {        \
         stack[stack_size] = (e).word;                                           \

@@ -192,8 +192,8 @@ struct BvhNode {
 // child's exact box. Child k is another wide node (count 0), a leaf (index = first triangle), a top-level leaf
 // (count WIDE_INSTANCE_COUNT, index = Instance) or absent (child_k INVALID_INDEX). Index and count share one word,
 // index << WIDE_COUNT_BITS | count, which traversal pushes on its stack as it is: one stack word per entry. Indices
-// stay below 2^26 (WIDE_MAX_INDEX): the texel buffers the triangles and nodes live in end before that (lavapipe and
-// NVIDIA allow 2^27 texels of 16 bytes, and a triangle takes 3, a node 4); the host checks it (wide_bvh.h).
+// stay below 2^26 (WIDE_MAX_INDEX): the loader refuses more than 2^26 triangles, lavapipe's texel buffers (2^27
+// texels of 16 bytes; a triangle takes 3, a node 4) end sooner, and the host checks every index (wide_bvh.h).
 struct BvhWideNode {
     float origin_x, origin_y, origin_z;
     uint exponents;  // the step's biased float exponent per axis: x in bits 0-7, y 8-15, z 16-23
