@@ -253,6 +253,8 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin
             }
             candidate.triangle = INVALID_INDEX;
         }
+        // Without EFFECT_ALPHA nothing suspends traversal: one pass, and the compiler drops this loop.
+        if (!effect_on(EFFECT_ALPHA)) break;
     }
     return best;
 }
