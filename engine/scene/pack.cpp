@@ -194,10 +194,7 @@ PackedScene pack_scene(const Scene& scene, const SceneBvh& bvh, EnvironmentMap e
         const size_t t = bvh.triangle_order[i];
         const glm::vec3* p = &scene.positions[3 * t];
         const glm::vec3* nrm = &scene.normals[3 * t];
-        const bool alpha_tested = scene.triangle_material[t] < scene.materials.size() &&
-                                  scene.materials[scene.triangle_material[t]].alpha_mode != gpu::ALPHA_OPAQUE;
-        packed.positions[i] = {p[0].x, p[0].y, p[0].z, p[1].x, p[1].y, p[1].z, p[2].x, p[2].y, p[2].z, uint32_t(t),
-                               alpha_tested ? gpu::TRIANGLE_ALPHA_TESTED : 0u, 0.0f};
+        packed.positions[i] = {p[0].x, p[0].y, p[0].z, p[1].x, p[1].y, p[1].z, p[2].x, p[2].y, p[2].z, uint32_t(t), 0u, 0.0f};
         if (attributes) packed.attributes[i] = pack_attributes(scene, t);
         gpu::TriangleShading& s = packed.shading[i];
         s = {nrm[0].x, nrm[0].y, nrm[0].z, nrm[1].x, nrm[1].y, nrm[1].z, nrm[2].x, nrm[2].y, nrm[2].z,
@@ -206,8 +203,10 @@ PackedScene pack_scene(const Scene& scene, const SceneBvh& bvh, EnvironmentMap e
             throw std::invalid_argument("pack.cpp: triangle " + std::to_string(t) + " names material " +
                                         std::to_string(s.material) + " of " + std::to_string(scene.materials.size()));
 
-        // Emitted power of a Lambertian emitter of radiance L over area A: pi L A per emitting side.
         const gpu::Material& m = scene.materials[s.material];
+        if (m.alpha_mode != gpu::ALPHA_OPAQUE) packed.positions[i].flags = gpu::TRIANGLE_ALPHA_TESTED;
+
+        // Emitted power of a Lambertian emitter of radiance L over area A: pi L A per emitting side.
         const double a = triangle_area(p[0], p[1], p[2]);
         const double sides = (m.flags & gpu::MATERIAL_DOUBLE_SIDED) ? 2.0 : 1.0;
         const double w = mean_emitted_luminance(scene, t, m) * a * glm::pi<double>() * sides;

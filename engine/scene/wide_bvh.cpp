@@ -160,8 +160,8 @@ WideChild read_wide_child(const gpu::BvhWideNode& node, uint32_t k) {
     const uint32_t words[gpu::BVH_WIDTH] = {node.child_0, node.child_1, node.child_2, node.child_3};
     WideChild c;
     if (words[k] != gpu::INVALID_INDEX) {
-        c.index = words[k] >> gpu::WIDE_COUNT_BITS;
-        c.count = words[k] & ((1u << gpu::WIDE_COUNT_BITS) - 1u);
+        c.index = wide_word_index(words[k]);
+        c.count = wide_word_count(words[k]);
     }
     const float origin[3] = {node.origin_x, node.origin_y, node.origin_z};
     const uint32_t lo[3] = {node.lo_x, node.lo_y, node.lo_z}, hi[3] = {node.hi_x, node.hi_y, node.hi_z};

@@ -26,6 +26,10 @@ std::vector<gpu::BvhWideNode> make_wide_nodes(const std::vector<gpu::BvhNode>& n
 
 WideChild read_wide_child(const gpu::BvhWideNode& node, uint32_t k);
 
+// A present child's word, index << gpu::WIDE_COUNT_BITS | count, taken apart.
+inline uint32_t wide_word_index(uint32_t word) { return word >> gpu::WIDE_COUNT_BITS; }
+inline uint32_t wide_word_count(uint32_t word) { return word & ((1u << gpu::WIDE_COUNT_BITS) - 1u); }
+
 // Child k's word: index << gpu::WIDE_COUNT_BITS | count, or gpu::INVALID_INDEX when absent.
 inline uint32_t& wide_child_word(gpu::BvhWideNode& node, uint32_t k) {
     uint32_t* words[gpu::BVH_WIDTH] = {&node.child_0, &node.child_1, &node.child_2, &node.child_3};
@@ -42,7 +46,7 @@ void for_each_wide_child(gpu::BvhWideNode& node, F&& f) {
     for (uint32_t k = 0; k < gpu::BVH_WIDTH; ++k) {
         uint32_t& word = wide_child_word(node, k);
         if (word == gpu::INVALID_INDEX) continue;
-        uint32_t index = word >> gpu::WIDE_COUNT_BITS, count = word & ((1u << gpu::WIDE_COUNT_BITS) - 1u);
+        uint32_t index = wide_word_index(word), count = wide_word_count(word);
         f(index, count);
         word = pack_wide_child(index, count);
     }
