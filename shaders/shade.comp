@@ -15,21 +15,7 @@
 #include "lib/path_sampler.glsl"
 #include "lib/sampling.glsl"
 #include "lib/effects.glsl"
-#define BSDF_HAS_SPECULAR effect_on(EFFECT_SPECULAR)
-#define BSDF_HAS_TRANSMISSION effect_on(EFFECT_TRANSMISSION)
-#define BSDF_HAS_CLEARCOAT effect_on(EFFECT_CLEARCOAT)
-#define BSDF_HAS_SHEEN effect_on(EFFECT_SHEEN)
-#define BSDF_HAS_DIFFUSE_TRANSMISSION effect_on(EFFECT_DIFFUSE_TRANSMISSION)
-#define BSDF_HAS_ANISOTROPY effect_on(EFFECT_ANISOTROPY)
-#define BSDF_HAS_IRIDESCENCE effect_on(EFFECT_IRIDESCENCE)
-#define BSDF_HAS_GLASS_MULTISCATTER effect_on(EFFECT_GLASS_MULTISCATTER)
-#include "lib/bsdf.glsl"
-#include "lib/clearcoat.glsl"
-#include "lib/sheen_layer.glsl"
-#include "lib/diffuse_transmission.glsl"
-#include "lib/anisotropy_layer.glsl"
-#include "lib/iridescence_layer.glsl"
-#include "lib/surface.glsl"
+#include "lib/bsdf_layers.glsl"
 #include "lib/motion.glsl"
 #include "lib/lights.glsl"
 #include "lib/transmission.glsl"
@@ -203,34 +189,7 @@ void main() {
                 float eta = volume ? (front ? m.ior / medium_ior(medium) : medium_ior(media_beyond.x) / here) : m.ior;
                 bsdf = with_transmission(bsdf, transmission, eta, volume ? 0u : 1u);
             }
-            // Thin film (KHR_materials_iridescence) on the specular lobes; before anisotropy, which renormalises.
-            if (effect_on(EFFECT_IRIDESCENCE)) {
-                IridescenceLayer film = eval_iridescence_layer(s.material, hit.triangle, hit.b1, hit.b2);
-                bsdf = with_iridescence(bsdf, film.weight, film.thickness, film.ior, film.albedo_bound);
-            }
-            // Anisotropy (KHR_materials_anisotropy): the specular lobes' roughness stretched along a tangent direction.
-            if (effect_on(EFFECT_ANISOTROPY) && anisotropy.strength > 0.0f)
-                bsdf = with_anisotropy(bsdf, anisotropy.strength, vec2(to_local(frame, s.ta)));
-            // Diffuse transmission (KHR_materials_diffuse_transmission): part of the Lambert lobe goes through.
-            if (effect_on(EFFECT_DIFFUSE_TRANSMISSION)) {
-                DiffuseTransmission through = eval_diffuse_transmission(s.material, hit.triangle, hit.b1, hit.b2);
-                bsdf = with_diffuse_transmission(bsdf, through.factor, through.color);
-            }
-            // Sheen (KHR_materials_sheen) over the base, about its shading normal.
-            if (effect_on(EFFECT_SHEEN)) {
-                SheenLayer sheen = eval_sheen_layer(s.material, hit.triangle, hit.b1, hit.b2);
-                bsdf = with_sheen(bsdf, sheen.color, sheen.roughness);
-            }
-            // Clear coat (KHR_materials_clearcoat) over all of it, about its own normal on the viewer's side.
-            if (effect_on(EFFECT_CLEARCOAT)) {
-                ClearcoatLayer coat = eval_clearcoat_layer(s.material, hit.triangle, hit.b1, hit.b2);
-                if (coat.weight > 0.0f) {
-                    vec3 nc = front ? s.nc : -s.nc;
-                    if (dot(nc, wo) <= 0.0f) nc = ng;
-                    if (effect_on(EFFECT_CLEARCOAT_NORMAL_TEXTURE)) nc = keep_reflection_above_surface(nc, ng, wo);
-                    bsdf = with_clearcoat(bsdf, coat.weight, coat.roughness, to_local(frame, nc));
-                }
-            }
+            bsdf = add_bsdf_layers(bsdf, s, hit.triangle, hit.b1, hit.b2, frame, anisotropy, front, ng, wo);
             bool transmits = has_transmission_lobe(bsdf);
             uint medium_beyond = media_beyond.x;  // across the surface
 

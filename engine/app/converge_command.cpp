@@ -72,6 +72,9 @@ void apply_vary(const std::string& key, const std::string& v, RenderSettings& s)
     } else if (key == "sampler") {
         if (v != "independent" && v != "sobol") throw std::invalid_argument("sampler: '" + v + "' is not independent or sobol");
         s.sampler = v == "sobol" ? Sampler::sobol : Sampler::independent;
+    } else if (key == "integrator") {
+        if (v != "path" && v != "light") throw std::invalid_argument("integrator: '" + v + "' is not path or light");
+        s.integrator = v == "light" ? Integrator::light : Integrator::path;
     } else if (key == "aperture") {  // an f-number; 0: the pinhole
         const double n = parse_number(key, v);
         if (!(n == 0.0 || (n >= 0.1 && n <= 1e6))) throw std::invalid_argument("aperture: '" + v + "' is not 0 or an f-number");
@@ -89,7 +92,7 @@ void apply_vary(const std::string& key, const std::string& v, RenderSettings& s)
         s.forced_effects = on ? s.forced_effects | bit : s.forced_effects & ~bit;
         s.disabled_effects = on ? s.disabled_effects & ~bit : s.disabled_effects | bit;
     } else {
-        throw std::invalid_argument("unknown key '" + key + "' (max-depth, nee, mis, rr, rr-start-depth, filter, sampler, "
+        throw std::invalid_argument("unknown key '" + key + "' (max-depth, nee, mis, rr, rr-start-depth, filter, sampler, integrator, "
                                     "aperture, aperture-radius, effect:NAME)");
     }
 }
@@ -97,7 +100,7 @@ void apply_vary(const std::string& key, const std::string& v, RenderSettings& s)
 bool same_settings(const RenderSettings& a, const RenderSettings& b) {
     return a.max_depth == b.max_depth && a.nee == b.nee && a.mis == b.mis &&
            a.russian_roulette == b.russian_roulette && a.rr_start_depth == b.rr_start_depth && a.filter == b.filter &&
-           a.sampler == b.sampler &&
+           a.sampler == b.sampler && a.integrator == b.integrator &&
            a.forced_effects == b.forced_effects &&
            a.disabled_effects == b.disabled_effects && describe_lens(a.lens) == describe_lens(b.lens);
 }
@@ -292,7 +295,7 @@ void add_converge_options(CLI::App& app, ConvergeCommand& c) {
     two->excludes(ref_spp);
     app.add_option("--max-seconds", c.max_seconds, "render-time budget per configuration")->check(CLI::PositiveNumber);
     app.add_option("--max-spp", c.max_spp, "largest spp of the doubling sequence")->check(CLI::Range(1u, 1u << 20));
-    app.add_option("--vary", c.vary, "KEY=V1,V2,...: one curve per value (max-depth, nee, mis, rr, rr-start-depth, filter, sampler, aperture (0: pinhole), aperture-radius; effect:NAME=on,off compiles "
+    app.add_option("--vary", c.vary, "KEY=V1,V2,...: one curve per value (max-depth, nee, mis, rr, rr-start-depth, filter, sampler, integrator (path, light), aperture (0: pinhole), aperture-radius; effect:NAME=on,off compiles "
                    "an effect in or out (a material or light effect, or motion-blur), e.g. effect:transmission=on,off)")
         ->check(CLI::Validator(
             [](std::string& spec) {

@@ -67,6 +67,7 @@ ImageMetadata make_metadata(const RenderCommand& c, const std::string& scene_has
             {"fredholm:filter", to_string(s.filter)},
             {"fredholm:filter_radius", radius},
             {"fredholm:sampler", to_string(s.sampler)},
+            {"fredholm:integrator", to_string(s.integrator)},
             {"fredholm:nee", s.nee ? "on" : "off"},
             {"fredholm:mis", s.mis ? "on" : "off"},
             {"fredholm:rr", s.russian_roulette ? "on" : "off"},
@@ -121,6 +122,7 @@ void write_stats(const std::filesystem::path& file, const RenderCommand& c, cons
     j["emitters"] = prepared.packed.emitters.size();
     j["punctual_lights"] = prepared.packed.punctual_lights.size();
     j["sampler"] = to_string(s.sampler);
+    j["integrator"] = to_string(s.integrator);
     j["effects"] = describe_effects(select_effects(prepared.packed.effects.bits, s.forced_effects, s.disabled_effects));
     j["disabled_effects"] = describe_effects(s.disabled_effects);
     j["forced_effects"] = describe_effects(s.forced_effects);

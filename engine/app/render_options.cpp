@@ -32,6 +32,11 @@ void add_sampling_options(CLI::App& app, RenderSettings& s) {
     app.add_option("--sampler", s.sampler,
                    "sobol: Owen-scrambled Sobol' points, stratified (default); independent: a PCG stream per path")
         ->transform(CLI::CheckedTransformer(samplers, CLI::ignore_case));
+    std::map<std::string, Integrator> integrators{{"path", Integrator::path}, {"light", Integrator::light}};
+    app.add_option("--integrator", s.integrator,
+                   "path: path tracing from the camera, next-event estimation and MIS (default); light: light tracing, "
+                   "light subpaths splatted onto the film through the camera (README \"Light tracing\")")
+        ->transform(CLI::CheckedTransformer(integrators, CLI::ignore_case));
     std::map<std::string, bool> on_off{{"on", true}, {"off", false}};
     app.add_option("--nee", s.nee, "next-event estimation: on/off")->transform(CLI::CheckedTransformer(on_off));
     app.add_option("--mis", s.mis, "multiple importance sampling: on/off")->transform(CLI::CheckedTransformer(on_off));

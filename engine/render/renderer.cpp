@@ -10,6 +10,7 @@
 #include "render/camera_setup.h"
 #include "render/camera_medium.h"
 #include "render/film.h"
+#include "render/light_tracing.h"
 #include "render/ray_tracer.h"
 #include "render/wave_size.h"
 #include "vk/context.h"
@@ -30,7 +31,7 @@ namespace {
 // With unlimited depth the host looks at the queue length every this many bounces (one readback per
 // submission, never between stages). Also bounds the work per submission (GPU watchdogs).
 constexpr uint32_t DEPTHS_PER_SUBMIT = 16;
-constexpr uint32_t MAX_DISPATCHES_PER_SUBMIT = 2 + 4 * DEPTHS_PER_SUBMIT;
+constexpr uint32_t MAX_DISPATCHES_PER_SUBMIT = 4 + 4 * DEPTHS_PER_SUBMIT;  // light tracing: 2 more before the bounces
 
 uint32_t group_count(uint64_t invocations) {
     return uint32_t((invocations + gpu::WORKGROUP_SIZE - 1) / gpu::WORKGROUP_SIZE);
@@ -80,6 +81,7 @@ gpu::FrameParams make_frame(const PackedScene& scene, const SceneCamera& camera,
 
 const char* to_string(PixelFilter filter) { return filter == PixelFilter::gaussian ? "gaussian" : "box"; }
 const char* to_string(Sampler sampler) { return sampler == Sampler::sobol ? "sobol" : "independent"; }
+const char* to_string(Integrator integrator) { return integrator == Integrator::light ? "light" : "path"; }
 
 std::vector<Wave> plan_waves(uint32_t pixel_count, uint32_t sample_begin, uint32_t sample_end, uint32_t capacity) {
     std::vector<Wave> waves;
@@ -106,6 +108,8 @@ StageOptions make_stage_options(const PackedScene& scene, const RenderSettings& 
     if (camera.has_lens()) o.effects |= gpu::EFFECT_THIN_LENS;
     o.instances = !scene.instances.empty();
     o.sampler = s.sampler == Sampler::sobol ? gpu::SAMPLER_SOBOL : gpu::SAMPLER_INDEPENDENT;
+    o.integrator = s.integrator;
+    check_light_tracing(scene.source.empty() ? std::string("scene") : scene.source, scene, s, camera, o.effects);
     return o;
 }
 
@@ -192,9 +196,21 @@ RenderStats Renderer::render_pixels(uint32_t pixel_begin, uint32_t pixel_count, 
 void Renderer::trace_wave(const Wave& wave, RenderStats& stats) {
     recorder_.begin();
     recorder_.bind_table(stages_.bindings());
+    const bool light = settings_.integrator == Integrator::light;
     gpu::StagePush push = make_push(0, wave);
     recorder_.push_constants(&push, sizeof(push));
-    recorder_.dispatch(stages_[Stage::generate], group_count(uint64_t(wave.pixel_count) * wave.sample_count));
+    recorder_.dispatch(stages_[light ? Stage::light_generate : Stage::generate],
+                       group_count(uint64_t(wave.pixel_count) * wave.sample_count));
+    if (light) {
+        // The light vertices' splats: advance as if after depth 1 hands the shadow queue to splat and leaves the
+        // generated rays (queue 0) for the first extend.
+        push = make_push(1, wave);
+        recorder_.push_constants(&push, sizeof(push));
+        recorder_.barrier_compute();
+        recorder_.dispatch(stages_[Stage::advance], 1);
+        recorder_.barrier_compute();
+        recorder_.dispatch_indirect(stages_[Stage::splat], buffers_.counters, offsetof(gpu::QueueCounters, connect_args));
+    }
 
     const uint32_t max_depth = settings_.max_depth;
     uint32_t depth = 0;
@@ -226,15 +242,20 @@ void Renderer::trace_wave(const Wave& wave, RenderStats& stats) {
 }
 
 void Renderer::record_bounce(uint32_t depth, const Wave& wave) {
+    const bool light = settings_.integrator == Integrator::light;
     gpu::StagePush push = make_push(depth, wave);
     recorder_.push_constants(&push, sizeof(push));
     recorder_.barrier_compute();
     recorder_.dispatch_indirect(stages_[Stage::extend], buffers_.counters, offsetof(gpu::QueueCounters, extend_args));
     recorder_.barrier_compute();
-    recorder_.dispatch_indirect(stages_[Stage::shade], buffers_.counters, offsetof(gpu::QueueCounters, extend_args));
+    recorder_.dispatch_indirect(stages_[light ? Stage::light_shade : Stage::shade], buffers_.counters,
+                                offsetof(gpu::QueueCounters, extend_args));
     recorder_.barrier_compute();
     recorder_.dispatch(stages_[Stage::advance], 1);
-    if (has_lights_ && settings_.nee) {
+    if (light) {
+        recorder_.barrier_compute();
+        recorder_.dispatch_indirect(stages_[Stage::splat], buffers_.counters, offsetof(gpu::QueueCounters, connect_args));
+    } else if (has_lights_ && settings_.nee) {
         recorder_.barrier_compute();
         recorder_.dispatch_indirect(stages_[Stage::connect], buffers_.counters,
                                     offsetof(gpu::QueueCounters, connect_args));

@@ -21,6 +21,11 @@ struct LensSettings {
     double rotation_degrees = 0.0;  // --aperture-rotation
     bool on() const { return f_number > 0.0 || aperture_radius > 0.0; }
 };
+// How the light transport equation is solved (README "Light tracing"): path tracing from the camera with next-event
+// estimation and MIS, or light tracing (light subpaths splatted onto the film through the camera; the t = 1
+// strategies of bidirectional path tracing alone).
+enum class Integrator { path, light };
+
 // Where a path's random numbers come from (shaders/lib/path_sampler.glsl).
 enum class Sampler { independent, sobol };
 
@@ -33,6 +38,7 @@ struct RenderSettings {
     int camera = -1;               // glTF camera index in scene order; -1 = first camera or default framing
     PixelFilter filter = PixelFilter::box;
     Sampler sampler = Sampler::sobol;  // --sampler: Owen-scrambled Sobol' (stratified) or independent
+    Integrator integrator = Integrator::path;  // --integrator path|light
     float filter_radius = 1.5f;    // Gaussian truncation radius in pixels
     bool nee = true;               // next-event estimation
     bool mis = true;               // MIS between NEE and BSDF sampling
@@ -69,5 +75,6 @@ struct RenderSettings {
 
 const char* to_string(PixelFilter filter);
 const char* to_string(Sampler sampler);
+const char* to_string(Integrator integrator);
 
 }  // namespace fh

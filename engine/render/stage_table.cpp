@@ -3,19 +3,25 @@
 
 #include <array>
 #include <span>
+#include <stdexcept>
+#include <string>
 
 #include "shaders/accumulate.spv.h"
 #include "shaders/advance.spv.h"
 #include "shaders/connect.spv.h"
 #include "shaders/extend.spv.h"
 #include "shaders/generate.spv.h"
+#include "shaders/light_generate.spv.h"
+#include "shaders/light_shade.spv.h"
 #include "shaders/shade.spv.h"
+#include "shaders/splat.spv.h"
 #include "shared/layout.h"
 
 namespace fh {
 
 const char* stage_name(Stage stage) {
-    constexpr const char* names[STAGE_COUNT] = {"generate", "extend", "shade", "advance", "connect", "accumulate"};
+    constexpr const char* names[STAGE_COUNT] = {"generate", "extend",         "shade",       "advance", "connect",
+                                                     "accumulate", "light_generate", "light_shade", "splat"};
     return names[size_t(stage)];
 }
 
@@ -42,12 +48,24 @@ StageTable::StageTable(const vk::Context& context, const StageOptions& options)
         pipelines_[size_t(stage)] =
             std::make_unique<vk::ComputePipeline>(context, bindings_, stage_name(stage), spirv, spec);
     };
-    make(Stage::generate, spv_generate);
     make(Stage::extend, spv_extend);
-    make(Stage::shade, spv_shade);
     make(Stage::advance, spv_advance);
-    make(Stage::connect, spv_connect);
     make(Stage::accumulate, spv_accumulate);
+    if (options.integrator == Integrator::light) {
+        make(Stage::light_generate, spv_light_generate);
+        make(Stage::light_shade, spv_light_shade);
+        make(Stage::splat, spv_splat);
+    } else {
+        make(Stage::generate, spv_generate);
+        make(Stage::shade, spv_shade);
+        make(Stage::connect, spv_connect);
+    }
+}
+
+const vk::ComputePipeline& StageTable::operator[](Stage stage) const {
+    const auto& pipeline = pipelines_[size_t(stage)];
+    if (!pipeline) throw std::logic_error(std::string("StageTable: stage ") + stage_name(stage) + " was not built");
+    return *pipeline;
 }
 
 }  // namespace fh

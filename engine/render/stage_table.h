@@ -3,12 +3,13 @@
 #include <array>
 #include <memory>
 
+#include "render/settings.h"
 #include "vk/pipeline.h"
 
 namespace fh {
 
-enum class Stage { generate, extend, shade, advance, connect, accumulate };
-inline constexpr size_t STAGE_COUNT = 6;
+enum class Stage { generate, extend, shade, advance, connect, accumulate, light_generate, light_shade, splat };
+inline constexpr size_t STAGE_COUNT = 9;
 const char* stage_name(Stage stage);
 
 // What the pipelines are specialised for (layout.h SPEC_*): branches a scene does not need compile away.
@@ -17,12 +18,14 @@ struct StageOptions {
     uint32_t effects = 0;                   // layout.h EFFECT_* bits (scene/effects.h)
     bool instances = false;                 // two-level BVH (pack.h PackedScene::instances)
     uint32_t sampler = 0;                   // layout.h SAMPLER_*
+    Integrator integrator = Integrator::path;  // which stages are built: the path tracer's, or light tracing's
 };
 
 class StageTable {
 public:
     explicit StageTable(const vk::Context& context, const StageOptions& options = {});
-    const vk::ComputePipeline& operator[](Stage stage) const { return *pipelines_[size_t(stage)]; }
+    // A stage of the other integrator is not built: asking for it is a logic error.
+    const vk::ComputePipeline& operator[](Stage stage) const;
     vk::BindingTable& bindings() { return bindings_; }
     const vk::BindingTable& bindings() const { return bindings_; }
     const StageOptions& options() const { return options_; }

@@ -168,6 +168,7 @@ PackedScene pack_scene(const Scene& scene, const SceneBvh& bvh, EnvironmentMap e
     PackedScene packed;
     packed.origin = scene.origin;
     packed.motion_segments = scene.motion_segments;
+    packed.source = scene.source.string();
     packed.effects = analyse_effects(scene, !environment.empty());
     packed.nodes = bvh.nodes;
     packed.bounds_lo = bvh.bounds_lo;

@@ -1,6 +1,7 @@
 // Packs a flattened Scene and its Bvh into the arrays the GPU stages read (layout.h), with the emitter table.
 #pragma once
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "scene/bvh.h"
@@ -32,6 +33,7 @@ struct PackedScene {
     double total_emitted_power = 0.0;               // watts if emission is in W / (m^2 sr)
     glm::dvec3 origin{0.0};                         // world position of the render-space origin (Scene::origin)
     uint32_t motion_segments = 1;                   // Scene::motion_segments
+    std::string source;                             // Scene::source, for messages ("" when built in memory)
 };
 
 // scene.material_layers, one per material (a scene built without them, as in the tests, gets none).

@@ -1,0 +1,70 @@
+// Stage "light_generate" (`--integrator light`): starts one light subpath per (pixel, sample) of the wave: a light by
+// power, a point on it and a first direction (lib/light_subpath.glsl), and the light's own vertex joined to the camera
+// (the s = 1, t = 1 strategy: a splat).
+// Reads: params, push, triangles, materials, emitters, punctual lights, the environment (with EFFECT_EMISSIVE_TEXTURE
+// / EFFECT_ALPHA textures).
+// Writes: rays[queue 0], paths (throughput: the power the subpath carries; bsdf_pdf: its largest component at the
+// light, Russian roulette's scale; radiance 0), shadow_rays (one splat per subpath, empty where there is none),
+// counters (as generate, and the shadow queue's length).
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "lib/bindings.glsl"
+#include "lib/rng.glsl"
+#include "lib/sampling.glsl"
+#include "lib/effects.glsl"
+#include "lib/path_sampler.glsl"
+#include "lib/light_subpath.glsl"
+
+layout(local_size_x = WORKGROUP_SIZE) in;
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    uint total = push.pixel_count * push.sample_count;
+    if (i == 0u) {
+        counters.ray_count[0] = total;
+        counters.ray_count[1] = 0u;
+        counters.shadow_count = total;
+        counters.nonfinite_samples = 0u;
+        counters.escaped_rays = 0u;
+        counters.traced_rays = 0u;
+        counters.traced_shadow_rays = 0u;
+        counters.extend_args.x = (total + WORKGROUP_SIZE - 1u) / WORKGROUP_SIZE;
+        counters.extend_args.y = 1u;
+        counters.extend_args.z = 1u;
+        counters.connect_args.y = 1u;
+        counters.connect_args.z = 1u;
+    }
+    if (i >= total) return;
+
+    // Light subpaths draw from the path's PCG stream whatever --sampler says (the Sobol' dimensions are the camera's).
+    uint rng = init_rng(path_pixel(i), path_sample_index(i), params.seed);
+    float u_pick = next_float(rng);
+    vec2 u_point = vec2(next_float(rng), next_float(rng));
+    vec2 u_dir = vec2(next_float(rng), next_float(rng));
+    float u_side = next_float(rng);
+
+    LightStart start = start_light_subpath(u_pick, u_point, u_dir, u_side);
+
+    RayItem item;
+    item.origin_x = start.origin.x;
+    item.origin_y = start.origin.y;
+    item.origin_z = start.origin.z;
+    item.path = i;
+    item.dir_x = start.dir.x;
+    item.dir_y = start.dir.y;
+    item.dir_z = start.dir.z;
+    item.origin_triangle = start.triangle;
+    rays[ray_slot(0u, i)] = item;
+    shadow_rays[i] = start.splat;
+
+    PathState state;
+    state.throughput_r = start.power.x;
+    state.throughput_g = start.power.y;
+    state.throughput_b = start.power.z;
+    state.bsdf_pdf = max_value(start.power);
+    state.radiance_r = 0.0f;
+    state.radiance_g = 0.0f;
+    state.radiance_b = 0.0f;
+    state.rng = rng;
+    paths[i] = state;
+}
