@@ -75,8 +75,8 @@ nlohmann::json target_json(const TargetTime& t) {
 }  // namespace
 
 std::string describe_settings(const RenderSettings& s) {
-    return "max-depth " + (s.max_depth ? std::to_string(s.max_depth) : std::string("0 (unlimited)")) +
-           ", nee " + (s.nee ? "on" : "off") + ", mis " + (s.mis ? "on" : "off") + ", rr " +
+    return std::string("integrator ") + to_string(s.integrator) + ", max-depth " +
+           (s.max_depth ? std::to_string(s.max_depth) : std::string("0 (unlimited)")) + ", nee " + (s.nee ? "on" : "off") + ", mis " + (s.mis ? "on" : "off") + ", rr " +
            (s.russian_roulette ? "on" : "off") + ", filter " + to_string(s.filter) + ", seed " +
            std::to_string(s.seed);
 }

@@ -22,6 +22,14 @@ void add_tone_options(CLI::App& app, float& exposure_ev, ToneCurve& tone_curve, 
         ->transform(CLI::CheckedTransformer(curves, CLI::ignore_case));
 }
 
+void add_integrator_option(CLI::App& app, RenderSettings& s) {
+    std::map<std::string, Integrator> integrators{{"path", Integrator::path}, {"light", Integrator::light}};
+    app.add_option("--integrator", s.integrator,
+                   "path: path tracing from the camera, next-event estimation and MIS (default); light: light tracing, "
+                   "light subpaths splatted onto the film through the camera (README \"Light tracing\")")
+        ->transform(CLI::CheckedTransformer(integrators, CLI::ignore_case));
+}
+
 void add_sampling_options(CLI::App& app, RenderSettings& s) {
     std::map<std::string, PixelFilter> filters{{"box", PixelFilter::box}, {"gaussian", PixelFilter::gaussian}};
     app.add_option("--filter", s.filter, "pixel filter: box (1 pixel) or gaussian (importance sampled)")
@@ -32,11 +40,7 @@ void add_sampling_options(CLI::App& app, RenderSettings& s) {
     app.add_option("--sampler", s.sampler,
                    "sobol: Owen-scrambled Sobol' points, stratified (default); independent: a PCG stream per path")
         ->transform(CLI::CheckedTransformer(samplers, CLI::ignore_case));
-    std::map<std::string, Integrator> integrators{{"path", Integrator::path}, {"light", Integrator::light}};
-    app.add_option("--integrator", s.integrator,
-                   "path: path tracing from the camera, next-event estimation and MIS (default); light: light tracing, "
-                   "light subpaths splatted onto the film through the camera (README \"Light tracing\")")
-        ->transform(CLI::CheckedTransformer(integrators, CLI::ignore_case));
+    add_integrator_option(app, s);
     std::map<std::string, bool> on_off{{"on", true}, {"off", false}};
     app.add_option("--nee", s.nee, "next-event estimation: on/off")->transform(CLI::CheckedTransformer(on_off));
     app.add_option("--mis", s.mis, "multiple importance sampling: on/off")->transform(CLI::CheckedTransformer(on_off));

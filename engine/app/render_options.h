@@ -15,7 +15,10 @@ namespace fh {
 // --exposure and --tonemap of an image shown or previewed (`what`: "PNG", "display").
 void add_tone_options(CLI::App& app, float& exposure_ev, ToneCurve& tone_curve, const std::string& what);
 
-// --filter, --filter-radius, --nee, --mis, --rr, --wave-paths.
+// --integrator path|light (RenderSettings::integrator).
+void add_integrator_option(CLI::App& app, RenderSettings& settings);
+
+// --filter, --filter-radius, --sampler, --integrator, --nee, --mis, --rr, --wave-paths.
 void add_sampling_options(CLI::App& app, RenderSettings& settings);
 
 // --disable-technique NAME[,NAME...] (robustness techniques, to measure their cost), --bvh-leaf-size,

@@ -140,6 +140,7 @@ void add_view_options(CLI::App& app, ViewCommand& c) {
     app.add_option("--max-depth", s.max_depth, "longest path in segments after the camera (0 = unlimited)")
         ->check(CLI::Range(0u, 100000u));
     app.add_option("--seed", s.seed, "random seed");
+    add_integrator_option(app, s);
     add_environment_options(app, s);  // --env, --background, --variant, --instancing: as render
     add_lens_options(app, s);
     add_animation_options(app, s);

@@ -6,10 +6,15 @@ lamp_room.gltf   a closed room (Lambertian walls of three colours) lit by a smal
                  red base (a BSDF that is not symmetric), rough gold, and a sheen over blue. A perspective camera in the
                  room. Light tracing must agree with path tracing: the adjoint BSDF and the shading-normal correction
                  are wrong there first.
+door_gap.gltf    (shipped in scenes/) two rooms joined by a door ajar by 20 cm; the lamp is in the far one, the camera in
+                 the near one: everything it sees is lit through the gap (README "Light tracing", the hard scenes).
+lamp_shade.gltf  (shipped in scenes/) a room lit only by a small lamp inside a closed-top cylindrical shade, open
+                 below: the camera sees the room lit by the pool of light under the shade.
 smooth_room.gltf the same room with one large Lambertian sphere of 6 x 4 facets: the shading normals alone (light subpaths must also
                  propose directions below the shading normal's hemisphere, where the path tracer's BSDF falls back to
                  the facet's frame; without that, 0.5% of the red channel went missing).
 """
+import math
 import sys
 from pathlib import Path
 
@@ -23,10 +28,10 @@ def placed(tris, scale, offset):
     return [tuple(tuple(s * c + o for c, s, o in zip(p, scale, offset)) for p in t) for t in tris]
 
 
-def room():
-    """The closed room and its ceiling lamp; the camera looks along +y from near the front wall, slightly down."""
+def room(lamp=True):
+    """The closed room [-2,2] x [-2,2] x [0,3] (a red and a green side wall) and its small ceiling lamp; the camera
+    looks along +y from near the front wall, slightly down."""
     g = Gltf()
-    g.doc["extensionsUsed"] += ["KHR_materials_clearcoat", "KHR_materials_sheen"]
     walls = cube_faces_inward()  # 12 triangles, two per face, in face order -x, +x, -y, +y, -z, +z
     colours = [(0.7, 0.15, 0.1), (0.15, 0.6, 0.15), (0.7, 0.7, 0.7), (0.7, 0.7, 0.7), (0.7, 0.7, 0.7),
                (0.7, 0.7, 0.7)]
@@ -34,14 +39,20 @@ def room():
         material = g.add_material(base=colours[face])
         g.add_node({"mesh": g.add_mesh(placed(walls[2 * face:2 * face + 2], (2.0, 2.0, 1.5), (0.0, 0.0, 1.5)),
                                        material)})
-    lamp = g.add_material(base=(0.0, 0.0, 0.0), emission=15.0)
-    g.add_node({"mesh": g.add_mesh(quad(-0.4, -0.4, 0.4, 0.4, 2.95, facing_up=False), lamp)})
-    g.add_perspective_camera({"translation": [0.0, -1.5, 1.2], "rotation": [0.6755902, 0.0, 0.0, 0.7372773]}, 1.1)
+    if lamp:
+        material = g.add_material(base=(0.0, 0.0, 0.0), emission=15.0)
+        g.add_node({"mesh": g.add_mesh(quad(-0.4, -0.4, 0.4, 0.4, 2.95, facing_up=False), material)})
     return g
+
+
+def room_camera(g):
+    g.add_perspective_camera({"translation": [0.0, -1.5, 1.2], "rotation": [0.6755902, 0.0, 0.0, 0.7372773]}, 1.1)
 
 
 def lamp_room():
     g = room()
+    g.doc["extensionsUsed"] += ["KHR_materials_clearcoat", "KHR_materials_sheen"]
+    room_camera(g)
     sphere, normals = uv_sphere(8, 4, 1.0)
     materials = [
         {"pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.1, 0.1, 1.0], "metallicFactor": 0.0,
@@ -62,9 +73,87 @@ def lamp_room():
 
 def smooth_room():
     g = room()
+    room_camera(g)
     sphere, normals = uv_sphere(6, 4, 1.0)
     material = g.add_material(base=(0.8, 0.8, 0.8))
     g.add_node({"mesh": g.add_mesh(placed(sphere, (1.0, 1.0, 1.0), (0.0, 0.6, 1.0)), material, normals)})
+    return g
+
+
+def look_at(eye, target, up=(0.0, 0.0, 1.0)):
+    """The glTF node (translation, rotation) of a camera at eye looking at target (glTF cameras look down -Z, +Y up)."""
+    def norm(v):
+        n = math.sqrt(sum(c * c for c in v))
+        return tuple(c / n for c in v)
+
+    def cross(a, b):
+        return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+    back = norm(tuple(e - t for e, t in zip(eye, target)))
+    right = norm(cross(up, back))
+    true_up = cross(back, right)
+    m = [[right[i], true_up[i], back[i]] for i in range(3)]  # columns: the camera's x, y, z in world space
+    trace = m[0][0] + m[1][1] + m[2][2]
+    if trace > 0.0:
+        w = math.sqrt(1.0 + trace) / 2.0
+        q = ((m[2][1] - m[1][2]) / (4 * w), (m[0][2] - m[2][0]) / (4 * w), (m[1][0] - m[0][1]) / (4 * w), w)
+    else:
+        i = max(range(3), key=lambda k: m[k][k])
+        j, k = (i + 1) % 3, (i + 2) % 3
+        r = math.sqrt(1.0 + m[i][i] - m[j][j] - m[k][k])
+        q = [0.0, 0.0, 0.0, (m[k][j] - m[j][k]) / (2 * r)]
+        q[i] = r / 2.0
+        q[j] = (m[j][i] + m[i][j]) / (2 * r)
+        q[k] = (m[k][i] + m[i][k]) / (2 * r)
+        q = tuple(q)
+    return {"translation": list(eye), "rotation": [round(c, 7) for c in q]}
+
+
+def wall_x(x, y0, y1, z0, z1):
+    """Two triangles of the rectangle [y0,y1]x[z0,z1] in the plane at x (front face -x)."""
+    a, b, c, d = (x, y0, z0), (x, y1, z0), (x, y1, z1), (x, y0, z1)
+    return [(a, c, b), (a, d, c)]
+
+
+def door_gap():
+    """Rooms [-2,2] and [2,4] along x (y in [-2,2], z in [0,3]); the wall between them has a door 0.2 wide and 2 high
+    near its corner (y in [1.4, 1.6]); the lamp hangs in the far room under its ceiling, away from the door."""
+    g = Gltf()
+    walls = cube_faces_inward()
+    colours = [(0.7, 0.7, 0.7), (0.7, 0.7, 0.7), (0.6, 0.3, 0.2), (0.7, 0.7, 0.7), (0.5, 0.5, 0.55), (0.8, 0.8, 0.8)]
+    for face in range(6):
+        material = g.add_material(base=colours[face])
+        g.add_node({"mesh": g.add_mesh(placed(walls[2 * face:2 * face + 2], (3.0, 2.0, 1.5), (1.0, 0.0, 1.5)),
+                                       material)})
+    wall = g.add_material(base=(0.75, 0.75, 0.75), double_sided=True)
+    gap0, gap1 = 1.4, 1.6
+    pieces = wall_x(2.0, -2.0, gap0, 0.0, 3.0) + wall_x(2.0, gap1, 2.0, 0.0, 3.0) + wall_x(2.0, gap0, gap1, 2.0, 3.0)
+    g.add_node({"mesh": g.add_mesh(pieces, wall)})
+    lamp = g.add_material(base=(0.0, 0.0, 0.0), emission=300.0)
+    g.add_node({"mesh": g.add_mesh(quad(3.3, 0.2, 3.7, 0.6, 2.95, facing_up=False), lamp)})
+    # In the near room, looking along +x at the wall with the door, slightly down.
+    g.add_perspective_camera(look_at((-1.8, -1.6, 1.6), (2.0, 1.2, 0.8)), 1.2)
+    return g
+
+
+def lamp_shade():
+    """The lamp room without its ceiling lamp: a small downward emitter inside a shade (a cylinder of radius 0.35 from
+    z = 1.7 to 2.3 with a closed top), hanging over a floor of the room; a grey box on the floor beside it."""
+    g = room(lamp=False)
+    shade = g.add_material(base=(0.8, 0.8, 0.8), double_sided=True)
+    r, z0, z1, n = 0.35, 1.7, 2.3, 16
+    ring = [(r * math.cos(2 * math.pi * i / n), r * math.sin(2 * math.pi * i / n) + 0.3) for i in range(n)]
+    tris = []
+    for i in range(n):
+        (xa, ya), (xb, yb) = ring[i], ring[(i + 1) % n]
+        a, b, c, d = (xa, ya, z0), (xb, yb, z0), (xb, yb, z1), (xa, ya, z1)
+        tris += [(a, b, c), (a, c, d), ((0.0, 0.3, z1), d, c)]
+    g.add_node({"mesh": g.add_mesh(tris, shade)})
+    lamp = g.add_material(base=(0.0, 0.0, 0.0), emission=60.0)
+    g.add_node({"mesh": g.add_mesh(quad(-0.1, 0.2, 0.1, 0.4, 2.2, facing_up=False), lamp)})
+    box = g.add_material(base=(0.5, 0.5, 0.5))
+    g.add_node({"mesh": g.add_mesh(placed(cube_faces_inward(), (0.3, 0.3, 0.3), (0.9, 0.6, 0.3)), box)})
+    g.add_perspective_camera(look_at((0.0, -1.8, 1.5), (0.0, 0.6, 0.9)), 1.2)
     return g
 
 
@@ -73,6 +162,8 @@ def main():
     out.mkdir(parents=True, exist_ok=True)
     lamp_room().write(out / "lamp_room.gltf")
     smooth_room().write(out / "smooth_room.gltf")
+    door_gap().write(out / "door_gap.gltf")
+    lamp_shade().write(out / "lamp_shade.gltf")
 
 
 if __name__ == "__main__":
