@@ -347,6 +347,7 @@ int run_converge(const ConvergeCommand& c) {
     report.command_line = describe_command(c);
     Session s{c, prepare_scene(c.scene, c.settings), {}, nullptr};
     s.camera = choose_camera(s.prepared.scene, c.settings.camera);
+    for (const NamedSettings& n : configs) check_render_settings(s.prepared.packed, s.camera, n.settings);
     Film reference;
     if (!c.reference.empty()) {
         reference.image = read_exr(c.reference);

@@ -94,6 +94,8 @@ FilmFile read_film_file(const std::filesystem::path& file, const std::string& wh
     const std::string prefix = file.string() + ": " + why + ": ";
     FilmFile f;
     const Image image = read_exr(file, &f.metadata);
+    // Films written before --integrator existed were path traced.
+    f.metadata.emplace("fredholm:integrator", "path");
     f.end_sample = read_count(f.metadata, "fredholm:spp", prefix);
     f.first_sample = read_count(f.metadata, "fredholm:first_sample", prefix);
     if (f.first_sample > f.end_sample) throw std::runtime_error(prefix + "fredholm:first_sample is above fredholm:spp");

@@ -88,6 +88,10 @@ void apply_input(ViewerState& s, const WindowInput& input, const ViewerWindow& w
             case GLFW_KEY_U: s.settings.russian_roulette = !s.settings.russian_roulette; s.rebuild = true; break;
             case GLFW_KEY_P: s.screenshot = true; break;
             case GLFW_KEY_F: {
+                if (s.settings.integrator == Integrator::light) {  // light tracing has no thin lens yet
+                    std::fprintf(stderr, "fredholm view: light tracing has no thin lens yet; the aperture stays a pinhole\n");
+                    break;
+                }
                 LensSettings& lens = s.settings.lens;
                 const bool was_on = lens.on();
                 lens.f_number = next_f_stop(lens);
@@ -157,6 +161,7 @@ std::string make_render_command(const ViewerState& s, const std::filesystem::pat
     command += " --spp " + std::to_string(std::max(s.spp, 64u));
     command += " --max-depth " + std::to_string(r.max_depth);
     command += std::string(" --nee ") + on_off(r.nee) + " --rr " + on_off(r.russian_roulette);
+    if (r.integrator != Integrator::path) command += std::string(" --integrator ") + to_string(r.integrator);
     char exposure[32];
     std::snprintf(exposure, sizeof(exposure), "%g", s.exposure_ev);
     command += std::string(" --exposure ") + exposure + " --tonemap " + curve_name(s.tone_curve);

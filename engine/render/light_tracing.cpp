@@ -20,7 +20,6 @@ constexpr Unsupported UNSUPPORTED[] = {
     {gpu::EFFECT_DIFFUSE_TRANSMISSION, "diffuse transmission (KHR_materials_diffuse_transmission)"},
     {gpu::EFFECT_SPECTRAL, "dispersion (KHR_materials_dispersion)"},
     {gpu::EFFECT_UNLIT, "unlit materials (KHR_materials_unlit)"},
-    {gpu::EFFECT_THIN_LENS, "a thin lens (--aperture)"},
     {gpu::EFFECT_MOTION_BLUR, "motion blur (--shutter)"},
 };
 
@@ -28,6 +27,7 @@ constexpr Unsupported UNSUPPORTED[] = {
 
 std::string find_light_tracing_obstacle(const PackedScene& scene, const RenderSettings& settings,
                                         const SceneCamera& camera, uint32_t effects) {
+    if (settings.lens.on() || camera.has_lens()) return "light tracing does not handle a thin lens (--aperture) yet";
     for (const Unsupported& u : UNSUPPORTED)
         if (effects & u.bit) return std::string("light tracing does not handle ") + u.what + " yet";
     if (scene.emitters.empty()) return "nothing in the scene emits, and there is no --env or --background";

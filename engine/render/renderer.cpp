@@ -115,6 +115,10 @@ StageOptions make_stage_options(const PackedScene& scene, const RenderSettings& 
 
 }  // namespace
 
+void check_render_settings(const PackedScene& scene, const SceneCamera& camera, const RenderSettings& settings) {
+    (void)make_stage_options(scene, settings, camera);
+}
+
 Renderer::Renderer(const vk::Context& context, const PackedScene& scene, const SceneCamera& camera,
                    const RenderSettings& settings)
     : context_(context),

@@ -41,6 +41,11 @@ void set_frame_scene_bounds(gpu::FrameParams& frame, const PackedScene& scene);
 // Called after each wave with the samples per pixel finished so far; return false to stop early.
 using ProgressCallback = std::function<bool(uint32_t spp_done, uint32_t spp_total)>;
 
+// Throws std::invalid_argument, naming the scene file, when the stages cannot render `scene` through `camera` with
+// `settings` (today: what light tracing does not handle yet, render/light_tracing.h). A Renderer checks this when it
+// is built; a command that renders several configurations checks them all first.
+void check_render_settings(const PackedScene& scene, const SceneCamera& camera, const RenderSettings& settings);
+
 class Renderer {
 public:
     // The camera is in world space; the scene's arrays are in render space (PackedScene::origin).
