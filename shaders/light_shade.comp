@@ -129,10 +129,10 @@ void main() {
         vec3 ng = front ? s.ng : -s.ng;
         // Proposal for the next direction: the BSDF as if the eye were towards the light.
         SurfaceBsdf at_light = make_surface_bsdf(s, m, hit.triangle, hit.b1, hit.b2, anisotropy, front, ng, wl);
-        float cos_light_g = dot(wl, ng);
+        float cos_light_g = dot(wl, ng);  // 0 only for a ray in the facet's plane: the vertex then sends nothing
 
         // t = 1: the camera sees this vertex; the full path has one segment more than the subpath.
-        if (params.max_depth == 0u || segments + 1u <= params.max_depth) {
+        if (cos_light_g > 0.0f && (params.max_depth == 0u || segments + 1u <= params.max_depth)) {
             FilmSplat splat = project_to_film(s.p);
             float cos_camera_g = dot(splat.to_camera, ng);
             if (splat.valid && cos_camera_g > 0.0f) {
@@ -150,7 +150,7 @@ void main() {
         // The next segment, if a path through it can still reach the camera within --max-depth.
         vec3 u_bsdf = vec3(next_float(rng), next_float(rng), next_float(rng));
         float u_roulette = next_float(rng);
-        if (params.max_depth == 0u || segments + 1u < params.max_depth) {
+        if (cos_light_g > 0.0f && (params.max_depth == 0u || segments + 1u < params.max_depth)) {
             NextDirection next_dir = sample_next_direction(at_light, ng, wl, u_bsdf);
             vec3 wi = next_dir.wi;
             float cos_next_g = dot(wi, ng);
