@@ -1,7 +1,8 @@
 // Stage "generate": starts one path per (pixel, sample) of the wave.
 // Reads: params, push (wave's pixel and sample ranges). Writes: rays[queue 0], paths, path media (cameras
 // start outside every volume), path spectra (a spectral render's wavelengths, EFFECT_SPECTRAL), path times (when
-// in the shutter, EFFECT_MOTION_BLUR), counters (queue 0 length, indirect size of the first extend/shade).
+// in the shutter, EFFECT_MOTION_BLUR), counters (queue 0 length, indirect size of the first extend/shade), and with
+// `--integrator bdpt` the camera subpath's MIS quantities (path_mis).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "lib/bindings.glsl"
@@ -10,6 +11,7 @@
 #include "lib/camera.glsl"
 #include "lib/effects.glsl"
 #include "lib/path_sampler.glsl"
+#include "lib/bdpt.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE) in;
 
@@ -65,6 +67,11 @@ void main() {
     state.radiance_b = 0.0f;
     state.rng = rng;
     paths[i] = state;
+    if (bdpt) {  // the light subpath's vertex count stays for connect_subpaths
+        PathMis mis = start_camera_mis(ray.dir);
+        path_mis[i].dvcm = mis.dvcm;
+        path_mis[i].dvc = mis.dvc;
+    }
     if (effect_on(EFFECT_VOLUME) || effect_on(EFFECT_ABSORPTION)) path_media[i] =
         uvec4(params.camera_medium, params.camera_medium_outer, params.camera_medium_outermost, INVALID_INDEX);
     if (effect_on(EFFECT_SPECTRAL)) {

@@ -1,11 +1,11 @@
-// Stage "light_generate" (`--integrator light`): starts one light subpath per (pixel, sample) of the wave: a light by
-// power, a point on it and a first direction (lib/light_subpath.glsl), and the light's own vertex joined to the camera
-// (the s = 1, t = 1 strategy: a splat).
+// Stage "light_generate" (`--integrator light` and `bdpt`): starts one light subpath per (pixel, sample) of the wave: a
+// light by power, a point on it and a first direction (lib/light_subpath.glsl), and the light's own vertex joined to
+// the camera (the s = 1, t = 1 strategy: a splat; light tracing only). BDPT also starts the path's MIS quantities.
 // Reads: params, push, triangles, materials, emitters, punctual lights, the environment (with EFFECT_EMISSIVE_TEXTURE
 // / EFFECT_ALPHA textures).
 // Writes: rays[queue 0], paths (throughput: the power the subpath carries; bsdf_pdf: its largest component at the
 // light, Russian roulette's scale; radiance 0), shadow_rays (one splat per subpath, empty where there is none),
-// counters (as generate, and the shadow queue's length).
+// counters (as generate, and the shadow queue's length), path_mis (bdpt).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "lib/bindings.glsl"
@@ -55,7 +55,9 @@ void main() {
     item.dir_z = start.dir.z;
     item.origin_triangle = start.triangle;
     rays[ray_slot(0u, i)] = item;
-    shadow_rays[i] = start.splat;
+    // Bidirectional path tracing leaves a light seen directly to the camera subpath (s = 0 alone, lib/bdpt.glsl).
+    shadow_rays[i] = bdpt ? make_empty_splat() : start.splat;
+    if (bdpt) path_mis[i] = start.mis;
 
     PathState state;
     state.throughput_r = start.power.x;

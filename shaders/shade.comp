@@ -7,6 +7,8 @@
 // Reads: rays[queue depth & 1], hits, paths, triangles, materials, emitters, textures, environment, and for
 // glass, sheens and clear coats the material layers, path media and path spectra. Writes: paths, path media, path
 // spectra, rays[queue (depth + 1) & 1], shadow_rays, counters.ray_count / shadow_count.
+// `--integrator bdpt` (SPEC_INTEGRATOR) weights emission and NEE against every strategy of bidirectional path tracing
+// and carries the camera subpath's MIS quantities (path_mis; lib/bdpt.glsl) instead of the path tracer's two-way MIS.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "lib/bindings.glsl"
@@ -20,6 +22,8 @@
 #include "lib/lights.glsl"
 #include "lib/transmission.glsl"
 #include "lib/path_color.glsl"
+#include "lib/surface_bsdf.glsl"
+#include "lib/bdpt.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE) in;
 
@@ -64,6 +68,8 @@ void main() {
     }
     uint flags_before = effect_on(EFFECT_SPECTRAL) ? spectrum.flags : 0u;
     uint segments = push.depth + 1u;  // segments of this path including the ray just traced
+    PathMis mis;
+    if (bdpt) mis = path_mis[path];
     // Beer-Lambert along the segment just traced when the path is inside an absorbing volume.
     uvec4 media = tracks_media() ? path_media[path] : uvec4(INVALID_INDEX);  // innermost first
     uvec4 media_before = media;
@@ -89,6 +95,9 @@ void main() {
             weight = (params.flags & RENDER_MIS) != 0u
                          ? power_heuristic(state.bsdf_pdf, params.env_pick_pdf * pdf_environment(dir))
                          : 0.0f;
+        if (bdpt)
+            weight = weight_strategy(0u, segments + 1u, segments == 1u ? 1.0f
+                                                        : weight_environment_hit(mis, params.env_pick_pdf * pdf_environment(dir)));
         radiance += film_color(spectral, beta * lift_color(spectral, eval_environment(dir))) * weight * escape_scale(medium);
     }
     if (hit.triangle != INVALID_INDEX) {
@@ -120,6 +129,7 @@ void main() {
         if (instanced) s = place_surface(s, inst);
         bool front = dot(s.ng, wo) > 0.0f;
         bool double_sided = (m.flags & MATERIAL_DOUBLE_SIDED) != 0u;
+        if (bdpt) account_segment(mis, hit.t, abs(dot(s.ng, wo)), camera_segment_has_distance(segments));
 
         if (unlit && push.depth == 0u)
             radiance += film_color(spectral, beta * lift_color(spectral, max(vec3(m.base_color), vec3(0.0f))));
@@ -139,6 +149,9 @@ void main() {
                     weight = 0.0f;
                 }
             }
+            if (bdpt)
+                weight = weight_strategy(0u, segments + 1u, segments == 1u ? 1.0f
+                                         : weight_emission_hit(mis, s.light_pdf_area, abs(dot(s.ng, wo)), double_sided));
             radiance += film_color(spectral, beta * lift_color(spectral, emission)) * weight;
         }
 
@@ -192,6 +205,16 @@ void main() {
             bsdf = add_bsdf_layers(bsdf, s, hit.triangle, hit.b1, hit.b2, frame, anisotropy, front, ng, wo);
             bool transmits = has_transmission_lobe(bsdf);
             uint medium_beyond = media_beyond.x;  // across the surface
+            // BDPT's reverse densities: the light subpath's sampler arriving along a direction (reflection only).
+            ShadingPoint sp;
+            if (bdpt) {
+                sp.s = s;
+                sp.m = m;
+                sp.anisotropy = anisotropy;
+                sp.triangle = hit.triangle;
+                sp.b1 = hit.b1;
+                sp.b2 = hit.b2;
+            }
 
             VertexSamples u = draw_vertex_samples(path, push.depth, rng);
             if ((params.flags & RENDER_NEE) != 0u && params.emitter_count > 0u) {
@@ -207,6 +230,11 @@ void main() {
                     float weight = (params.flags & RENDER_MIS) != 0u && light.delta == 0u
                                        ? power_heuristic(light.pdf, pdf_bsdf(bsdf, wo_local, wi_local))
                                        : 1.0f;
+                    if (bdpt)
+                        weight = weight_strategy(1u, segments + 1u, weight_light_connection(
+                            mis, light.delta == 0u ? pdf_bsdf(bsdf, wo_local, wi_local) : 0.0f, light.pdf,
+                            light.emission_over_direct, dot(wi, ng),
+                            pdf_next_direction(make_surface_bsdf(sp, front, ng, wi), ng, wi, wo)));
                     vec4 contrib = beta * lift_color(spectral, f) * lift_color(spectral, light.radiance_over_pdf) * weight;
                     if (max_path_component(contrib) > 0.0f) {
                         vec3 origin = offset_ray_origin(s.p, s.p_error, ng, wi);
@@ -264,6 +292,9 @@ void main() {
                     next.dir_z = wi.z;
                     state.bsdf_pdf = bs.pdf;
                     push_ray = true;
+                    if (bdpt)
+                        account_scattering(mis, dot(wi, ng), bs.pdf,
+                                           pdf_next_direction(make_surface_bsdf(sp, front, ng, wi), ng, wi, wo));
                 }
             }
         }
@@ -282,6 +313,10 @@ void main() {
         if (spectrum.flags != flags_before) path_spectra[path].flags = spectrum.flags;
     }
     if (tracks_media() && any(notEqual(media, media_before))) path_media[path] = media;
+    if (bdpt) {
+        path_mis[path].dvcm = mis.dvcm;
+        path_mis[path].dvc = mis.dvc;
+    }
 
     uint slot;
     PUSH_TO_QUEUE(counters.ray_count[parity ^ 1u], push_ray, slot);

@@ -73,8 +73,9 @@ void apply_vary(const std::string& key, const std::string& v, RenderSettings& s)
         if (v != "independent" && v != "sobol") throw std::invalid_argument("sampler: '" + v + "' is not independent or sobol");
         s.sampler = v == "sobol" ? Sampler::sobol : Sampler::independent;
     } else if (key == "integrator") {
-        if (v != "path" && v != "light") throw std::invalid_argument("integrator: '" + v + "' is not path or light");
-        s.integrator = v == "light" ? Integrator::light : Integrator::path;
+        if (v != "path" && v != "light" && v != "bdpt")
+            throw std::invalid_argument("integrator: '" + v + "' is not path, light or bdpt");
+        s.integrator = v == "light" ? Integrator::light : v == "bdpt" ? Integrator::bdpt : Integrator::path;
     } else if (key == "aperture") {  // an f-number; 0: the pinhole
         const double n = parse_number(key, v);
         if (!(n == 0.0 || (n >= 0.1 && n <= 1e6))) throw std::invalid_argument("aperture: '" + v + "' is not 0 or an f-number");
@@ -295,7 +296,7 @@ void add_converge_options(CLI::App& app, ConvergeCommand& c) {
     two->excludes(ref_spp);
     app.add_option("--max-seconds", c.max_seconds, "render-time budget per configuration")->check(CLI::PositiveNumber);
     app.add_option("--max-spp", c.max_spp, "largest spp of the doubling sequence")->check(CLI::Range(1u, 1u << 20));
-    app.add_option("--vary", c.vary, "KEY=V1,V2,...: one curve per value (max-depth, nee, mis, rr, rr-start-depth, filter, sampler, integrator (path, light), aperture (0: pinhole), aperture-radius; effect:NAME=on,off compiles "
+    app.add_option("--vary", c.vary, "KEY=V1,V2,...: one curve per value (max-depth, nee, mis, rr, rr-start-depth, filter, sampler, integrator (path, light, bdpt), aperture (0: pinhole), aperture-radius; effect:NAME=on,off compiles "
                    "an effect in or out (a material or light effect, or motion-blur), e.g. effect:transmission=on,off)")
         ->check(CLI::Validator(
             [](std::string& spec) {

@@ -68,6 +68,7 @@ ImageMetadata make_metadata(const RenderCommand& c, const std::string& scene_has
             {"fredholm:filter_radius", radius},
             {"fredholm:sampler", to_string(s.sampler)},
             {"fredholm:integrator", to_string(s.integrator)},
+            {"fredholm:bdpt_strategy", s.bdpt_strategy_t ? std::to_string(s.bdpt_strategy_s) + "," + std::to_string(s.bdpt_strategy_t) : "all"},
             {"fredholm:nee", s.nee ? "on" : "off"},
             {"fredholm:mis", s.mis ? "on" : "off"},
             {"fredholm:rr", s.russian_roulette ? "on" : "off"},
@@ -212,6 +213,18 @@ void add_render_options(CLI::App& app, RenderCommand& c) {
     add_tone_options(app, c.exposure_ev, c.tone_curve, "PNG");
     app.add_option("--stats", c.stats, "write render statistics as JSON");
     add_sampling_options(app, s);
+    app.add_option_function<std::string>(
+        "--bdpt-strategy",
+        [&s](const std::string& text) {
+            unsigned a = 0, b = 0;
+            char extra = 0;
+            if (std::sscanf(text.c_str(), "%u,%u%c", &a, &b, &extra) != 2 || b < 1 || a > 1000 || b > 1000)
+                throw CLI::ValidationError("--bdpt-strategy", "'" + text + "' is not S,T (light and camera vertices, T >= 1)");
+            s.bdpt_strategy_s = a;
+            s.bdpt_strategy_t = b;
+        },
+        "with --integrator bdpt: only the strategy with S light and T camera vertices, unweighted (a check; README "
+        "\"Bidirectional path tracing\")");
     add_robustness_options(app, s);
     add_environment_options(app, s);
     add_lens_options(app, s);

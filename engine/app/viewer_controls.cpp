@@ -88,7 +88,7 @@ void apply_input(ViewerState& s, const WindowInput& input, const ViewerWindow& w
             case GLFW_KEY_U: s.settings.russian_roulette = !s.settings.russian_roulette; s.rebuild = true; break;
             case GLFW_KEY_P: s.screenshot = true; break;
             case GLFW_KEY_F: {
-                if (s.settings.integrator == Integrator::light) {  // light tracing has no thin lens yet
+                if (s.settings.integrator != Integrator::path) {  // light subpaths have no thin lens yet
                     std::fprintf(stderr, "fredholm view: light tracing has no thin lens yet; the aperture stays a pinhole\n");
                     break;
                 }

@@ -2,6 +2,7 @@
 #pragma once
 #include <cstdint>
 
+#include "render/memory_estimate.h"
 #include "scene/pack.h"
 #include "shared/layout.h"
 #include "vk/buffer.h"
@@ -41,12 +42,14 @@ struct GpuBuffers {
     vk::Buffer path_spectra;       // each path's wavelengths (EFFECT_SPECTRAL; else one element)
     vk::Buffer path_times;         // each path's time in the shutter (EFFECT_MOTION_BLUR; else one word)
     vk::Buffer glass_albedo;       // the glass lobe's albedo table (EFFECT_GLASS_MULTISCATTER; else one word)
+    vk::Buffer light_vertices;     // stored light-subpath vertices (`--integrator bdpt`; else one element)
+    vk::Buffer path_mis;           // each path's MIS quantities (`--integrator bdpt`; else one element)
 };
 
 // `effects`: the EFFECT_* set the stages are compiled with (buffers that only some effects read are sized
-// for them: estimate_render_memory).
+// for them: estimate_render_memory); `bdpt`: what bidirectional path tracing stores.
 GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& scene, const gpu::FrameParams& frame,
-                              uint32_t effects);
+                              uint32_t effects, const BdptStore& bdpt = {});
 void bind_gpu_buffers(vk::BindingTable& table, const GpuBuffers& buffers);
 
 }  // namespace fh

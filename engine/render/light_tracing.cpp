@@ -1,5 +1,6 @@
 #include "render/light_tracing.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "scene/effects.h"
@@ -25,8 +26,27 @@ constexpr Unsupported UNSUPPORTED[] = {
 
 }  // namespace
 
+uint32_t count_light_vertex_slots(const RenderSettings& settings) {
+    if (settings.integrator != Integrator::bdpt || settings.max_depth < 3) return 0;
+    return std::min(settings.max_depth, BDPT_MAX_DEPTH) - 2;
+}
+
 std::string find_light_tracing_obstacle(const PackedScene& scene, const RenderSettings& settings,
                                         const SceneCamera& camera, uint32_t effects) {
+    if (settings.integrator == Integrator::bdpt) {
+        if (settings.max_depth == 0 || settings.max_depth > BDPT_MAX_DEPTH)
+            return "bidirectional path tracing stores each light subpath's vertices, so it needs --max-depth between 1 "
+                   "and " + std::to_string(BDPT_MAX_DEPTH) + " (e.g. --max-depth 16)";
+        if (!settings.nee || !settings.mis)
+            return "bidirectional path tracing always samples lights and combines its strategies by MIS (leave --nee "
+                   "and --mis on)";
+        const uint32_t s = settings.bdpt_strategy_s, t = settings.bdpt_strategy_t;
+        if (t != 0 && s + t - 1 > settings.max_depth)
+            return "--bdpt-strategy " + std::to_string(s) + "," + std::to_string(t) + " makes paths of " +
+                   std::to_string(s + t - 1) + " segments, more than --max-depth " + std::to_string(settings.max_depth);
+        if (t != 0 && s + t < 3)
+            return "--bdpt-strategy: paths of one segment are the camera seeing a light (0,2) only";
+    }
     if (settings.lens.on() || camera.has_lens()) return "light tracing does not handle a thin lens (--aperture) yet";
     for (const Unsupported& u : UNSUPPORTED)
         if (effects & u.bit) return std::string("light tracing does not handle ") + u.what + " yet";
@@ -40,10 +60,13 @@ std::string find_light_tracing_obstacle(const PackedScene& scene, const RenderSe
 
 void check_light_tracing(const std::string& where, const PackedScene& scene, const RenderSettings& settings,
                          const SceneCamera& camera, uint32_t effects) {
-    if (settings.integrator != Integrator::light) return;
+    if (settings.bdpt_strategy_t != 0 && settings.integrator != Integrator::bdpt)
+        throw std::invalid_argument(where + ": --bdpt-strategy needs --integrator bdpt");
+    if (settings.integrator == Integrator::path) return;
     const std::string obstacle = find_light_tracing_obstacle(scene, settings, camera, effects);
     if (!obstacle.empty())
-        throw std::invalid_argument(where + ": --integrator light: " + obstacle + "; use --integrator path");
+        throw std::invalid_argument(where + ": --integrator " + to_string(settings.integrator) + ": " + obstacle +
+                                    "; use --integrator path");
 }
 
 }  // namespace fh

@@ -15,9 +15,15 @@ namespace fh {
 std::string find_light_tracing_obstacle(const PackedScene& scene, const RenderSettings& settings,
                                         const SceneCamera& camera, uint32_t effects);
 
-// Throws std::invalid_argument "WHERE: --integrator light: REASON" when find_light_tracing_obstacle finds one (and
-// only with --integrator light); `where` names the scene file.
+// Throws std::invalid_argument "WHERE: --integrator light: REASON" (or bdpt) when find_light_tracing_obstacle finds one
+// (and only with --integrator light or bdpt); `where` names the scene file.
 void check_light_tracing(const std::string& where, const PackedScene& scene, const RenderSettings& settings,
                          const SceneCamera& camera, uint32_t effects);
+
+// Bidirectional path tracing keeps the light subpath's vertices with 1 .. max_depth - 2 segments for the camera
+// subpath to connect to (longer ones only reach the camera directly): this many per path in flight; 0 for the other
+// integrators. Bounded because BDPT needs a finite --max-depth (BDPT_MAX_DEPTH at most).
+inline constexpr uint32_t BDPT_MAX_DEPTH = 64;
+uint32_t count_light_vertex_slots(const RenderSettings& settings);
 
 }  // namespace fh

@@ -31,7 +31,7 @@ namespace {
 // With unlimited depth the host looks at the queue length every this many bounces (one readback per
 // submission, never between stages). Also bounds the work per submission (GPU watchdogs).
 constexpr uint32_t DEPTHS_PER_SUBMIT = 16;
-constexpr uint32_t MAX_DISPATCHES_PER_SUBMIT = 4 + 4 * DEPTHS_PER_SUBMIT;  // light tracing: 2 more before the bounces
+constexpr uint32_t MAX_DISPATCHES_PER_SUBMIT = 4 + 5 * DEPTHS_PER_SUBMIT;  // light tracing: 2 more before the bounces
 
 uint32_t group_count(uint64_t invocations) {
     return uint32_t((invocations + gpu::WORKGROUP_SIZE - 1) / gpu::WORKGROUP_SIZE);
@@ -74,6 +74,8 @@ gpu::FrameParams make_frame(const PackedScene& scene, const SceneCamera& camera,
     f.film_width = s.film_width();
     f.film_height = s.film_height();
     f.camera_medium = f.camera_medium_outer = f.camera_medium_outermost = gpu::INVALID_INDEX;
+    f.light_vertex_slots = count_light_vertex_slots(s);
+    f.bdpt_strategy = s.bdpt_strategy_t ? s.bdpt_strategy_s << 16 | s.bdpt_strategy_t : 0u;
     return f;
 }
 
@@ -81,7 +83,9 @@ gpu::FrameParams make_frame(const PackedScene& scene, const SceneCamera& camera,
 
 const char* to_string(PixelFilter filter) { return filter == PixelFilter::gaussian ? "gaussian" : "box"; }
 const char* to_string(Sampler sampler) { return sampler == Sampler::sobol ? "sobol" : "independent"; }
-const char* to_string(Integrator integrator) { return integrator == Integrator::light ? "light" : "path"; }
+const char* to_string(Integrator integrator) {
+    return integrator == Integrator::light ? "light" : integrator == Integrator::bdpt ? "bdpt" : "path";
+}
 
 std::vector<Wave> plan_waves(uint32_t pixel_count, uint32_t sample_begin, uint32_t sample_end, uint32_t capacity) {
     std::vector<Wave> waves;
@@ -125,7 +129,7 @@ Renderer::Renderer(const vk::Context& context, const PackedScene& scene, const S
       settings_(with_wave_paths(settings, context, scene)),
       frame_(make_frame(scene, camera, settings_)),
       stages_(context, make_stage_options(scene, settings, camera)),
-      buffers_(create_gpu_buffers(context, scene, frame_, stages_.options().effects)),
+      buffers_(create_gpu_buffers(context, scene, frame_, stages_.options().effects, make_bdpt_store(settings_))),
       recorder_(context, MAX_DISPATCHES_PER_SUBMIT),
       has_lights_(!scene.emitters.empty()),
       origin_(scene.origin),
@@ -200,7 +204,37 @@ RenderStats Renderer::render_pixels(uint32_t pixel_begin, uint32_t pixel_count, 
 void Renderer::trace_wave(const Wave& wave, RenderStats& stats) {
     recorder_.begin();
     recorder_.bind_table(stages_.bindings());
-    const bool light = settings_.integrator == Integrator::light;
+    // Bidirectional path tracing runs both phases on the same (pixel, sample) indices: the light subpaths first (their
+    // vertices stored for the camera subpaths, their t = 1 splats added to the film), then the camera subpaths.
+    if (settings_.integrator != Integrator::path) {
+        trace_subpaths(wave, Subpaths::light, stats);
+        if (settings_.integrator == Integrator::bdpt) {
+            submit(stats);
+            add_wave_counters(stats);
+            recorder_.begin();
+            recorder_.bind_table(stages_.bindings());
+        }
+    }
+    if (settings_.integrator != Integrator::light) trace_subpaths(wave, Subpaths::camera, stats);
+    const uint32_t depth = settings_.max_depth;  // accumulate reads only the wave's ranges from the push
+    gpu::StagePush push = make_push(depth, wave);
+    recorder_.push_constants(&push, sizeof(push));
+    recorder_.barrier_compute();
+    recorder_.dispatch(stages_[Stage::accumulate], group_count(wave.pixel_count));
+    submit(stats);
+    add_wave_counters(stats);
+}
+
+void Renderer::add_wave_counters(RenderStats& stats) const {
+    const auto* counters = static_cast<const gpu::QueueCounters*>(buffers_.counters_readback.mapped());
+    stats.traced_rays += counters->traced_rays;
+    stats.traced_shadow_rays += counters->traced_shadow_rays;
+    stats.nonfinite_samples += counters->nonfinite_samples;
+    stats.escaped_rays += counters->escaped_rays;
+}
+
+void Renderer::trace_subpaths(const Wave& wave, Subpaths side, RenderStats& stats) {
+    const bool light = side == Subpaths::light;
     gpu::StagePush push = make_push(0, wave);
     recorder_.push_constants(&push, sizeof(push));
     recorder_.dispatch(stages_[light ? Stage::light_generate : Stage::generate],
@@ -221,7 +255,7 @@ void Renderer::trace_wave(const Wave& wave, RenderStats& stats) {
     while (true) {
         uint32_t chunk_end = depth + DEPTHS_PER_SUBMIT;
         if (max_depth) chunk_end = std::min(chunk_end, max_depth);
-        for (; depth < chunk_end; ++depth) record_bounce(depth, wave);
+        for (; depth < chunk_end; ++depth) record_bounce(depth, wave, side);
         bool finished = max_depth && depth >= max_depth;
         if (!finished) {
             submit(stats);
@@ -232,25 +266,20 @@ void Renderer::trace_wave(const Wave& wave, RenderStats& stats) {
         }
         if (finished) break;
     }
-    push = make_push(depth, wave);
-    recorder_.push_constants(&push, sizeof(push));
-    recorder_.barrier_compute();
-    recorder_.dispatch(stages_[Stage::accumulate], group_count(wave.pixel_count));
-    submit(stats);
-
-    const auto* counters = static_cast<const gpu::QueueCounters*>(buffers_.counters_readback.mapped());
-    stats.traced_rays += counters->traced_rays;
-    stats.traced_shadow_rays += counters->traced_shadow_rays;
-    stats.nonfinite_samples += counters->nonfinite_samples;
-    stats.escaped_rays += counters->escaped_rays;
 }
 
-void Renderer::record_bounce(uint32_t depth, const Wave& wave) {
-    const bool light = settings_.integrator == Integrator::light;
+void Renderer::record_bounce(uint32_t depth, const Wave& wave, Subpaths side) {
+    const bool light = side == Subpaths::light;
     gpu::StagePush push = make_push(depth, wave);
     recorder_.push_constants(&push, sizeof(push));
     recorder_.barrier_compute();
     recorder_.dispatch_indirect(stages_[Stage::extend], buffers_.counters, offsetof(gpu::QueueCounters, extend_args));
+    if (!light && settings_.integrator == Integrator::bdpt && frame_.light_vertex_slots > 0) {
+        // The camera vertices just found, joined to the stored light vertices (before shade moves the paths on).
+        recorder_.barrier_compute();
+        recorder_.dispatch_indirect(stages_[Stage::connect_subpaths], buffers_.counters,
+                                    offsetof(gpu::QueueCounters, extend_args));
+    }
     recorder_.barrier_compute();
     recorder_.dispatch_indirect(stages_[light ? Stage::light_shade : Stage::shade], buffers_.counters,
                                 offsetof(gpu::QueueCounters, extend_args));

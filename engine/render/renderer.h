@@ -82,8 +82,12 @@ public:
 private:
     // Probes which volumes the camera stands in (EFFECT_VOLUME only) and sets FrameParams.camera_medium*.
     void update_camera_medium();
+    enum class Subpaths { camera, light };
     void trace_wave(const Wave& wave, RenderStats& stats);
-    void record_bounce(uint32_t depth, const Wave& wave);
+    // One side's subpaths of a wave, generated and extended to the end (submitting every DEPTHS_PER_SUBMIT bounces).
+    void trace_subpaths(const Wave& wave, Subpaths side, RenderStats& stats);
+    void record_bounce(uint32_t depth, const Wave& wave, Subpaths side);
+    void add_wave_counters(RenderStats& stats) const;
     void submit(RenderStats& stats);
 
     const vk::Context& context_;

@@ -21,10 +21,11 @@ struct LensSettings {
     double rotation_degrees = 0.0;  // --aperture-rotation
     bool on() const { return f_number > 0.0 || aperture_radius > 0.0; }
 };
-// How the light transport equation is solved (README "Light tracing"): path tracing from the camera with next-event
-// estimation and MIS, or light tracing (light subpaths splatted onto the film through the camera; the t = 1
-// strategies of bidirectional path tracing alone).
-enum class Integrator { path, light };
+// How the light transport equation is solved (README "Light tracing", "Bidirectional path tracing"): path tracing from
+// the camera with next-event estimation and MIS, light tracing (light subpaths splatted onto the film through the
+// camera; the t = 1 strategies of bidirectional path tracing alone), or bidirectional path tracing (every strategy
+// (s, t), combined by MIS).
+enum class Integrator { path, light, bdpt };
 
 // Where a path's random numbers come from (shaders/lib/path_sampler.glsl).
 enum class Sampler { independent, sobol };
@@ -38,7 +39,10 @@ struct RenderSettings {
     int camera = -1;               // glTF camera index in scene order; -1 = first camera or default framing
     PixelFilter filter = PixelFilter::box;
     Sampler sampler = Sampler::sobol;  // --sampler: Owen-scrambled Sobol' (stratified) or independent
-    Integrator integrator = Integrator::path;  // --integrator path|light
+    Integrator integrator = Integrator::path;  // --integrator path|light|bdpt
+    // --bdpt-strategy S,T: bidirectional path tracing's strategy with S light and T camera vertices alone, unweighted
+    // (a check: each converges to the part of the image made by paths of S + T - 1 segments). T = 0: all, by MIS.
+    uint32_t bdpt_strategy_s = 0, bdpt_strategy_t = 0;
     float filter_radius = 1.5f;    // Gaussian truncation radius in pixels
     bool nee = true;               // next-event estimation
     bool mis = true;               // MIS between NEE and BSDF sampling

@@ -9,6 +9,7 @@
 #include "shaders/accumulate.spv.h"
 #include "shaders/advance.spv.h"
 #include "shaders/connect.spv.h"
+#include "shaders/connect_subpaths.spv.h"
 #include "shaders/extend.spv.h"
 #include "shaders/generate.spv.h"
 #include "shaders/light_generate.spv.h"
@@ -20,8 +21,9 @@
 namespace fh {
 
 const char* stage_name(Stage stage) {
-    constexpr const char* names[STAGE_COUNT] = {"generate", "extend",         "shade",       "advance", "connect",
-                                                     "accumulate", "light_generate", "light_shade", "splat"};
+    constexpr const char* names[STAGE_COUNT] = {"generate",   "extend",         "shade",       "advance",
+                                                "connect",    "accumulate",     "light_generate", "light_shade",
+                                                "splat",      "connect_subpaths"};
     return names[size_t(stage)];
 }
 
@@ -44,6 +46,9 @@ StageTable::StageTable(const vk::Context& context, const StageOptions& options)
     spec[gpu::SPEC_EFFECTS] = options.effects;
     spec[gpu::SPEC_HAS_INSTANCES] = options.instances ? 1u : 0u;
     spec[gpu::SPEC_SAMPLER] = options.sampler;
+    spec[gpu::SPEC_INTEGRATOR] = options.integrator == Integrator::bdpt    ? gpu::INTEGRATOR_BDPT
+                                 : options.integrator == Integrator::light ? gpu::INTEGRATOR_LIGHT
+                                                                           : gpu::INTEGRATOR_PATH;
     auto make = [&](Stage stage, std::span<const uint32_t> spirv) {
         pipelines_[size_t(stage)] =
             std::make_unique<vk::ComputePipeline>(context, bindings_, stage_name(stage), spirv, spec);
@@ -51,15 +56,17 @@ StageTable::StageTable(const vk::Context& context, const StageOptions& options)
     make(Stage::extend, spv_extend);
     make(Stage::advance, spv_advance);
     make(Stage::accumulate, spv_accumulate);
-    if (options.integrator == Integrator::light) {
+    if (options.integrator != Integrator::path) {
         make(Stage::light_generate, spv_light_generate);
         make(Stage::light_shade, spv_light_shade);
         make(Stage::splat, spv_splat);
-    } else {
+    }
+    if (options.integrator != Integrator::light) {
         make(Stage::generate, spv_generate);
         make(Stage::shade, spv_shade);
         make(Stage::connect, spv_connect);
     }
+    if (options.integrator == Integrator::bdpt) make(Stage::connect_subpaths, spv_connect_subpaths);
 }
 
 const vk::ComputePipeline& StageTable::operator[](Stage stage) const {

@@ -8,8 +8,10 @@
 
 namespace fh {
 
-enum class Stage { generate, extend, shade, advance, connect, accumulate, light_generate, light_shade, splat };
-inline constexpr size_t STAGE_COUNT = 9;
+enum class Stage {
+    generate, extend, shade, advance, connect, accumulate, light_generate, light_shade, splat, connect_subpaths
+};
+inline constexpr size_t STAGE_COUNT = 10;
 const char* stage_name(Stage stage);
 
 // What the pipelines are specialised for (layout.h SPEC_*): branches a scene does not need compile away.
@@ -18,7 +20,7 @@ struct StageOptions {
     uint32_t effects = 0;                   // layout.h EFFECT_* bits (scene/effects.h)
     bool instances = false;                 // two-level BVH (pack.h PackedScene::instances)
     uint32_t sampler = 0;                   // layout.h SAMPLER_*
-    Integrator integrator = Integrator::path;  // which stages are built: the path tracer's, or light tracing's
+    Integrator integrator = Integrator::path;  // which stages are built (SPEC_INTEGRATOR): BDPT builds both sides'
 };
 
 class StageTable {

@@ -14,6 +14,8 @@ layout(std430, binding = BINDING_PATH_MEDIA) buffer PathMediaBuffer { uvec4 path
 layout(std430, binding = BINDING_PATH_SPECTRA) buffer PathSpectrumBuffer { PathSpectrum path_spectra[]; };
 layout(std430, binding = BINDING_PATH_TIMES) buffer PathTimeBuffer { float path_times[]; };
 layout(std430, binding = BINDING_GLASS_ALBEDO) readonly buffer GlassAlbedoBuffer { float glass_albedo_words[]; };
+layout(std430, binding = BINDING_LIGHT_VERTICES) buffer LightVertexBuffer { LightVertex light_vertices[]; };
+layout(std430, binding = BINDING_PATH_MIS) buffer PathMisBuffer { PathMis path_mis[]; };
 // The scene's read-only structs (layout.h TEXELS bindings): load_bvh_node, load_triangle_positions,
 // load_triangle_shading, load_material, load_emitter, load_punctual_light, load_triangle_attributes, load_instance,
 // load_material_layers, written at build time from layout.h.
@@ -21,6 +23,9 @@ layout(std430, binding = BINDING_GLASS_ALBEDO) readonly buffer GlassAlbedoBuffer
 // Set by the host for a two-level BVH (meshes drawn by several nodes); without it the instance code is not
 // compiled into traversal or shading.
 layout(constant_id = SPEC_HAS_INSTANCES) const bool scene_has_instances = false;
+// Which integrator the stage serves (INTEGRATOR_*): the BDPT-only code of shared stages compiles away otherwise.
+layout(constant_id = SPEC_INTEGRATOR) const uint integrator = INTEGRATOR_PATH;
+const bool bdpt = integrator == INTEGRATOR_BDPT;
 
 #include "ggx_albedo_table.glsl"
 #include "sheen_albedo_table.glsl"

@@ -11,6 +11,7 @@
 #include "lights.glsl"
 #include "light_tracing.glsl"
 #include "surface.glsl"
+#include "bdpt.glsl"
 
 struct LightStart {
     vec3 power;           // the first segment's throughput; 0: no subpath
@@ -18,6 +19,7 @@ struct LightStart {
     vec3 dir;
     uint triangle;        // the emitting triangle (the first ray leaves it), or INVALID_INDEX
     ShadowRayItem splat;  // the light itself seen by the camera, or an empty splat
+    PathMis mis;          // bidirectional path tracing's quantities at the light (lib/bdpt.glsl)
 };
 
 LightStart make_no_light_start() {
@@ -27,6 +29,9 @@ LightStart make_no_light_start() {
     s.dir = vec3(0.0f, 0.0f, 1.0f);
     s.triangle = INVALID_INDEX;
     s.splat = make_empty_splat();
+    s.mis.dvcm = s.mis.dvc = 0.0f;
+    s.mis.light_vertices = 0u;
+    s.mis.flags = 0u;
     return s;
 }
 
@@ -34,8 +39,8 @@ LightStart make_no_light_start() {
 // area is returned in `area`.
 vec3 sample_scene_disk(vec3 dir, vec2 u, out float area) {
     vec3 centre = 0.5f * (params.scene_min.xyz + params.scene_max.xyz);
-    float radius = 0.5f * length(params.scene_max.xyz - params.scene_min.xyz);
-    area = PI * radius * radius;
+    float radius = scene_disk_radius();
+    area = scene_disk_area();
     Frame f = make_frame(dir);
     vec2 d = sample_concentric_disk(u) * radius;
     return centre - radius * dir + d.x * f.t + d.y * f.b;
@@ -70,6 +75,10 @@ LightStart start_on_triangle(uint triangle, vec2 u_point, vec2 u_dir, float u_si
     if (!(local.z > 0.0f)) return start;
     start.dir = to_world(make_frame(side), local);
     start.power = emitted_over_pdf * (PI * (double_sided ? 2.0f : 1.0f));
+    // MIS (SmallVCM's): NEE's area density over the emission density, and the cosine over the emission density.
+    float side_share = double_sided ? 0.5f : 1.0f;
+    start.mis.dvcm = mis_power(PI / (local.z * side_share));
+    start.mis.dvc = mis_power(PI / (q.light_pdf_area * side_share));
     start.origin = offset_ray_origin(q.p, q.p_error, side, start.dir);
     return start;
 }
@@ -83,6 +92,8 @@ LightStart start_on_punctual(uint index, float pick_pdf, vec2 u_dir, vec2 u_disk
         start.dir = light.direction.xyz;
         start.origin = sample_scene_disk(start.dir, u_disk, area);
         start.power = intensity * area;  // irradiance over the disk's area density
+        start.mis.dvcm = mis_power(area);  // delta in direction: dvc 0
+        start.mis.flags = PATH_MIS_LIGHT_AT_INFINITY;
         return start;
     }
     // Point: the whole sphere; spot: its outer cone, uniformly in solid angle.
@@ -95,6 +106,7 @@ LightStart start_on_punctual(uint index, float pick_pdf, vec2 u_dir, vec2 u_disk
     float falloff = light.type == LIGHT_SPOT ? spot_attenuation(light, z) : 1.0f;
     start.power = intensity * (falloff * TWO_PI * (1.0f - cos_max));
     start.origin = light.position.xyz;
+    start.mis.dvcm = mis_power(TWO_PI * (1.0f - cos_max));  // delta in position: dvc 0
     return start;
 }
 
@@ -110,6 +122,9 @@ LightStart start_on_environment(float pick_pdf, vec2 u_dir, vec2 u_disk) {
     start.dir = -e.dir;
     start.origin = sample_scene_disk(start.dir, u_disk, area);
     start.power = e.radiance * (area / pdf);
+    start.mis.dvcm = mis_power(area);
+    start.mis.dvc = mis_power(area / pdf);
+    start.mis.flags = PATH_MIS_LIGHT_AT_INFINITY;
     return start;
 }
 

@@ -18,6 +18,11 @@ struct LightConnection {
     vec3 target;             // where the shadow ray ends (off an area light's surface by its error bound)
     vec3 radiance_over_pdf;  // incident radiance along wi divided by the solid-angle pdf of choosing wi
     float pdf;               // that solid-angle pdf (area lights, for MIS); 0 for delta lights
+    // Bidirectional path tracing: the density of a light subpath starting at that point of the light in direction -wi
+    // (light_subpath.glsl) over NEE's density, per unit of the shading point's projected area (times its geometric
+    // cosine and over its distance squared, the latter folded in): emission pdf / (NEE's solid-angle pdf x cos at the
+    // light), as SmallVCM's weights take them.
+    float emission_over_direct;
     uint delta;              // 1: punctual light (no MIS: BSDF sampling can never hit it)
     uint at_infinity;        // 1: directional light (shadow ray unbounded; target unused)
     uint valid;              // 0: the light sends nothing towards p
@@ -37,10 +42,19 @@ LightConnection make_invalid_connection() {
     c.target = vec3(0.0f);
     c.radiance_over_pdf = vec3(0.0f);
     c.pdf = 0.0f;
+    c.emission_over_direct = 0.0f;
     c.delta = 0u;
     c.at_infinity = 0u;
     c.valid = 0u;
     return c;
+}
+
+// The disk of the scene's bounding sphere through which light from a directional light or the environment enters
+// (light_subpath.glsl sample_scene_disk): its area.
+float scene_disk_radius() { return 0.5f * length(params.scene_max.xyz - params.scene_min.xyz); }
+float scene_disk_area() {
+    float radius = scene_disk_radius();
+    return PI * radius * radius;
 }
 
 // KHR_lights_punctual spot falloff: smooth from the outer cone (0) to the inner cone (1), squared.
@@ -59,6 +73,7 @@ LightConnection connect_punctual_light(uint index, float pick_pdf, vec3 p) {
         c.wi = -light.direction.xyz;
         c.radiance_over_pdf = intensity;  // irradiance normal to the light: a delta in direction
         c.at_infinity = 1u;
+        c.emission_over_direct = 1.0f / scene_disk_area();
         c.valid = 1u;
         return c;
     }
@@ -70,6 +85,8 @@ LightConnection connect_punctual_light(uint index, float pick_pdf, vec3 p) {
     float falloff = 1.0f;
     if (light.type == LIGHT_SPOT) falloff = spot_attenuation(light, dot(-c.wi, light.direction.xyz));
     c.radiance_over_pdf = intensity * (falloff / dist2);  // inverse-square law
+    float cone = light.type == LIGHT_SPOT ? TWO_PI * (1.0f - light.cos_outer) : 4.0f * PI;  // light_subpath.glsl
+    c.emission_over_direct = 1.0f / (cone * dist2);
     c.valid = falloff > 0.0f ? 1u : 0u;
     return c;
 }
@@ -100,6 +117,7 @@ LightConnection connect_triangle_light(uint tri, vec3 p, vec2 u_point) {
     if (!emits) return c;
     c.pdf = ts.light_pdf_area * dist2 / abs(cos_light);  // area to solid angle
     c.radiance_over_pdf = m.emission.xyz / c.pdf;
+    c.emission_over_direct = abs(cos_light) * INV_PI * ((m.flags & MATERIAL_DOUBLE_SIDED) != 0u ? 0.5f : 1.0f) / dist2;
     c.target = offset_ray_origin(q, q_error, n, -c.wi);
     c.valid = c.pdf > 0.0f ? 1u : 0u;
     return c;
@@ -113,6 +131,7 @@ LightConnection connect_environment(float pick_pdf, vec2 u) {
     c.at_infinity = 1u;
     if (!(c.pdf > 0.0f)) return c;
     c.radiance_over_pdf = s.radiance / c.pdf;
+    c.emission_over_direct = 1.0f / scene_disk_area();
     c.valid = 1u;
     return c;
 }

@@ -60,7 +60,11 @@ FH_CONST uint MEDIUM_STACK_SIZE = 4u;
 FH_CONST uint BINDING_PATH_SPECTRA = 23u;    // PathSpectrum[wave capacity]: a path's wavelengths (EFFECT_SPECTRAL)
 FH_CONST uint BINDING_GLASS_ALBEDO = 24u;    // float[]: glass_albedo_table.glsl (EFFECT_GLASS_MULTISCATTER; else one word)
 FH_CONST uint BINDING_PATH_TIMES = 25u;     // float[wave capacity]: a path's time in the shutter, 0..1 (EFFECT_MOTION_BLUR)
-FH_CONST uint BINDING_COUNT = 26u;
+// Bidirectional path tracing (`--integrator bdpt`; else one element each): the stored light-subpath vertices,
+// FrameParams.light_vertex_slots per path (LightVertex[wave capacity x slots]), and each path's MIS quantities.
+FH_CONST uint BINDING_LIGHT_VERTICES = 26u;
+FH_CONST uint BINDING_PATH_MIS = 27u;         // PathMis[wave capacity]
+FH_CONST uint BINDING_COUNT = 28u;
 FH_CONST uint TEXEL_BYTES = 16u;             // one RGBA32UI texel of a TEXELS binding
 
 // ---- Specialization constants (constant_id) -------------------------------------------------------------
@@ -68,7 +72,8 @@ FH_CONST uint SPEC_DISABLED_TECHNIQUES = 0u;       // TECHNIQUE_* bits switched 
 FH_CONST uint SPEC_EFFECTS = 1u;                   // EFFECT_* bits: what the scene calls for (scene/effects.h)
 FH_CONST uint SPEC_HAS_INSTANCES = 2u;             // bool: two-level BVH (meshes drawn by several nodes)
 FH_CONST uint SPEC_SAMPLER = 3u;                   // SAMPLER_*: where a path's random numbers come from
-FH_CONST uint SPEC_CONSTANT_COUNT = 4u;
+FH_CONST uint SPEC_INTEGRATOR = 4u;               // INTEGRATOR_*: which integrator the stage serves
+FH_CONST uint SPEC_CONSTANT_COUNT = 5u;
 
 // ---- Effects (engine/scene/effects.h decides them by value; a stage compiles only the code of those set) ----
 FH_CONST uint EFFECT_BASE_COLOR_TEXTURE = 1u;      // some visible material has a baseColorTexture
@@ -142,6 +147,11 @@ FH_CONST uint FILTER_BOX = 0u;             // one pixel wide
 FH_CONST uint FILTER_GAUSSIAN = 1u;        // truncated Gaussian, importance sampled (weight 1)
 FH_CONST uint SAMPLER_INDEPENDENT = 0u;    // each path's own PCG stream (lib/rng.glsl)
 FH_CONST uint SAMPLER_SOBOL = 1u;          // Owen-scrambled Sobol', four dimensions per block (lib/sobol.glsl)
+FH_CONST uint INTEGRATOR_PATH = 0u;        // SPEC_INTEGRATOR: path tracing (NEE and MIS)
+FH_CONST uint INTEGRATOR_LIGHT = 1u;       // light tracing: the t = 1 strategies alone
+FH_CONST uint INTEGRATOR_BDPT = 2u;        // bidirectional path tracing, every (s, t) combined by MIS
+FH_CONST uint PATH_MIS_LIGHT_AT_INFINITY = 1u;  // PathMis.flags: the light subpath left a directional light or the
+                                                // environment (its first segment has no distance to convert)
 FH_CONST uint MATERIAL_DOUBLE_SIDED = 1u;  // Material.flags
 FH_CONST uint MATERIAL_UNLIT = 2u;         // Material.flags: KHR_materials_unlit (EFFECT_UNLIT)
 FH_CONST uint PATH_SECONDARIES_TERMINATED = 1u;  // PathSpectrum.flags: only the hero wavelength goes on
@@ -389,6 +399,9 @@ struct FrameParams {
     // (render/camera_medium.h); INVALID_INDEX past the last: outside every volume, and always without EFFECT_VOLUME.
     uint camera_medium;
     uint camera_medium_outer, camera_medium_outermost;
+    uint light_vertex_slots;  // `--integrator bdpt`: light-subpath vertices stored per path (max_depth - 2), else 0
+    uint bdpt_strategy;       // --bdpt-strategy: s << 16 | t, that strategy alone and unweighted; 0: all, by MIS
+    uint pad0, pad1;
 };
 
 // Push constants: what changes per wave and per depth.
@@ -436,6 +449,29 @@ struct PathSpectrum {
     float throughput_3;
     uint flags;                 // PATH_SECONDARIES_TERMINATED
     float pad;
+};
+
+// Bidirectional path tracing: what a path carries for the MIS weights of every strategy (the recursive quantities of
+// Georgiev 2012, "Implementing vertex connection and merging", for connections only; lib/bdpt.glsl), and how many of
+// its light subpath's vertices are stored.
+struct PathMis {
+    float dvcm;
+    float dvc;
+    uint light_vertices;        // stored LightVertex entries of the path's light subpath
+    uint flags;                 // PATH_MIS_LIGHT_AT_INFINITY
+};
+
+// A vertex of a light subpath kept for the camera subpath of the same (pixel, sample) to connect to: where it is
+// (the surface is reloaded from the hit), the direction back towards the light, the throughput that reached it and
+// its MIS quantities. 48 bytes.
+struct LightVertex {
+    float throughput_r, throughput_g, throughput_b;
+    float dvcm;
+    float to_light_x, to_light_y, to_light_z;
+    float dvc;
+    uint triangle;
+    float b1, b2;
+    uint instance;              // the Instance hit, or INVALID_INDEX
 };
 
 // A ray waiting for its closest hit.

@@ -99,7 +99,7 @@ FH_OFFSET(PunctualLight, type, 48);
 FH_OFFSET(PunctualLight, cos_inner, 52);
 FH_OFFSET(PunctualLight, cos_outer, 56);
 
-FH_SIZE(FrameParams, 240);
+FH_SIZE(FrameParams, 256);
 FH_OFFSET(FrameParams, camera_origin, 0);
 FH_OFFSET(FrameParams, camera_right, 16);
 FH_OFFSET(FrameParams, camera_up, 32);
@@ -128,6 +128,8 @@ FH_OFFSET(FrameParams, motion_segments, 208);
 FH_OFFSET(FrameParams, crop_x, 212);
 FH_OFFSET(FrameParams, film_width, 220);
 FH_OFFSET(FrameParams, film_height, 224);
+FH_OFFSET(FrameParams, light_vertex_slots, 240);
+FH_OFFSET(FrameParams, bdpt_strategy, 244);
 
 FH_SIZE(StagePush, 32);
 FH_OFFSET(StagePush, depth, 0);
@@ -155,6 +157,17 @@ FH_OFFSET(PathState, rng, 28);
 FH_SIZE(MaterialLayers, 160);
 FH_OFFSET(MaterialLayers, iridescence_albedo_f90, 140);
 FH_OFFSET(MaterialLayers, dispersion, 144);
+
+FH_SIZE(PathMis, 16);
+FH_OFFSET(PathMis, dvc, 4);
+FH_OFFSET(PathMis, light_vertices, 8);
+FH_OFFSET(PathMis, flags, 12);
+
+FH_SIZE(LightVertex, 48);
+FH_OFFSET(LightVertex, dvcm, 12);
+FH_OFFSET(LightVertex, dvc, 28);
+FH_OFFSET(LightVertex, triangle, 32);
+FH_OFFSET(LightVertex, instance, 44);
 
 FH_SIZE(PathSpectrum, 16);
 FH_OFFSET(PathSpectrum, throughput_3, 4);
@@ -216,7 +229,7 @@ TEST(Layout, SizesMatchTheGpuStructs) {
     EXPECT_EQ(sizeof(TextureSlot), 48u);
     EXPECT_EQ(sizeof(TriangleAttributes), 96u);
     EXPECT_EQ(sizeof(Emitter), 16u);
-    EXPECT_EQ(sizeof(FrameParams), 240u);
+    EXPECT_EQ(sizeof(FrameParams), 256u);
     EXPECT_EQ(sizeof(QueueCounters), 56u);
     EXPECT_EQ(sizeof(RayItem), 32u);
     EXPECT_EQ(sizeof(HitItem), 20u);
@@ -224,6 +237,8 @@ TEST(Layout, SizesMatchTheGpuStructs) {
     EXPECT_EQ(sizeof(ShadowRayItem), 48u);
     EXPECT_EQ(sizeof(PathState), 32u);
     EXPECT_EQ(sizeof(PathSpectrum), 16u);
+    EXPECT_EQ(sizeof(PathMis), 16u);
+    EXPECT_EQ(sizeof(LightVertex), 48u);
     EXPECT_EQ(sizeof(FilmPixel), 52u);
     EXPECT_EQ(sizeof(StagePush), 32u);
     EXPECT_EQ(BVH_LEAF_COUNT_BITS, 16u);

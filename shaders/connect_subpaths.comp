@@ -1,0 +1,96 @@
+// Stage "connect_subpaths" (`--integrator bdpt`): the strategies with s, t >= 2 of bidirectional path tracing. Each
+// camera vertex just found (the queued ray's hit, before shade moves the path on) is joined to every stored vertex of
+// the light subpath with the same (pixel, sample) (light_shade.comp) whose full path keeps within --max-depth: both
+// BSDFs evaluated towards each other (the light side's adjoint, with the shading-normal correction, as light tracing
+// has it), the MIS weight from both sides' quantities (lib/bdpt.glsl), and a shadow ray between them. A path's
+// connections are summed in a fixed order by one invocation, so the result is the same bits every run.
+// Reads: rays[queue depth & 1], hits, paths, path_mis, light_vertices, triangles, materials, textures, instances,
+// BVH. Writes: paths[].radiance, counters.traced_shadow_rays.
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "lib/bindings.glsl"
+#include "lib/queue.glsl"
+#include "lib/effects.glsl"
+#include "lib/surface_bsdf.glsl"
+#include "lib/bdpt.glsl"
+#include "lib/traverse.glsl"
+
+layout(local_size_x = WORKGROUP_SIZE) in;
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    uint parity = push.depth & 1u;
+    if (i >= counters.ray_count[parity]) return;
+    HitItem hit = hits[i];
+    if (hit.triangle == INVALID_INDEX) return;
+    RayItem ray = rays[ray_slot(parity, i)];
+    uint path = ray.path;
+    PathMis camera_mis = path_mis[path];
+    uint segments = push.depth + 1u;  // camera segments up to this vertex
+    // Light vertex k has k + 1 segments; the joint adds one.
+    uint last = min(min(camera_mis.light_vertices, params.light_vertex_slots), params.max_depth - segments - 1u);
+    if (params.max_depth < segments + 2u || last == 0u) return;
+
+    PathState state = paths[path];
+    vec3 beta = vec3(state.throughput_r, state.throughput_g, state.throughput_b);
+    vec3 wo = -vec3(ray.dir_x, ray.dir_y, ray.dir_z);
+    ShadingPoint y = load_shading_point(hit.triangle, hit.b1, hit.b2, hit.instance);
+    bool front_y = dot(y.s.ng, wo) > 0.0f;
+    vec3 ng_y = front_y ? y.s.ng : -y.s.ng;
+    float cos_wo = dot(wo, ng_y);
+    if (!(cos_wo > 0.0f) || !(max_value(beta) > 0.0f)) return;
+    account_segment(camera_mis, hit.t, cos_wo, camera_segment_has_distance(segments));
+    SurfaceBsdf at_y = make_surface_bsdf(y, front_y, ng_y, wo);
+
+    vec3 sum = vec3(0.0f);
+    uint traced = 0u;
+    for (uint k = 0u; k < last; ++k) {
+        LightVertex v = light_vertices[path * params.light_vertex_slots + k];
+        vec3 wl = vec3(v.to_light_x, v.to_light_y, v.to_light_z);
+        ShadingPoint z = load_shading_point(v.triangle, v.b1, v.b2, v.instance);
+        bool front_z = dot(z.s.ng, wl) > 0.0f;
+        vec3 ng_z = front_z ? z.s.ng : -z.s.ng;
+        vec3 d = z.s.p - y.s.p;
+        float dist2 = dot(d, d);
+        if (!(dist2 > 0.0f)) continue;
+        vec3 w = d * inversesqrt(dist2);  // from y towards z
+        float cos_y = dot(w, ng_y);
+        float cos_z = -dot(w, ng_z);
+        float cos_wl = dot(wl, ng_z);
+        if (!(cos_y > 0.0f && cos_z > 0.0f && cos_wl > 0.0f)) continue;
+
+        vec3 f_y = eval_surface_bsdf(at_y, wo, w);  // f cos at y, towards z
+        SurfaceBsdf at_z = make_surface_bsdf(z, front_z, ng_z, -w);
+        vec3 f_z = eval_surface_bsdf(at_z, -w, wl);  // f cos at z, light from wl
+        vec3 light_beta = vec3(v.throughput_r, v.throughput_g, v.throughput_b);
+        vec3 contrib = beta * f_y * f_z * light_beta * (cos_z / (cos_wl * dist2));
+        if (!(max_value(contrib) > 0.0f)) continue;
+
+        PathMis light_mis;
+        light_mis.dvcm = v.dvcm;
+        light_mis.dvc = v.dvc;
+        float camera_forward_area = pdf_surface_bsdf(at_y, wo, w) * cos_z / dist2;
+        float light_forward_area =
+            pdf_next_direction(make_surface_bsdf(z, front_z, ng_z, wl), ng_z, wl, -w) * cos_y / dist2;
+        float camera_reverse = pdf_next_direction(make_surface_bsdf(y, front_y, ng_y, w), ng_y, w, wo);
+        float light_reverse = pdf_surface_bsdf(at_z, -w, wl);
+        contrib *= weight_strategy(k + 2u, segments + 1u,
+                                   weight_subpath_connection(camera_mis, camera_reverse, light_forward_area, light_mis,
+                                                             light_reverse, camera_forward_area));
+
+        // Visibility, from just off y to just off z (pbrt's ShadowEpsilon short of it).
+        vec3 origin = offset_ray_origin(y.s.p, y.s.p_error, ng_y, w);
+        vec3 target = offset_ray_origin(z.s.p, z.s.p_error, ng_z, -w);
+        vec3 to_target = target - origin;
+        float len = length(to_target);
+        if (!(len > 0.0f)) continue;
+        uint alpha_seed = effect_on(EFFECT_ALPHA) ? pcg_hash(state.rng ^ pcg_hash(k ^ 0x3c6ef372u)) : 0u;
+        TraceHit blocker = trace_ray(origin, to_target / len, len * (1.0f - 1e-4f), true, hit.triangle, alpha_seed, 0.5f);
+        traced += 1u;
+        if (blocker.triangle == INVALID_INDEX) sum += contrib;
+    }
+    COUNT_IN_SUBGROUP(counters.traced_shadow_rays, traced);
+    paths[path].radiance_r = state.radiance_r + sum.x;
+    paths[path].radiance_g = state.radiance_g + sum.y;
+    paths[path].radiance_b = state.radiance_b + sum.z;
+}
