@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "app/render_options.h"
@@ -37,6 +38,10 @@ void add_bench_options(CLI::App& app, BenchCommand& c) {
     app.add_option("--sizes", c.sizes, "square image sizes to time")->check(CLI::Range(16u, 8192u));
     app.add_option("--spp", c.spp, "samples per pixel")->check(CLI::Range(1u, 1u << 16));
     app.add_option("--max-depth", c.max_depth, "path length in segments (0 = unlimited)");
+    std::map<std::string, Integrator> integrators{
+        {"path", Integrator::path}, {"light", Integrator::light}, {"bdpt", Integrator::bdpt}};
+    app.add_option("--integrator", c.integrator, "integrator to time: path (default), light or bdpt")
+        ->transform(CLI::CheckedTransformer(integrators, CLI::ignore_case));
     app.add_option("--repeats", c.repeats, "renders per size; the median is reported")->check(CLI::Range(1u, 100u));
     app.add_flag("--techniques", c.techniques,
                  "also time each robustness technique switched off (the cost of each; rebase: load time)");
@@ -208,7 +213,7 @@ int trace_ray_file(const vk::Context& context, const PreparedScene& prepared, co
 // beyond its film.
 void print_memory_figures(const PreparedScene& prepared, const RenderSettings& settings) {
     const uint32_t effects = select_effects(prepared.packed.effects.bits, settings.forced_effects, settings.disabled_effects);
-    const double per_path = bytes_per_path(prepared.packed, effects);
+    const double per_path = bytes_per_path(prepared.packed, effects, make_bdpt_store(settings));
     uint64_t scene_bytes = 0, triangle_bytes = 0;
     for (const BufferEstimate& b : estimate_render_memory(prepared.packed, 16, 16, 1, effects).buffers) {
         if (b.name == "tri_positions" || b.name == "tri_shading" || b.name == "tri_attributes" || b.name == "nodes")
@@ -230,6 +235,7 @@ int run_bench(const BenchCommand& c) {
     RenderSettings base;
     base.spp = c.spp;
     base.max_depth = c.max_depth;
+    base.integrator = c.integrator;
     base.bvh_max_leaf_size = c.bvh_leaf_size;
     base.environment_file = c.environment_file;
     base.has_background = c.has_background;
@@ -251,8 +257,8 @@ int run_bench(const BenchCommand& c) {
                 prepared.bvh_nodes, prepared.bvh_build_seconds, prepared.sah_cost);
     print_memory_figures(prepared, base);
     if (!c.trace_rays.empty()) return trace_ray_file(*context, prepared, c);
-    std::printf("device %s; %u spp, max depth %u, waves of %u paths, median of %u\n\n", context->device_name().c_str(),
-                c.spp, c.max_depth, base.wave_paths, c.repeats);
+    std::printf("device %s; integrator %s, %u spp, max depth %u, waves of %u paths, median of %u\n\n",
+                context->device_name().c_str(), to_string(c.integrator), c.spp, c.max_depth, base.wave_paths, c.repeats);
     std::printf("%-9s %-18s %10s %12s %12s   %s\n", "size", "disabled", "seconds", "Msamples/s", "Mrays/s",
                 "stage seconds (GPU timestamps)");
 
@@ -383,6 +389,7 @@ int run_bench(const BenchCommand& c) {
     if (!c.json.empty()) {
         nlohmann::json j{{"scene", scene_file.string()}, {"device", context->device_name()},
                          {"wave_paths", base.wave_paths}, {"max_depth", c.max_depth}, {"repeats", c.repeats},
+                         {"integrator", to_string(c.integrator)},
                          {"results", results}};
         write_file_atomically(c.json, [&](const std::filesystem::path& temp) { std::ofstream(temp) << j.dump(2) << "\n"; });
     }

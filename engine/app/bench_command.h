@@ -20,6 +20,7 @@ struct BenchCommand {
     std::vector<uint32_t> sizes{256, 512};
     uint32_t spp = 64;
     uint32_t max_depth = 10;
+    Integrator integrator = Integrator::path;  // --integrator path|light|bdpt
     uint32_t repeats = 3;
     uint32_t bvh_leaf_size = 4;  // RenderSettings::bvh_max_leaf_size
     std::filesystem::path json;
