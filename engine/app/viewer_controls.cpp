@@ -77,6 +77,8 @@ void apply_input(ViewerState& s, const WindowInput& input, const ViewerWindow& w
                 s.rebuild = true;
                 break;
             case GLFW_KEY_RIGHT_BRACKET:
+                // BDPT stores light vertices per path: its depth stays bounded.
+                if (s.settings.integrator == Integrator::bdpt && s.settings.max_depth >= TOP_LIMITED_DEPTH) break;
                 if (s.settings.max_depth != 0)
                     s.settings.max_depth = s.settings.max_depth >= TOP_LIMITED_DEPTH ? 0 : s.settings.max_depth + 1;
                 s.rebuild = true;
@@ -84,7 +86,14 @@ void apply_input(ViewerState& s, const WindowInput& input, const ViewerWindow& w
             case GLFW_KEY_EQUAL: case GLFW_KEY_KP_ADD: s.exposure_ev += EXPOSURE_STEP_EV; break;
             case GLFW_KEY_MINUS: case GLFW_KEY_KP_SUBTRACT: s.exposure_ev -= EXPOSURE_STEP_EV; break;
             case GLFW_KEY_T: s.tone_curve = s.tone_curve == ToneCurve::aces ? ToneCurve::clamp : ToneCurve::aces; break;
-            case GLFW_KEY_N: s.settings.nee = !s.settings.nee; s.rebuild = true; break;
+            case GLFW_KEY_N:
+                if (s.settings.integrator == Integrator::bdpt) {
+                    std::fprintf(stderr, "fredholm view: bidirectional path tracing always samples lights; N is off\n");
+                    break;
+                }
+                s.settings.nee = !s.settings.nee;
+                s.rebuild = true;
+                break;
             case GLFW_KEY_U: s.settings.russian_roulette = !s.settings.russian_roulette; s.rebuild = true; break;
             case GLFW_KEY_P: s.screenshot = true; break;
             case GLFW_KEY_F: {
