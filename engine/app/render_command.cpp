@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/interrupt.h"
+#include "app/integrator_choice.h"
 #include "app/progress.h"
 #include "app/resume.h"
 #include "app/session.h"
@@ -331,6 +332,12 @@ int run_frame(const RenderCommand& command, vk::Context* shared_context) {
                              "would never end)\n");
         return 2;
     }
+    // A pilot could choose differently for another part of the same image.
+    if (c.settings.integrator == Integrator::automatic && (c.resume || c.first_sample != 0)) {
+        std::fprintf(stderr, "fredholm: usage error: --integrator auto cannot continue or split a render (--resume, "
+                             "--samples): name the integrator the first part used\n");
+        return 2;
+    }
     // Fail before any work if an output cannot be written or the render to continue does not match.
     check_writable(c.output);
     if (!c.png.empty()) check_writable(c.png);
@@ -354,10 +361,15 @@ int run_frame(const RenderCommand& command, vk::Context* shared_context) {
     std::unique_ptr<vk::Context> owned;
     if (!shared_context) owned = make_compute_context(c.validation, c.device);
     vk::Context* context = shared_context ? shared_context : owned.get();
-    c.settings = with_wave_paths(c.settings, *context, prepared.packed);
     const SceneCamera camera = apply_lens(*context, prepared.packed,
                                           apply_camera_pose(choose_camera(prepared.scene, settings.camera), c.pose),
                                           settings);
+    if (c.settings.integrator == Integrator::automatic) {
+        const IntegratorChoice choice = choose_integrator_by_pilot(*context, prepared.packed, camera, c.settings);
+        if (!c.quiet) std::fprintf(stderr, "fredholm: %s\n", choice.report.c_str());
+        c.settings.integrator = choice.integrator;
+    }
+    c.settings = with_wave_paths(c.settings, *context, prepared.packed);
     try {
         check_render_memory(estimate_render_memory(prepared.packed, settings), query_memory_limits(*context));
     } catch (const std::runtime_error& e) {

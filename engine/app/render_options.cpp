@@ -24,12 +24,14 @@ void add_tone_options(CLI::App& app, float& exposure_ev, ToneCurve& tone_curve, 
 
 void add_integrator_option(CLI::App& app, RenderSettings& s) {
     std::map<std::string, Integrator> integrators{
-        {"path", Integrator::path}, {"light", Integrator::light}, {"bdpt", Integrator::bdpt}};
+        {"path", Integrator::path}, {"light", Integrator::light}, {"bdpt", Integrator::bdpt},
+        {"auto", Integrator::automatic}};
     app.add_option("--integrator", s.integrator,
                    "path: path tracing from the camera, next-event estimation and MIS (default); light: light tracing, "
                    "light subpaths splatted onto the film through the camera (README \"Light tracing\"); bdpt: "
                    "bidirectional path tracing, every strategy combined by MIS (needs --max-depth; README "
-                   "\"Bidirectional path tracing\")")
+                   "\"Bidirectional path tracing\"); auto (render only): a short pilot of each, the least error per "
+                   "second chosen")
         ->transform(CLI::CheckedTransformer(integrators, CLI::ignore_case));
 }
 

@@ -62,6 +62,9 @@ void check_light_tracing(const std::string& where, const PackedScene& scene, con
                          const SceneCamera& camera, uint32_t effects) {
     if (settings.bdpt_strategy_t != 0 && settings.integrator != Integrator::bdpt)
         throw std::invalid_argument(where + ": --bdpt-strategy needs --integrator bdpt");
+    if (settings.integrator == Integrator::automatic)
+        throw std::invalid_argument(where + ": --integrator auto is chosen by fredholm render's pilot only; name an "
+                                            "integrator here (or compare them with converge --vary integrator=...)");
     if (settings.integrator == Integrator::path) return;
     const std::string obstacle = find_light_tracing_obstacle(scene, settings, camera, effects);
     if (!obstacle.empty())

@@ -84,7 +84,10 @@ gpu::FrameParams make_frame(const PackedScene& scene, const SceneCamera& camera,
 const char* to_string(PixelFilter filter) { return filter == PixelFilter::gaussian ? "gaussian" : "box"; }
 const char* to_string(Sampler sampler) { return sampler == Sampler::sobol ? "sobol" : "independent"; }
 const char* to_string(Integrator integrator) {
-    return integrator == Integrator::light ? "light" : integrator == Integrator::bdpt ? "bdpt" : "path";
+    return integrator == Integrator::light       ? "light"
+           : integrator == Integrator::bdpt      ? "bdpt"
+           : integrator == Integrator::automatic ? "auto"
+                                                 : "path";
 }
 
 std::vector<Wave> plan_waves(uint32_t pixel_count, uint32_t sample_begin, uint32_t sample_end, uint32_t capacity) {

@@ -25,7 +25,8 @@ struct LensSettings {
 // the camera with next-event estimation and MIS, light tracing (light subpaths splatted onto the film through the
 // camera; the t = 1 strategies of bidirectional path tracing alone), or bidirectional path tracing (every strategy
 // (s, t), combined by MIS).
-enum class Integrator { path, light, bdpt };
+// `automatic` (--integrator auto, fredholm render only) is resolved by a pilot before any Renderer is built.
+enum class Integrator { path, light, bdpt, automatic };
 
 // Where a path's random numbers come from (shaders/lib/path_sampler.glsl).
 enum class Sampler { independent, sobol };
