@@ -74,9 +74,11 @@ void main() {
             pdf_next_direction(make_surface_bsdf(z, front_z, ng_z, wl), ng_z, wl, -w) * cos_y / dist2;
         float camera_reverse = pdf_next_direction(make_surface_bsdf(y, front_y, ng_y, w), ng_y, w, wo);
         float light_reverse = pdf_surface_bsdf(at_z, -w, wl);
-        contrib *= weight_strategy(k + 2u, segments + 1u,
-                                   weight_subpath_connection(camera_mis, camera_reverse, light_forward_area, light_mis,
-                                                             light_reverse, camera_forward_area));
+        float weight = weight_strategy(k + 2u, segments + 1u,
+                                       weight_subpath_connection(camera_mis, camera_reverse, light_forward_area,
+                                                                 light_mis, light_reverse, camera_forward_area));
+        if (!(weight > 0.0f)) continue;  // and never 0 x an overflowed contribution (NaN) into the path's sum
+        contrib *= weight;
 
         // Visibility, from just off y to just off z (pbrt's ShadowEpsilon short of it).
         vec3 origin = offset_ray_origin(y.s.p, y.s.p_error, ng_y, w);

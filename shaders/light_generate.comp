@@ -38,6 +38,9 @@ void main() {
 
     // Light subpaths draw from the path's PCG stream whatever --sampler says (the Sobol' dimensions are the camera's).
     uint rng = init_rng(path_pixel(i), path_sample_index(i), params.seed);
+    // BDPT's camera subpath of the same index starts from that very state (--sampler independent): the light subpath
+    // takes a stream of its own, or a connection would join two subpaths drawn from the same numbers.
+    if (bdpt) rng = pcg_hash(rng ^ 0x6c8e9cf5u);
     float u_pick = next_float(rng);
     vec2 u_point = vec2(next_float(rng), next_float(rng));
     vec2 u_dir = vec2(next_float(rng), next_float(rng));

@@ -333,9 +333,13 @@ int run_frame(const RenderCommand& command, vk::Context* shared_context) {
         return 2;
     }
     // A pilot could choose differently for another part of the same image.
-    if (c.settings.integrator == Integrator::automatic && (c.resume || c.first_sample != 0)) {
+    if (c.settings.integrator == Integrator::automatic && (c.resume || c.first_sample != 0 || c.settings.has_crop())) {
         std::fprintf(stderr, "fredholm: usage error: --integrator auto cannot continue or split a render (--resume, "
-                             "--samples): name the integrator the first part used\n");
+                             "--samples, --crop): name the integrator for every part\n");
+        return 2;
+    }
+    if (c.settings.integrator == Integrator::automatic && c.settings.bdpt_strategy_t != 0) {
+        std::fprintf(stderr, "fredholm: usage error: --bdpt-strategy needs --integrator bdpt, not auto\n");
         return 2;
     }
     // Fail before any work if an output cannot be written or the render to continue does not match.

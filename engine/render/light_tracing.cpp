@@ -44,8 +44,10 @@ std::string find_light_tracing_obstacle(const PackedScene& scene, const RenderSe
         if (t != 0 && s + t - 1 > settings.max_depth)
             return "--bdpt-strategy " + std::to_string(s) + "," + std::to_string(t) + " makes paths of " +
                    std::to_string(s + t - 1) + " segments, more than --max-depth " + std::to_string(settings.max_depth);
-        if (t != 0 && s + t < 3)
-            return "--bdpt-strategy: paths of one segment are the camera seeing a light (0,2) only";
+        if (t != 0 && s + t < 3 && !(s == 0 && t == 2))
+            return "--bdpt-strategy " + std::to_string(s) + "," + std::to_string(t) +
+                   ": a path of one segment (the camera seeing a light) is made by (0,2) alone: BDPT does not splat a "
+                   "light's own vertex";
     }
     if (settings.lens.on() || camera.has_lens()) return "light tracing does not handle a thin lens (--aperture) yet";
     for (const Unsupported& u : UNSUPPORTED)
