@@ -31,7 +31,7 @@ namespace {
 // With unlimited depth the host looks at the queue length every this many bounces (one readback per
 // submission, never between stages). Also bounds the work per submission (GPU watchdogs).
 constexpr uint32_t DEPTHS_PER_SUBMIT = 16;
-constexpr uint32_t MAX_DISPATCHES_PER_SUBMIT = 4 + 5 * DEPTHS_PER_SUBMIT;  // light tracing: 2 more before the bounces
+constexpr uint32_t MAX_DISPATCHES_PER_SUBMIT = 4 + 5 * DEPTHS_PER_SUBMIT;  // 5 per BDPT camera bounce; 3 before light bounces
 
 uint32_t group_count(uint64_t invocations) {
     return uint32_t((invocations + gpu::WORKGROUP_SIZE - 1) / gpu::WORKGROUP_SIZE);
