@@ -4,8 +4,8 @@
 // BSDFs evaluated towards each other (the light side's adjoint, with the shading-normal correction, as light tracing
 // has it), the MIS weight from both sides' quantities (lib/bdpt.glsl), and a shadow ray between them. A path's
 // connections are summed in a fixed order by one invocation, so the result is the same bits every run.
-// Reads: rays[queue depth & 1], hits, paths, path_mis, light_vertices, triangles, materials, textures, instances,
-// BVH. Writes: paths[].radiance, counters.traced_shadow_rays.
+// Reads: rays[queue depth & 1], hits, paths, path media, path_mis, light_vertices, triangles, materials, textures,
+// instances, BVH. Writes: paths[].radiance, counters.traced_shadow_rays.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "lib/bindings.glsl"
@@ -36,11 +36,11 @@ void main() {
     vec3 wo = -vec3(ray.dir_x, ray.dir_y, ray.dir_z);
     ShadingPoint y = load_shading_point(hit.triangle, hit.b1, hit.b2, hit.instance);
     bool front_y = dot(y.s.ng, wo) > 0.0f;
-    vec3 ng_y = front_y ? y.s.ng : -y.s.ng;
-    float cos_wo = dot(wo, ng_y);
+    if (tracks_media()) set_media(y, path_media[path], front_y);
+    SurfaceBsdf at_y = make_surface_bsdf(y, wo);
+    float cos_wo = dot(wo, at_y.ng);
     if (!(cos_wo > 0.0f) || !(max_value(beta) > 0.0f)) return;
     account_segment(camera_mis, hit.t, cos_wo, camera_segment_has_distance(segments));
-    SurfaceBsdf at_y = make_surface_bsdf(y, front_y, ng_y, wo);
 
     vec3 sum = vec3(0.0f);
     uint traced = 0u;
@@ -48,19 +48,19 @@ void main() {
         LightVertex v = light_vertices[path * params.light_vertex_slots + k];
         vec3 wl = vec3(v.to_light_x, v.to_light_y, v.to_light_z);
         ShadingPoint z = load_shading_point(v.triangle, v.b1, v.b2, v.instance);
-        bool front_z = dot(z.s.ng, wl) > 0.0f;
-        vec3 ng_z = front_z ? z.s.ng : -z.s.ng;
+        z.eta_front = v.eta_front;
         vec3 d = z.s.p - y.s.p;
         float dist2 = dot(d, d);
         if (!(dist2 > 0.0f)) continue;
         vec3 w = d * inversesqrt(dist2);  // from y towards z
-        float cos_y = dot(w, ng_y);
-        float cos_z = -dot(w, ng_z);
-        float cos_wl = dot(wl, ng_z);
+        // Geometric cosines; either end may join through its surface where a lobe transmits (the BSDFs say).
+        float cos_y = abs(dot(w, y.s.ng));
+        float cos_z = abs(dot(w, z.s.ng));
+        float cos_wl = abs(dot(wl, z.s.ng));
         if (!(cos_y > 0.0f && cos_z > 0.0f && cos_wl > 0.0f)) continue;
 
         vec3 f_y = eval_surface_bsdf(at_y, wo, w);  // f cos at y, towards z
-        SurfaceBsdf at_z = make_surface_bsdf(z, front_z, ng_z, -w);
+        SurfaceBsdf at_z = make_surface_bsdf(z, -w);
         vec3 f_z = eval_surface_bsdf(at_z, -w, wl);  // f cos at z, light from wl
         vec3 light_beta = vec3(v.throughput_r, v.throughput_g, v.throughput_b);
         vec3 contrib = beta * f_y * f_z * light_beta * (cos_z / (cos_wl * dist2));
@@ -71,8 +71,8 @@ void main() {
         light_mis.dvc = v.dvc;
         float camera_forward_area = pdf_surface_bsdf(at_y, wo, w) * cos_z / dist2;
         float light_forward_area =
-            pdf_next_direction(make_surface_bsdf(z, front_z, ng_z, wl), ng_z, wl, -w) * cos_y / dist2;
-        float camera_reverse = pdf_next_direction(make_surface_bsdf(y, front_y, ng_y, w), ng_y, w, wo);
+            pdf_next_direction(make_surface_bsdf(z, wl), wl, -w) * cos_y / dist2;
+        float camera_reverse = pdf_next_direction(make_surface_bsdf(y, w), w, wo);
         float light_reverse = pdf_surface_bsdf(at_z, -w, wl);
         float weight = weight_strategy(k + 2u, segments + 1u,
                                        weight_subpath_connection(camera_mis, camera_reverse, light_forward_area,
@@ -81,8 +81,8 @@ void main() {
         contrib *= weight;
 
         // Visibility, from just off y to just off z (pbrt's ShadowEpsilon short of it).
-        vec3 origin = offset_ray_origin(y.s.p, y.s.p_error, ng_y, w);
-        vec3 target = offset_ray_origin(z.s.p, z.s.p_error, ng_z, -w);
+        vec3 origin = offset_ray_origin(y.s.p, y.s.p_error, y.s.ng, w);
+        vec3 target = offset_ray_origin(z.s.p, z.s.p_error, z.s.ng, -w);
         vec3 to_target = target - origin;
         float len = length(to_target);
         if (!(len > 0.0f)) continue;

@@ -5,7 +5,7 @@
 // / EFFECT_ALPHA textures).
 // Writes: rays[queue 0], paths (throughput: the power the subpath carries; bsdf_pdf: its largest component at the
 // light, Russian roulette's scale; radiance 0), shadow_rays (one splat per subpath, empty where there is none),
-// counters (as generate, and the shadow queue's length), path_mis (bdpt).
+// counters (as generate, and the shadow queue's length), path_mis (bdpt), path media.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "lib/bindings.glsl"
@@ -14,6 +14,7 @@
 #include "lib/effects.glsl"
 #include "lib/path_sampler.glsl"
 #include "lib/light_subpath.glsl"
+#include "lib/transmission.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE) in;
 
@@ -61,6 +62,8 @@ void main() {
     // Bidirectional path tracing leaves a light seen directly to the camera subpath (s = 0 alone, lib/bdpt.glsl).
     shadow_rays[i] = bdpt ? make_empty_splat() : start.splat;
     if (bdpt) path_mis[i] = start.mis;
+    // Lights stand outside every volume (README "Bidirectional path tracing"); the camera subpath starts its own.
+    if (tracks_media()) path_media[i] = uvec4(INVALID_INDEX);
 
     PathState state;
     state.throughput_r = start.power.x;

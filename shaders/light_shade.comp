@@ -3,11 +3,13 @@
 // segment, applies Russian roulette and pushes the continuation ray. Light carries importance's adjoint: the BSDF is
 // evaluated with its arguments swapped (f(towards the eye side, towards the light)) and the shading normal's
 // correction |wo.ng| / |wi.ng| of Veach 1997 (sec. 5.3) is applied, so a non-symmetric BSDF and interpolated normals
-// stay unbiased. Reflection only: a scene with transmission is refused on the host (render/light_tracing.cpp).
+// stay unbiased. Through glass the swap is the whole adjoint: the path tracer's 1 / eta^2 of refraction is evaluated
+// for the eye's side (Veach 1997 sec. 5.2), and the subpath keeps its stack of volumes (path_media) for the indices.
 // Bidirectional path tracing also keeps the vertex for the camera subpath (light_vertices), weights the splat by MIS
 // and carries the path's MIS quantities (lib/bdpt.glsl).
-// Reads: rays[queue depth & 1], hits, paths, triangles, materials, textures, instances, path_mis. Writes: paths,
-// rays[queue (depth + 1) & 1], shadow_rays, counters.ray_count / shadow_count, light_vertices, path_mis.
+// Reads: rays[queue depth & 1], hits, paths, path media, triangles, materials, textures, instances, path_mis. Writes:
+// paths, path media, rays[queue (depth + 1) & 1], shadow_rays, counters.ray_count / shadow_count, light_vertices,
+// path_mis.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "lib/bindings.glsl"
@@ -43,14 +45,18 @@ void main() {
     next.path = path;
     next.origin_triangle = hit.triangle;
 
+    uvec4 media = tracks_media() ? path_media[path] : uvec4(INVALID_INDEX);  // innermost first
+    uvec4 media_before = media;
+
     if (hit.triangle != INVALID_INDEX && max_value(beta) > 0.0f) {
         vec3 wl = -vec3(ray.dir_x, ray.dir_y, ray.dir_z);  // towards the light
         ShadingPoint sp = load_shading_point(hit.triangle, hit.b1, hit.b2, hit.instance);
         SurfaceHit s = sp.s;
-        bool front = dot(s.ng, wl) > 0.0f;  // reflection only: every direction here is on wl's side
-        vec3 ng = front ? s.ng : -s.ng;
+        bool front = dot(s.ng, wl) > 0.0f;  // the side the light arrives on
+        set_media(sp, media, front);
         // Proposal for the next direction: the BSDF as if the eye were towards the light.
-        SurfaceBsdf at_light = make_surface_bsdf(sp, front, ng, wl);
+        SurfaceBsdf at_light = make_surface_bsdf(sp, wl);
+        vec3 ng = at_light.ng;
         float cos_light_g = dot(wl, ng);  // 0 only for a ray in the facet's plane: the vertex then sends nothing
         if (bdpt && cos_light_g > 0.0f) {
             account_segment(mis, hit.t, cos_light_g, segments > 1u || (mis.flags & PATH_MIS_LIGHT_AT_INFINITY) == 0u);
@@ -69,17 +75,19 @@ void main() {
                 v.b1 = hit.b1;
                 v.b2 = hit.b2;
                 v.instance = hit.instance;
+                v.eta_front = sp.eta_front;
                 light_vertices[path * params.light_vertex_slots + push.depth] = v;
                 mis.light_vertices = segments;
             }
         }
 
-        // t = 1: the camera sees this vertex; the full path has one segment more than the subpath.
+        // t = 1: the camera sees this vertex (through the surface, if it transmits); the full path has one segment
+        // more than the subpath.
         if (cos_light_g > 0.0f && (params.max_depth == 0u || segments + 1u <= params.max_depth)) {
             FilmSplat splat = project_to_film(s.p);
-            float cos_camera_g = dot(splat.to_camera, ng);
+            float cos_camera_g = abs(dot(splat.to_camera, ng));
             if (splat.valid && cos_camera_g > 0.0f) {
-                SurfaceBsdf at_camera = make_surface_bsdf(sp, front, ng, splat.to_camera);
+                SurfaceBsdf at_camera = make_surface_bsdf(sp, splat.to_camera);
                 vec3 f = eval_surface_bsdf(at_camera, splat.to_camera, wl);  // f(camera, light) cos_light
                 vec3 contrib = beta * f * (cos_camera_g / cos_light_g * splat.importance);
                 if (bdpt)
@@ -87,7 +95,7 @@ void main() {
                                                    mis, splat.importance * cos_camera_g,
                                                    pdf_surface_bsdf(at_camera, splat.to_camera, wl)));
                 if (max_value(contrib) > 0.0f) {
-                    shadow = make_splat_ray(s.p, s.p_error, ng, splat, contrib, hit.triangle);
+                    shadow = make_splat_ray(s.p, s.p_error, at_camera.ng, splat, contrib, hit.triangle);
                     push_shadow = true;
                 }
             }
@@ -97,13 +105,13 @@ void main() {
         vec3 u_bsdf = vec3(next_float(rng), next_float(rng), next_float(rng));
         float u_roulette = next_float(rng);
         if (cos_light_g > 0.0f && (params.max_depth == 0u || segments + 1u < params.max_depth)) {
-            NextDirection next_dir = sample_next_direction(at_light, ng, wl, u_bsdf);
+            NextDirection next_dir = sample_next_direction(at_light, wl, u_bsdf);
             vec3 wi = next_dir.wi;
-            float cos_next_g = dot(wi, ng);
+            float cos_next_g = abs(dot(wi, ng));
             if (next_dir.pdf > 0.0f && cos_next_g > 0.0f) {
                 // Adjoint: f(next, light) cos_light as the path tracer's frame from `next` sees it, over the
                 // proposal's pdf, with the shading-normal correction.
-                SurfaceBsdf at_next = make_surface_bsdf(sp, front, ng, wi);
+                SurfaceBsdf at_next = make_surface_bsdf(sp, wi);
                 beta *= eval_surface_bsdf(at_next, wi, wl) * (cos_next_g / (cos_light_g * next_dir.pdf));
                 if (bdpt) account_scattering(mis, cos_next_g, next_dir.pdf, pdf_surface_bsdf(at_next, wi, wl));
                 bool survive = true;
@@ -114,6 +122,9 @@ void main() {
                     beta /= q;
                 }
                 if (survive && max_value(beta) > 0.0f) {
+                    // Crossing into (or out of) a volume.
+                    if (sp.volume && dot(wi, ng) < 0.0f)
+                        media = front ? enter_medium(media, s.material) : leave_medium(media, s.material);
                     vec3 origin = offset_ray_origin(s.p, s.p_error, ng, wi);
                     next.origin_x = origin.x;
                     next.origin_y = origin.y;
@@ -133,6 +144,7 @@ void main() {
     state.rng = rng;
     paths[path] = state;
     if (bdpt) path_mis[path] = mis;
+    if (tracks_media() && any(notEqual(media, media_before))) path_media[path] = media;
 
     uint slot;
     PUSH_TO_QUEUE(counters.ray_count[parity ^ 1u], push_ray, slot);

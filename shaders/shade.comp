@@ -29,24 +29,6 @@ layout(local_size_x = WORKGROUP_SIZE) in;
 
 float max_component(vec3 v) { return max(v.x, max(v.y, v.z)); }
 
-// Whether direction w (local frame: w_local) may leave here. A reflection (w_local.z > 0) must stay above the
-// geometric surface ng, or light leaks through it. A transmission (w_local.z < 0) below it crosses the surface; one
-// that stays above it (the interpolated normal tilts the shading frame away from the facet, at rims and silhouettes)
-// continues on wo's side without crossing, as Cycles lets it (README "Glass", "Interpolated normals").
-bool may_leave_towards(vec3 w, vec3 ng, vec3 w_local) {
-    float g = dot(w, ng);
-    return g != 0.0f && (w_local.z < 0.0f || g > 0.0f);
-}
-
-// What a transmission that stays on wo's side is multiplied by: the glass lobe's 1 / eta^2 converts between the
-// radiance of the two sides, and such a path never reaches the other side, so it is taken back (eta^2). Diffuse
-// transmission is thin-walled and has no such factor; with both lobes on one surface the path keeps the factor
-// (darker, never brighter).
-float same_side_transmission_scale(BsdfParams bsdf, bool volume, vec3 w, vec3 ng, vec3 w_local) {
-    if (!volume || has_diffuse_transmission(bsdf) || !(w_local.z < 0.0f) || !(dot(w, ng) > 0.0f)) return 1.0f;
-    return bsdf.glass.eta * bsdf.glass.eta;
-}
-
 void main() {
     uint i = gl_GlobalInvocationID.x;
     uint parity = push.depth & 1u;
@@ -195,17 +177,15 @@ void main() {
                 }
             }
             BsdfParams bsdf = make_bsdf_params(m);
+            float eta = m.ior;  // n beyond / n on this side (lib/transmission.glsl); thin-walled: the ior
             if (effect_on(EFFECT_TRANSMISSION)) {
-                // n beyond / n on this side: the outer volume's index, not air's, at a nested interface. Leaving a
-                // volume that is not the innermost (overlapping meshes) changes nothing on either side: eta 1.
-                float here = media.x == s.material ? max(m.ior, 1.0e-4f) : medium_ior(medium);
-                float eta = volume ? (front ? m.ior / medium_ior(medium) : medium_ior(media_beyond.x) / here) : m.ior;
+                if (volume) eta = refraction_eta_at(s.material, m.ior, media, front);
                 bsdf = with_transmission(bsdf, transmission, eta, volume ? 0u : 1u);
             }
             bsdf = add_bsdf_layers(bsdf, s, hit.triangle, hit.b1, hit.b2, frame, anisotropy, front, ng, wo);
             bool transmits = has_transmission_lobe(bsdf);
             uint medium_beyond = media_beyond.x;  // across the surface
-            // BDPT's reverse densities: the light subpath's sampler arriving along a direction (reflection only).
+            // BDPT's reverse densities: the light subpath's sampler arriving along a direction.
             ShadingPoint sp;
             if (bdpt) {
                 sp.s = s;
@@ -214,6 +194,9 @@ void main() {
                 sp.triangle = hit.triangle;
                 sp.b1 = hit.b1;
                 sp.b2 = hit.b2;
+                sp.transmission = transmission;
+                sp.volume = volume;
+                sp.eta_front = !volume ? 1.0f : front ? eta : 1.0f / max(eta, 1.0e-4f);
             }
 
             VertexSamples u = draw_vertex_samples(path, push.depth, rng);
@@ -233,8 +216,8 @@ void main() {
                     if (bdpt)
                         weight = weight_strategy(1u, segments + 1u, weight_light_connection(
                             mis, light.delta == 0u ? pdf_bsdf(bsdf, wo_local, wi_local) : 0.0f, light.pdf,
-                            light.emission_over_direct, dot(wi, ng),
-                            pdf_next_direction(make_surface_bsdf(sp, front, ng, wi), ng, wi, wo)));
+                            light.emission_over_direct, abs(dot(wi, ng)),
+                            pdf_next_direction(make_surface_bsdf(sp, wi), wi, wo)));
                     vec4 contrib = beta * lift_color(spectral, f) * lift_color(spectral, light.radiance_over_pdf) * weight;
                     if (max_path_component(contrib) > 0.0f) {
                         vec3 origin = offset_ray_origin(s.p, s.p_error, ng, wi);
@@ -293,8 +276,8 @@ void main() {
                     state.bsdf_pdf = bs.pdf;
                     push_ray = true;
                     if (bdpt)
-                        account_scattering(mis, dot(wi, ng), bs.pdf,
-                                           pdf_next_direction(make_surface_bsdf(sp, front, ng, wi), ng, wi, wo));
+                        account_scattering(mis, abs(dot(wi, ng)), bs.pdf,
+                                           pdf_next_direction(make_surface_bsdf(sp, wi), wi, wo));
                 }
             }
         }

@@ -16,9 +16,7 @@ struct Unsupported {
     const char* what;
 };
 constexpr Unsupported UNSUPPORTED[] = {
-    {gpu::EFFECT_TRANSMISSION, "transmission (KHR_materials_transmission)"},
-    {gpu::EFFECT_VOLUME, "volumes (KHR_materials_volume)"},
-    {gpu::EFFECT_DIFFUSE_TRANSMISSION, "diffuse transmission (KHR_materials_diffuse_transmission)"},
+    {gpu::EFFECT_ABSORPTION, "absorbing volumes (KHR_materials_volume attenuation)"},
     {gpu::EFFECT_SPECTRAL, "dispersion (KHR_materials_dispersion)"},
     {gpu::EFFECT_UNLIT, "unlit materials (KHR_materials_unlit)"},
     {gpu::EFFECT_MOTION_BLUR, "motion blur (--shutter)"},

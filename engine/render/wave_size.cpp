@@ -9,11 +9,12 @@ uint32_t choose_wave_paths(bool cpu_device, const DeviceMemoryLimits& limits, co
                            uint32_t effects, uint32_t film_width, uint32_t film_height, const BdptStore& bdpt) {
     const double per_path = bytes_per_path(scene, effects, bdpt);
     uint32_t paths = cpu_device ? CPU_WAVE_PATHS : GPU_WAVE_PATHS;
-    for (; paths > MIN_AUTO_WAVE_PATHS; paths /= 2) {
+    for (;; paths /= 2) {
         const bool buffers_fit =
             find_memory_problem(estimate_render_memory(scene, film_width, film_height, paths, effects, bdpt), limits).empty();
         const bool quarter = limits.device_local_heap == 0 || per_path * paths <= 0.25 * double(limits.device_local_heap);
         if (buffers_fit && quarter) break;
+        if (paths <= MIN_AUTO_WAVE_PATHS && (buffers_fit || paths <= MIN_FITTING_WAVE_PATHS)) break;
     }
     return paths;
 }

@@ -18,9 +18,12 @@ class Context;
 constexpr uint32_t CPU_WAVE_PATHS = 1u << 18;
 constexpr uint32_t GPU_WAVE_PATHS = 1u << 22;
 constexpr uint32_t MIN_AUTO_WAVE_PATHS = 1u << 16;
+// Below MIN_AUTO_WAVE_PATHS a wave shrinks only to fit a buffer limit (BDPT's light vertices at a deep --max-depth).
+constexpr uint32_t MIN_FITTING_WAVE_PATHS = 1u << 10;
 
 // The preferred size for the device, halved (not below MIN_AUTO_WAVE_PATHS) until every wave buffer keeps to the
-// device's buffer limits and the wave's buffers take at most a quarter of its device-local memory.
+// device's buffer limits and the wave's buffers take at most a quarter of its device-local memory; halved further
+// (not below MIN_FITTING_WAVE_PATHS) while a buffer still passes its limit.
 // `cpu_device`: VK_PHYSICAL_DEVICE_TYPE_CPU.
 // The film (film_width x film_height) counts towards the device's memory with the wave.
 uint32_t choose_wave_paths(bool cpu_device, const DeviceMemoryLimits& limits, const PackedScene& scene,

@@ -47,6 +47,16 @@ float medium_ior(uint medium) {
     return medium == INVALID_INDEX ? 1.0f : max(load_material(medium).ior, 1.0e-4f);
 }
 
+// The refraction eta (n beyond / n here) of the surface of the volume of `material` (index `ior`) for a path arriving
+// on the side `front` of its geometric normal inside the volumes `media`: the outer volume's index, not air's, at a
+// nested interface. Leaving a volume that is not the innermost (overlapping meshes) changes nothing on either side:
+// eta 1.
+float refraction_eta_at(uint material, float ior, uvec4 media, bool front) {
+    if (front) return ior / medium_ior(media.x);
+    float here = media.x == material ? max(ior, 1.0e-4f) : medium_ior(media.x);
+    return medium_ior(leave_medium(media, material).x) / here;
+}
+
 // What Russian roulette multiplies the throughput by inside the volume of `medium`: its ior^2, which undoes the
 // 1 / eta^2 of entering it (pbrt-v4's etaScale), so that a path is not rouletted for a scaling it will get
 // back on the way out (that made fireflies of up to 5x in a white furnace around a glass sphere).

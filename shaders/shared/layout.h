@@ -472,6 +472,7 @@ struct LightVertex {
     uint triangle;
     float b1, b2;
     uint instance;              // the Instance hit, or INVALID_INDEX
+    float eta_front;            // a volume's n behind the front face / n in front, by the subpath's volumes; else 1
 };
 
 // A ray waiting for its closest hit.

@@ -10,6 +10,11 @@ door_gap.gltf    (shipped in scenes/) two rooms joined by a door ajar by 20 cm; 
                  the near one: everything it sees is lit through the gap (README "Light tracing", the hard scenes).
 lamp_shade.gltf  (shipped in scenes/) a room lit only by a small lamp inside a closed-top cylindrical shade, open
                  below: the camera sees the room lit by the pool of light under the shade.
+glass_room.gltf  the lamp room with four spheres that light passes through: smooth glass and rough glass (both volumes,
+                 ior 1.5, smooth normals), thin-walled glass and a diffuse transmitter: light and camera subpaths must
+                 cross surfaces, keep their volumes' indices and agree with the path tracer.
+glass_caustic.gltf (shipped in scenes/) a smooth glass sphere hanging over the floor of the room under a small lamp,
+                 which it focuses to a caustic on the floor (README "Bidirectional path tracing").
 smooth_room.gltf the same room with one large Lambertian sphere of 6 x 4 facets: the shading normals alone (light subpaths must also
                  propose directions below the shading normal's hemisphere, where the path tracer's BSDF falls back to
                  the facet's frame; without that, 0.5% of the red channel went missing).
@@ -77,6 +82,56 @@ def smooth_room():
     sphere, normals = uv_sphere(6, 4, 1.0)
     material = g.add_material(base=(0.8, 0.8, 0.8))
     g.add_node({"mesh": g.add_mesh(placed(sphere, (1.0, 1.0, 1.0), (0.0, 0.6, 1.0)), material, normals)})
+    return g
+
+
+def glass_material(roughness, volume=True, ior=1.5):
+    m = {"pbrMetallicRoughness": {"baseColorFactor": [1.0, 1.0, 1.0, 1.0], "metallicFactor": 0.0,
+                                  "roughnessFactor": roughness},
+         "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0}, "KHR_materials_ior": {"ior": ior}}}
+    if volume:
+        m["extensions"]["KHR_materials_volume"] = {"thicknessFactor": 1.0}
+    return m
+
+
+def use_transmission_extensions(g):
+    g.doc["extensionsUsed"] += ["KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_volume",
+                                "KHR_materials_diffuse_transmission"]
+
+
+def glass_room():
+    g = room()
+    use_transmission_extensions(g)
+    room_camera(g)
+    sphere, normals = uv_sphere(12, 6, 1.0)
+    materials = [
+        glass_material(0.0),
+        glass_material(0.4),
+        glass_material(0.2, volume=False),
+        {"pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.8, 0.3, 1.0], "metallicFactor": 0.0,
+                                  "roughnessFactor": 0.7},
+         "extensions": {"KHR_materials_diffuse_transmission": {"diffuseTransmissionFactor": 0.6}}},
+    ]
+    centres = [(-1.05, 0.3, 0.5), (-0.35, 0.9, 0.5), (0.35, 0.9, 0.5), (1.05, 0.3, 0.5)]
+    for material, centre in zip(materials, centres):
+        g.doc["materials"].append(material)
+        mesh = g.add_mesh(placed(sphere, (0.45, 0.45, 0.45), centre), len(g.doc["materials"]) - 1, normals)
+        g.add_node({"mesh": mesh})
+    return g
+
+
+def glass_caustic():
+    """The room without its ceiling lamp: a smooth glass sphere (radius 0.4, ior 1.5, smooth normals) hangs with its
+    centre 0.9 over the floor, under a small lamp (0.2 x 0.2) 2 higher; the sphere focuses the lamp near the floor."""
+    g = room(lamp=False)
+    use_transmission_extensions(g)
+    sphere, normals = uv_sphere(48, 24, 1.0)
+    g.doc["materials"].append(glass_material(0.0))
+    g.add_node({"mesh": g.add_mesh(placed(sphere, (0.4, 0.4, 0.4), (0.0, 0.5, 0.9)), len(g.doc["materials"]) - 1,
+                                   normals)})
+    lamp = g.add_material(base=(0.0, 0.0, 0.0), emission=200.0)
+    g.add_node({"mesh": g.add_mesh(quad(-0.1, 0.4, 0.1, 0.6, 2.9, facing_up=False), lamp)})
+    g.add_perspective_camera(look_at((0.0, -1.7, 1.9), (0.0, 0.5, 0.3)), 1.0)
     return g
 
 
@@ -162,6 +217,8 @@ def main():
     out.mkdir(parents=True, exist_ok=True)
     lamp_room().write(out / "lamp_room.gltf")
     smooth_room().write(out / "smooth_room.gltf")
+    glass_room().write(out / "glass_room.gltf")
+    glass_caustic().write(out / "glass_caustic.gltf")
     door_gap().write(out / "door_gap.gltf")
     lamp_shade().write(out / "lamp_shade.gltf")
 
