@@ -36,7 +36,10 @@ void main() {
     vec3 wo = -vec3(ray.dir_x, ray.dir_y, ray.dir_z);
     ShadingPoint y = load_shading_point(hit.triangle, hit.b1, hit.b2, hit.instance);
     bool front_y = dot(y.s.ng, wo) > 0.0f;
-    if (tracks_media()) set_media(y, path_media[path], front_y);
+    uvec4 media_y = tracks_media() ? path_media[path] : uvec4(INVALID_INDEX);
+    set_media(y, media_y, front_y);
+    // Beer-Lambert along the segment to y (shade, after this stage, applies it to the path's own throughput).
+    if (effect_on(EFFECT_ABSORPTION)) beta *= eval_medium_transmittance(media_y.x, hit.t);
     SurfaceBsdf at_y = make_surface_bsdf(y, wo);
     float cos_wo = dot(wo, at_y.ng);
     if (!(cos_wo > 0.0f) || !(max_value(beta) > 0.0f)) return;
@@ -64,14 +67,16 @@ void main() {
         vec3 f_z = eval_surface_bsdf(at_z, -w, wl);  // f cos at z, light from wl
         vec3 light_beta = vec3(v.throughput_r, v.throughput_g, v.throughput_b);
         vec3 contrib = beta * f_y * f_z * light_beta * (cos_z / (cos_wl * dist2));
+        // Beer-Lambert along the joint, inside an absorbing volume (on y's side towards z).
+        if (effect_on(EFFECT_ABSORPTION))
+            contrib *= eval_medium_transmittance(medium_towards(y, media_y, front_y, w), sqrt(dist2));
         if (!(max_value(contrib) > 0.0f)) continue;
 
         PathMis light_mis;
         light_mis.dvcm = v.dvcm;
         light_mis.dvc = v.dvc;
         float camera_forward_area = pdf_surface_bsdf(at_y, wo, w) * cos_z / dist2;
-        float light_forward_area =
-            pdf_next_direction(make_surface_bsdf(z, wl), wl, -w) * cos_y / dist2;
+        float light_forward_area = pdf_next_direction(make_surface_bsdf(z, wl), wl, -w) * cos_y / dist2;
         float camera_reverse = pdf_next_direction(make_surface_bsdf(y, w), w, wo);
         float light_reverse = pdf_surface_bsdf(at_z, -w, wl);
         float weight = weight_strategy(k + 2u, segments + 1u,

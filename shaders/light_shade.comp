@@ -4,7 +4,8 @@
 // evaluated with its arguments swapped (f(towards the eye side, towards the light)) and the shading normal's
 // correction |wo.ng| / |wi.ng| of Veach 1997 (sec. 5.3) is applied, so a non-symmetric BSDF and interpolated normals
 // stay unbiased. Through glass the swap is the whole adjoint: the path tracer's 1 / eta^2 of refraction is evaluated
-// for the eye's side (Veach 1997 sec. 5.2), and the subpath keeps its stack of volumes (path_media) for the indices.
+// for the eye's side (Veach 1997 sec. 5.2), and the subpath keeps its stack of volumes (path_media) for the indices
+// and for Beer-Lambert absorption along its segments and its splats.
 // Bidirectional path tracing also keeps the vertex for the camera subpath (light_vertices), weights the splat by MIS
 // and carries the path's MIS quantities (lib/bdpt.glsl).
 // Reads: rays[queue depth & 1], hits, paths, path media, triangles, materials, textures, instances, path_mis. Writes:
@@ -48,6 +49,9 @@ void main() {
     uvec4 media = tracks_media() ? path_media[path] : uvec4(INVALID_INDEX);  // innermost first
     uvec4 media_before = media;
 
+    // Beer-Lambert along the segment just traced, inside an absorbing volume.
+    if (effect_on(EFFECT_ABSORPTION) && hit.triangle != INVALID_INDEX) beta *= eval_medium_transmittance(media.x, hit.t);
+
     if (hit.triangle != INVALID_INDEX && max_value(beta) > 0.0f) {
         vec3 wl = -vec3(ray.dir_x, ray.dir_y, ray.dir_z);  // towards the light
         ShadingPoint sp = load_shading_point(hit.triangle, hit.b1, hit.b2, hit.instance);
@@ -90,6 +94,8 @@ void main() {
                 SurfaceBsdf at_camera = make_surface_bsdf(sp, splat.to_camera);
                 vec3 f = eval_surface_bsdf(at_camera, splat.to_camera, wl);  // f(camera, light) cos_light
                 vec3 contrib = beta * f * (cos_camera_g / cos_light_g * splat.importance);
+                if (effect_on(EFFECT_ABSORPTION))
+                    contrib *= eval_medium_transmittance(medium_towards(sp, media, front, splat.to_camera), splat.dist);
                 if (bdpt)
                     contrib *= weight_strategy(segments + 1u, 1u, weight_camera_connection(
                                                    mis, splat.importance * cos_camera_g,
@@ -123,8 +129,7 @@ void main() {
                 }
                 if (survive && max_value(beta) > 0.0f) {
                     // Crossing into (or out of) a volume.
-                    if (sp.volume && dot(wi, ng) < 0.0f)
-                        media = front ? enter_medium(media, s.material) : leave_medium(media, s.material);
+                    if (dot(wi, ng) < 0.0f) media = media_across(sp, media, front);
                     vec3 origin = offset_ray_origin(s.p, s.p_error, ng, wi);
                     next.origin_x = origin.x;
                     next.origin_y = origin.y;

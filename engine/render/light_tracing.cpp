@@ -16,7 +16,6 @@ struct Unsupported {
     const char* what;
 };
 constexpr Unsupported UNSUPPORTED[] = {
-    {gpu::EFFECT_ABSORPTION, "absorbing volumes (KHR_materials_volume attenuation)"},
     {gpu::EFFECT_SPECTRAL, "dispersion (KHR_materials_dispersion)"},
     {gpu::EFFECT_UNLIT, "unlit materials (KHR_materials_unlit)"},
     {gpu::EFFECT_MOTION_BLUR, "motion blur (--shutter)"},

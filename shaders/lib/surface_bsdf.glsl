@@ -74,6 +74,18 @@ void set_media(inout ShadingPoint sp, uvec4 media, bool front) {
     sp.eta_front = front ? eta : 1.0f / max(eta, 1.0e-4f);
 }
 
+// The volumes across the surface from a subpath in `media` on the side `front`: it enters the point's volume, or
+// leaves it for the outer ones.
+uvec4 media_across(ShadingPoint sp, uvec4 media, bool front) {
+    if (!sp.volume) return media;
+    return front ? enter_medium(media, sp.s.material) : leave_medium(media, sp.s.material);
+}
+
+// The volume a segment leaving the point along w travels in, for a subpath in `media` on the side `front`.
+uint medium_towards(ShadingPoint sp, uvec4 media, bool front, vec3 w) {
+    return (dot(w, sp.s.ng) > 0.0f) == front ? media.x : media_across(sp, media, front).x;
+}
+
 // A surface's BSDF and shading frame as shade.comp builds them for a viewer towards `eye`: the frame's normal is the
 // shading normal on the eye's side (the geometric one where the shading normal faces away from the eye; kept so a
 // mirror reflection stays above the surface where a normal texture or glass tilts it), and the clear coat's normal

@@ -21,6 +21,8 @@ looks straight down (-Z) at a white emitter of radiance 1 on the plane z = 0 thr
                              --background 1,1,1 white in every pixel, rough or not (the multiple-scattering lobe gives
                              back what single scattering loses; without it roughness 1 reads 0.64, README "Glass").
   glass_furnace_thin_r100.gltf  the same sphere thin-walled (no volume), roughness 1: white too.
+  glass_furnace_absorbing.gltf  the sphere at roughness 0.5, absorbing (attenuationColor 0.5 at distance 1): not
+                             white; BDPT must agree with path tracing (light subpaths absorbed inside it).
   glass_furnace_tube.gltf    a smooth glass tube with walls 0.05 thick and flat rims, its vertex normals smooth around
                              it and bent 45 degrees at the rims (as modelled glassware): white too, although light
                              guided along the walls by total internal reflection meets bent normals at every bounce
@@ -163,10 +165,11 @@ _ABOVE = stack_of_layers([("interface", 1.0, 1.5), ("slab", 0.5 ** 0.5), ("inter
 NESTED_CAMERA_EXPECTED = 1.33 ** 2 * _BELOW[1] / (1.0 - _BELOW[0] * _ABOVE[2])
 
 
-def furnace(roughness, dispersion=None, volume=True):
+def furnace(roughness, dispersion=None, volume=True, attenuation=None):
     g = Gltf()
     use_glass_extensions(g)
-    g.doc["materials"].append(glass(roughness=roughness, volume=volume, dispersion=dispersion))
+    g.doc["materials"].append(glass(roughness=roughness, volume=volume, dispersion=dispersion,
+                                    attenuation=attenuation))
     g.add_node({"mesh": g.add_mesh(icosphere(4), 0)})
     g.add_perspective_camera({"translation": [0.0, 0.0, 3.0]}, 0.8)
     return g
@@ -259,6 +262,7 @@ def main():
         "glass_furnace_r30": furnace(0.3),
         "glass_furnace_r100": furnace(1.0),
         "glass_furnace_thin_r100": furnace(1.0, volume=False),
+        "glass_furnace_absorbing": furnace(0.5, attenuation=(0.5, 1.0)),
         "glass_furnace_tube": tube_furnace(),
         "glass_furnace_open": open_box_furnace(),
         # The camera (z = 3) inside an absorbing glass block from z = 0.5 to 5 (see the docstring).
