@@ -42,7 +42,8 @@ void main() {
     if (effect_on(EFFECT_ABSORPTION)) beta *= eval_medium_transmittance(media_y.x, hit.t);
     SurfaceBsdf at_y = make_surface_bsdf(y, wo);
     float cos_wo = dot(wo, at_y.ng);
-    if (!(cos_wo > 0.0f) || !(max_value(beta) > 0.0f)) return;
+    bool unlit = effect_on(EFFECT_UNLIT) && (y.m.flags & MATERIAL_UNLIT) != 0u;  // black but to the camera's own ray
+    if (!(cos_wo > 0.0f) || !(max_value(beta) > 0.0f) || unlit) return;
     account_segment(camera_mis, hit.t, cos_wo, camera_segment_has_distance(segments));
 
     vec3 sum = vec3(0.0f);

@@ -61,7 +61,10 @@ void main() {
         // Proposal for the next direction: the BSDF as if the eye were towards the light.
         SurfaceBsdf at_light = make_surface_bsdf(sp, wl);
         vec3 ng = at_light.ng;
-        float cos_light_g = dot(wl, ng);  // 0 only for a ray in the facet's plane: the vertex then sends nothing
+        // 0 only for a ray in the facet's plane: the vertex then sends nothing. An unlit surface (KHR_materials_unlit) is
+        // black to every ray but the camera's (BDPT's s = 0 at the first camera vertex shows it): it ends the subpath.
+        bool unlit = effect_on(EFFECT_UNLIT) && (sp.m.flags & MATERIAL_UNLIT) != 0u;
+        float cos_light_g = unlit ? 0.0f : dot(wl, ng);
         if (bdpt && cos_light_g > 0.0f) {
             account_segment(mis, hit.t, cos_light_g, segments > 1u || (mis.flags & PATH_MIS_LIGHT_AT_INFINITY) == 0u);
             // Kept for the camera subpath while a camera vertex can still join it within --max-depth.

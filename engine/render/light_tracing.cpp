@@ -10,15 +10,17 @@ namespace fh {
 
 namespace {
 
-// Effects whose transport light_shade.comp does not carry yet, with what each means to a user.
+// Effects whose transport light_shade.comp does not carry yet, with what each means to a user. Unlit materials are
+// seen by the camera's own rays only, which BDPT has and light tracing has not.
 struct Unsupported {
     uint32_t bit;
     const char* what;
+    bool bdpt_handles;
 };
 constexpr Unsupported UNSUPPORTED[] = {
-    {gpu::EFFECT_SPECTRAL, "dispersion (KHR_materials_dispersion)"},
-    {gpu::EFFECT_UNLIT, "unlit materials (KHR_materials_unlit)"},
-    {gpu::EFFECT_MOTION_BLUR, "motion blur (--shutter)"},
+    {gpu::EFFECT_SPECTRAL, "dispersion (KHR_materials_dispersion)", false},
+    {gpu::EFFECT_UNLIT, "unlit materials (KHR_materials_unlit), which only camera rays see", true},
+    {gpu::EFFECT_MOTION_BLUR, "motion blur (--shutter)", false},
 };
 
 }  // namespace
@@ -48,7 +50,8 @@ std::string find_light_tracing_obstacle(const PackedScene& scene, const RenderSe
     }
     if (settings.lens.on() || camera.has_lens()) return "light tracing does not handle a thin lens (--aperture) yet";
     for (const Unsupported& u : UNSUPPORTED)
-        if (effects & u.bit) return std::string("light tracing does not handle ") + u.what + " yet";
+        if ((effects & u.bit) && !(u.bdpt_handles && settings.integrator == Integrator::bdpt))
+            return std::string("light tracing does not handle ") + u.what + " yet";
     if (scene.emitters.empty()) return "nothing in the scene emits, and there is no --env or --background";
     if (camera.orthographic && (effects & gpu::EFFECT_ENVIRONMENT))
         return "an orthographic camera sees the environment along one direction only, which no light subpath can "

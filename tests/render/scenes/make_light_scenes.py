@@ -15,6 +15,8 @@ glass_room.gltf  the lamp room with four spheres that light passes through: smoo
                  cross surfaces, keep their volumes' indices and agree with the path tracer.
 glass_caustic.gltf (shipped in scenes/) a smooth glass sphere hanging over the floor of the room under a small lamp,
                  which it focuses to a caustic on the floor (README "Bidirectional path tracing").
+unlit_room.gltf  the lamp room with an unlit sphere (KHR_materials_unlit, base colour (0.9, 0.5, 0.1)): the camera sees
+                 its colour, every other ray finds it black (light subpaths end there).
 smooth_room.gltf the same room with one large Lambertian sphere of 6 x 4 facets: the shading normals alone (light subpaths must also
                  propose directions below the shading normal's hemisphere, where the path tracer's BSDF falls back to
                  the facet's frame; without that, 0.5% of the red channel went missing).
@@ -120,6 +122,20 @@ def glass_room():
     return g
 
 
+def unlit_room():
+    g = room()
+    g.doc["extensionsUsed"] += ["KHR_materials_unlit"]
+    room_camera(g)
+    sphere, normals = uv_sphere(12, 6, 1.0)
+    # Not metallic (glTF's default), so that a BSDF, were it evaluated there, would reflect (a metal's would be black
+    # here: the scene has no specular lobe compiled in).
+    g.doc["materials"].append({"pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.5, 0.1, 1.0], "metallicFactor": 0.0},
+                               "extensions": {"KHR_materials_unlit": {}}})
+    g.add_node({"mesh": g.add_mesh(placed(sphere, (0.6, 0.6, 0.6), (0.3, 0.6, 0.6)), len(g.doc["materials"]) - 1,
+                                   normals)})
+    return g
+
+
 def glass_caustic():
     """The room without its ceiling lamp: a smooth glass sphere (radius 0.4, ior 1.5, smooth normals) hangs with its
     centre 0.9 over the floor, under a small lamp (0.2 x 0.2) 2 higher; the sphere focuses the lamp near the floor."""
@@ -218,6 +234,7 @@ def main():
     lamp_room().write(out / "lamp_room.gltf")
     smooth_room().write(out / "smooth_room.gltf")
     glass_room().write(out / "glass_room.gltf")
+    unlit_room().write(out / "unlit_room.gltf")
     glass_caustic().write(out / "glass_caustic.gltf")
     door_gap().write(out / "door_gap.gltf")
     lamp_shade().write(out / "lamp_shade.gltf")
