@@ -113,8 +113,9 @@ void main() {
         bool double_sided = (m.flags & MATERIAL_DOUBLE_SIDED) != 0u;
         if (bdpt) account_segment(mis, hit.t, abs(dot(s.ng, wo)), camera_segment_has_distance(segments));
 
-        if (unlit && push.depth == 0u)
-            radiance += film_color(spectral, beta * lift_color(spectral, max(vec3(m.base_color), vec3(0.0f))));
+        if (unlit && push.depth == 0u)  // BDPT: s = 0 alone makes it (--bdpt-strategy keeps it with (0,2) only)
+            radiance += film_color(spectral, beta * lift_color(spectral, max(vec3(m.base_color), vec3(0.0f)))) *
+                        (bdpt ? weight_strategy(0u, 2u, 1.0f) : 1.0f);
 
         // Emission. Paths that could also have sampled this light by NEE are weighted by the power
         // heuristic (Veach 1997, eq. 9.13); with NEE on and MIS off, only NEE counts light from surfaces.

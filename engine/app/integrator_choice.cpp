@@ -72,7 +72,7 @@ IntegratorChoice choose_integrator_by_pilot(const vk::Context& context, const Pa
             check_render_settings(scene, camera, s);
         } catch (const std::invalid_argument&) {
             report += std::string(" ") + to_string(candidate) + " not possible;";
-            continue;  // a candidate the scene or settings rule out (light subpaths through glass, unbounded depth)
+            continue;  // a candidate the scene or settings rule out (dispersion under light subpaths, unbounded depth)
         }
         pilots.push_back(run_pilot(context, scene, camera, s, spp, max_spp));
         char text[96];

@@ -19,7 +19,7 @@ struct Unsupported {
 };
 constexpr Unsupported UNSUPPORTED[] = {
     {gpu::EFFECT_SPECTRAL, "dispersion (KHR_materials_dispersion)", false},
-    {gpu::EFFECT_UNLIT, "unlit materials (KHR_materials_unlit), which only camera rays see", true},
+    {gpu::EFFECT_UNLIT, "unlit materials (KHR_materials_unlit: only camera rays see them; --integrator bdpt does)", true},
     {gpu::EFFECT_MOTION_BLUR, "motion blur (--shutter)", false},
 };
 

@@ -62,7 +62,7 @@ ShadingPoint load_shading_point(uint triangle, float b1, float b2, uint instance
     sp.s.nc = apply_clearcoat_normal_texture(sp.s.material, triangle, b1, b2, sp.s.nc);
     if (instanced) sp.s = place_surface(sp.s, inst);
     sp.transmission = eval_transmission(sp.s.material, triangle, b1, b2);
-    sp.volume = encloses_volume(sp.s.material);
+    sp.volume = effect_on(EFFECT_TRANSMISSION) && encloses_volume(sp.s.material);  // as shade.comp gates it
     sp.eta_front = 1.0f;
     return sp;
 }

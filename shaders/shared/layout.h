@@ -462,8 +462,8 @@ struct PathMis {
 };
 
 // A vertex of a light subpath kept for the camera subpath of the same (pixel, sample) to connect to: where it is
-// (the surface is reloaded from the hit), the direction back towards the light, the throughput that reached it and
-// its MIS quantities. 48 bytes.
+// (the surface is reloaded from the hit), the direction back towards the light, the throughput that reached it, its
+// MIS quantities and the refraction ratio of its volumes. 52 bytes.
 struct LightVertex {
     float throughput_r, throughput_g, throughput_b;
     float dvcm;
