@@ -56,11 +56,19 @@ def room_camera(g):
     g.add_perspective_camera({"translation": [0.0, -1.5, 1.2], "rotation": [0.6755902, 0.0, 0.0, 0.7372773]}, 1.1)
 
 
+def add_spheres(g, materials, centres, radius, segments, rings):
+    """Low-poly smooth spheres of `radius`, one per (material, centre); each material is appended to the document."""
+    sphere, normals = uv_sphere(segments, rings, 1.0)
+    for material, centre in zip(materials, centres):
+        g.doc["materials"].append(material)
+        mesh = g.add_mesh(placed(sphere, (radius, radius, radius), centre), len(g.doc["materials"]) - 1, normals)
+        g.add_node({"mesh": mesh})
+
+
 def lamp_room():
     g = room()
     g.doc["extensionsUsed"] += ["KHR_materials_clearcoat", "KHR_materials_sheen"]
     room_camera(g)
-    sphere, normals = uv_sphere(8, 4, 1.0)
     materials = [
         {"pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.1, 0.1, 1.0], "metallicFactor": 0.0,
                                   "roughnessFactor": 0.6},
@@ -71,10 +79,7 @@ def lamp_room():
                                   "roughnessFactor": 0.5},
          "extensions": {"KHR_materials_sheen": {"sheenColorFactor": [1.0, 1.0, 1.0], "sheenRoughnessFactor": 0.5}}},
     ]
-    for material, centre in zip(materials, [(-0.9, 0.3, 0.6), (0.0, 0.8, 0.6), (0.9, 0.3, 0.6)]):
-        g.doc["materials"].append(material)
-        mesh = g.add_mesh(placed(sphere, (0.6, 0.6, 0.6), centre), len(g.doc["materials"]) - 1, normals)
-        g.add_node({"mesh": mesh})
+    add_spheres(g, materials, [(-0.9, 0.3, 0.6), (0.0, 0.8, 0.6), (0.9, 0.3, 0.6)], 0.6, 8, 4)
     return g
 
 
@@ -105,7 +110,6 @@ def glass_room():
     g = room()
     use_transmission_extensions(g)
     room_camera(g)
-    sphere, normals = uv_sphere(12, 6, 1.0)
     materials = [
         glass_material(0.0),
         glass_material(0.4),
@@ -115,10 +119,7 @@ def glass_room():
          "extensions": {"KHR_materials_diffuse_transmission": {"diffuseTransmissionFactor": 0.6}}},
     ]
     centres = [(-1.05, 0.3, 0.5), (-0.35, 0.9, 0.5), (0.35, 0.9, 0.5), (1.05, 0.3, 0.5)]
-    for material, centre in zip(materials, centres):
-        g.doc["materials"].append(material)
-        mesh = g.add_mesh(placed(sphere, (0.45, 0.45, 0.45), centre), len(g.doc["materials"]) - 1, normals)
-        g.add_node({"mesh": mesh})
+    add_spheres(g, materials, centres, 0.45, 12, 6)
     return g
 
 
@@ -126,13 +127,11 @@ def unlit_room():
     g = room()
     g.doc["extensionsUsed"] += ["KHR_materials_unlit"]
     room_camera(g)
-    sphere, normals = uv_sphere(12, 6, 1.0)
     # Not metallic (glTF's default), so that a BSDF, were it evaluated there, would reflect (a metal's would be black
     # here: the scene has no specular lobe compiled in).
-    g.doc["materials"].append({"pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.5, 0.1, 1.0], "metallicFactor": 0.0},
-                               "extensions": {"KHR_materials_unlit": {}}})
-    g.add_node({"mesh": g.add_mesh(placed(sphere, (0.6, 0.6, 0.6), (0.3, 0.6, 0.6)), len(g.doc["materials"]) - 1,
-                                   normals)})
+    unlit = {"pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.5, 0.1, 1.0], "metallicFactor": 0.0},
+             "extensions": {"KHR_materials_unlit": {}}}
+    add_spheres(g, [unlit], [(0.3, 0.6, 0.6)], 0.6, 12, 6)
     return g
 
 
