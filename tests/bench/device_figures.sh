@@ -54,7 +54,7 @@ for name in ("embreex.rtcore_scene", "embreex.mesh_construction"):
 sys.modules["embreex.mesh_construction"].TriangleMesh = None
 sys.path.insert(0, "tests/bench")
 import compare_embree
-triangles = compare_embree.read_glb_triangles(sys.argv[1])
+triangles = compare_embree.read_triangles(sys.argv[1])
 o, d = compare_embree.diffuse_rays(triangles, 500_000, 1)
 np.concatenate([o, d], axis=1).astype("<f4").tofile(sys.argv[2])
 EOF
