@@ -7,7 +7,7 @@
 // Reads: rays[queue depth & 1], hits, paths, triangles, materials, emitters, textures, environment, and for
 // glass, sheens and clear coats the material layers, path media and path spectra. Writes: paths, path media, path
 // spectra, rays[queue (depth + 1) & 1], shadow_rays, counters.ray_count / shadow_count.
-// `--integrator bdpt` (SPEC_INTEGRATOR) weights emission and NEE against every strategy of bidirectional path tracing
+// `--integrator bdpt` (the shade_bdpt SPIR-V, FH_INTEGRATOR) weights emission and NEE against every strategy of bidirectional path tracing
 // and carries the camera subpath's MIS quantities (path_mis; lib/bdpt.glsl) instead of the path tracer's two-way MIS.
 #version 460
 #extension GL_GOOGLE_include_directive : require

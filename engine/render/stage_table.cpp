@@ -12,9 +12,13 @@
 #include "shaders/connect_subpaths.spv.h"
 #include "shaders/extend.spv.h"
 #include "shaders/generate.spv.h"
+#include "shaders/generate_bdpt.spv.h"
 #include "shaders/light_generate.spv.h"
+#include "shaders/light_generate_bdpt.spv.h"
 #include "shaders/light_shade.spv.h"
+#include "shaders/light_shade_bdpt.spv.h"
 #include "shaders/shade.spv.h"
+#include "shaders/shade_bdpt.spv.h"
 #include "shaders/splat.spv.h"
 #include "shared/layout.h"
 
@@ -46,24 +50,24 @@ StageTable::StageTable(const vk::Context& context, const StageOptions& options)
     spec[gpu::SPEC_EFFECTS] = options.effects;
     spec[gpu::SPEC_HAS_INSTANCES] = options.instances ? 1u : 0u;
     spec[gpu::SPEC_SAMPLER] = options.sampler;
-    spec[gpu::SPEC_INTEGRATOR] = options.integrator == Integrator::bdpt    ? gpu::INTEGRATOR_BDPT
-                                 : options.integrator == Integrator::light ? gpu::INTEGRATOR_LIGHT
-                                                                           : gpu::INTEGRATOR_PATH;
     auto make = [&](Stage stage, std::span<const uint32_t> spirv) {
         pipelines_[size_t(stage)] =
             std::make_unique<vk::ComputePipeline>(context, bindings_, stage_name(stage), spirv, spec);
     };
+    // The stages BDPT shares with path or light tracing have a SPIR-V of their own for it (shaders/CMakeLists.txt).
+    const bool bdpt = options.integrator == Integrator::bdpt;
+    using Spirv = std::span<const uint32_t>;
     make(Stage::extend, spv_extend);
     make(Stage::advance, spv_advance);
     make(Stage::accumulate, spv_accumulate);
     if (options.integrator != Integrator::path) {
-        make(Stage::light_generate, spv_light_generate);
-        make(Stage::light_shade, spv_light_shade);
+        make(Stage::light_generate, bdpt ? Spirv(spv_light_generate_bdpt) : Spirv(spv_light_generate));
+        make(Stage::light_shade, bdpt ? Spirv(spv_light_shade_bdpt) : Spirv(spv_light_shade));
         make(Stage::splat, spv_splat);
     }
     if (options.integrator != Integrator::light) {
-        make(Stage::generate, spv_generate);
-        make(Stage::shade, spv_shade);
+        make(Stage::generate, bdpt ? Spirv(spv_generate_bdpt) : Spirv(spv_generate));
+        make(Stage::shade, bdpt ? Spirv(spv_shade_bdpt) : Spirv(spv_shade));
         make(Stage::connect, spv_connect);
     }
     if (options.integrator == Integrator::bdpt) make(Stage::connect_subpaths, spv_connect_subpaths);

@@ -20,7 +20,7 @@ struct StageOptions {
     uint32_t effects = 0;                   // layout.h EFFECT_* bits (scene/effects.h)
     bool instances = false;                 // two-level BVH (pack.h PackedScene::instances)
     uint32_t sampler = 0;                   // layout.h SAMPLER_*
-    Integrator integrator = Integrator::path;  // which stages are built (SPEC_INTEGRATOR): BDPT builds both sides'
+    Integrator integrator = Integrator::path;  // which stages are built, and which SPIR-V (FH_INTEGRATOR): BDPT builds both sides'
 };
 
 class StageTable {

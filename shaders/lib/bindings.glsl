@@ -23,9 +23,12 @@ layout(std430, binding = BINDING_PATH_MIS) buffer PathMisBuffer { PathMis path_m
 // Set by the host for a two-level BVH (meshes drawn by several nodes); without it the instance code is not
 // compiled into traversal or shading.
 layout(constant_id = SPEC_HAS_INSTANCES) const bool scene_has_instances = false;
-// Which integrator the stage serves (INTEGRATOR_*): the BDPT-only code of shared stages compiles away otherwise.
-layout(constant_id = SPEC_INTEGRATOR) const uint integrator = INTEGRATOR_PATH;
+// Which integrator the stage serves (INTEGRATOR_*), fixed when it is compiled: shaders/CMakeLists.txt builds one SPIR-V
+// per integrator for the stages that differ (FH_INTEGRATOR). A stage compiled once cannot name these.
+#ifdef FH_INTEGRATOR
+const uint integrator = FH_INTEGRATOR;
 const bool bdpt = integrator == INTEGRATOR_BDPT;
+#endif
 
 #include "ggx_albedo_table.glsl"
 #include "sheen_albedo_table.glsl"

@@ -72,8 +72,7 @@ FH_CONST uint SPEC_DISABLED_TECHNIQUES = 0u;       // TECHNIQUE_* bits switched 
 FH_CONST uint SPEC_EFFECTS = 1u;                   // EFFECT_* bits: what the scene calls for (scene/effects.h)
 FH_CONST uint SPEC_HAS_INSTANCES = 2u;             // bool: two-level BVH (meshes drawn by several nodes)
 FH_CONST uint SPEC_SAMPLER = 3u;                   // SAMPLER_*: where a path's random numbers come from
-FH_CONST uint SPEC_INTEGRATOR = 4u;               // INTEGRATOR_*: which integrator the stage serves
-FH_CONST uint SPEC_CONSTANT_COUNT = 5u;
+FH_CONST uint SPEC_CONSTANT_COUNT = 4u;
 
 // ---- Effects (engine/scene/effects.h decides them by value; a stage compiles only the code of those set) ----
 FH_CONST uint EFFECT_BASE_COLOR_TEXTURE = 1u;      // some visible material has a baseColorTexture
@@ -147,7 +146,7 @@ FH_CONST uint FILTER_BOX = 0u;             // one pixel wide
 FH_CONST uint FILTER_GAUSSIAN = 1u;        // truncated Gaussian, importance sampled (weight 1)
 FH_CONST uint SAMPLER_INDEPENDENT = 0u;    // each path's own PCG stream (lib/rng.glsl)
 FH_CONST uint SAMPLER_SOBOL = 1u;          // Owen-scrambled Sobol', four dimensions per block (lib/sobol.glsl)
-FH_CONST uint INTEGRATOR_PATH = 0u;        // SPEC_INTEGRATOR: path tracing (NEE and MIS)
+FH_CONST uint INTEGRATOR_PATH = 0u;        // FH_INTEGRATOR (lib/bindings.glsl): path tracing (NEE and MIS)
 FH_CONST uint INTEGRATOR_LIGHT = 1u;       // light tracing: the t = 1 strategies alone
 FH_CONST uint INTEGRATOR_BDPT = 2u;        // bidirectional path tracing, every (s, t) combined by MIS
 FH_CONST uint PATH_MIS_LIGHT_AT_INFINITY = 1u;  // PathMis.flags: the light subpath left a directional light or the
