@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The speed figures the README reports per device, in one run on whatever Vulkan device fredholm picks (a GPU, or
 # lavapipe): the Cornell box at three sizes, the efficiency render, wave sizes, the displaced-sphere ladder (extend
-# rays/s over 500,000 diffuse rays, render time per sample), a textured asset, time to first pixel.
+# rays/s over 500,000 diffuse rays, render time per sample), a textured asset, the three integrators on the hard
+# scenes, time to first pixel.
 #   tests/bench/device_figures.sh OUT_DIR [FREDHOLM] [MODELS]
 # OUT_DIR gets figures.log (everything printed), JSON per measurement, and cornell_256_64spp.exr (to score against
 # the reference elsewhere). MODELS is ../shared/scenes-thirdparty (the DamagedHelmet figure is skipped without it).
@@ -68,6 +69,14 @@ if [ -d "$models/DamagedHelmet" ]; then
     run "$fredholm" bench "$models/DamagedHelmet/glTF/DamagedHelmet.gltf" --env scenes/environments/courtyard.exr \
         --sizes 512 --spp 64 --repeats 3 --json "$out/helmet_bench.json"
 fi
+
+say "== Path tracing, light tracing and BDPT on the three hard scenes, 1024 x 1024, 16 spp, depth 8"
+for scene in door_gap lamp_shade glass_caustic; do
+    for integrator in path light bdpt; do
+        run "$fredholm" bench scenes/$scene.gltf --integrator $integrator --sizes 1024 --spp 16 --max-depth 8 --repeats 3 \
+            --json "$out/${scene}_$integrator.json"
+    done
+done
 
 say "== Time to first pixel: 1 spp 64 x 64, whole process (cold: driver shader caches off)"
 for mode in cold warm cold warm; do
