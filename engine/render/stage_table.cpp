@@ -2,9 +2,11 @@
 #include "render/stage_table.h"
 
 #include <array>
+#include <future>
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "shaders/accumulate.spv.h"
 #include "shaders/advance.spv.h"
@@ -50,9 +52,15 @@ StageTable::StageTable(const vk::Context& context, const StageOptions& options)
     spec[gpu::SPEC_EFFECTS] = options.effects;
     spec[gpu::SPEC_HAS_INSTANCES] = options.instances ? 1u : 0u;
     spec[gpu::SPEC_SAMPLER] = options.sampler;
+    // Each pipeline is built on a thread of its own: its specialisation (vk/spirv_specialise.h) and the driver's
+    // compile are CPU work, and the stages do not depend on each other. A failure is rethrown here, after every
+    // thread has finished (a std::async future waits in its destructor).
+    std::vector<std::future<void>> builds;
     auto make = [&](Stage stage, std::span<const uint32_t> spirv) {
-        pipelines_[size_t(stage)] =
-            std::make_unique<vk::ComputePipeline>(context, bindings_, stage_name(stage), spirv, spec);
+        builds.push_back(std::async(std::launch::async, [this, &context, &spec, stage, spirv] {
+            pipelines_[size_t(stage)] =
+                std::make_unique<vk::ComputePipeline>(context, bindings_, stage_name(stage), spirv, spec);
+        }));
     };
     // The stages BDPT shares with path or light tracing have a SPIR-V of their own for it (shaders/CMakeLists.txt).
     const bool bdpt = options.integrator == Integrator::bdpt;
@@ -71,6 +79,7 @@ StageTable::StageTable(const vk::Context& context, const StageOptions& options)
         make(Stage::connect, spv_connect);
     }
     if (options.integrator == Integrator::bdpt) make(Stage::connect_subpaths, spv_connect_subpaths);
+    for (std::future<void>& build : builds) build.get();
 }
 
 const vk::ComputePipeline& StageTable::operator[](Stage stage) const {

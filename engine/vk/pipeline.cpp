@@ -8,6 +8,7 @@
 #include "vk/buffer.h"
 #include "vk/check.h"
 #include "vk/context.h"
+#include "vk/spirv_specialise.h"
 
 namespace fh::vk {
 
@@ -104,6 +105,14 @@ void BindingTable::bind_buffer(uint32_t binding, const Buffer& buffer) {
 ComputePipeline::ComputePipeline(const Context& context, const BindingTable& table, std::string name,
                                  std::span<const uint32_t> spirv, std::span<const uint32_t> spec_constants)
     : device_(context.device()), name_(std::move(name)) {
+    // The driver gets the module specialised on the host when it can be (spirv_specialise.h says why), else the
+    // whole module and the constants.
+    std::vector<uint32_t> specialised;
+    if (!spec_constants.empty()) specialised = specialise_spirv(spirv, spec_constants);
+    if (!specialised.empty()) {
+        spirv = specialised;
+        spec_constants = {};
+    }
     VkShaderModuleCreateInfo module_info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
     module_info.codeSize = spirv.size_bytes();
     module_info.pCode = spirv.data();

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Time to first pixel: wall clock of a whole 1-spp 64x64 render (process start, load, Vulkan, pipelines, render,
-# EXR), cold (Mesa's shader cache off) and warm (cache filled by the run before), for scenes with more and more
-# effects. Usage: tests/bench/time_to_first_pixel.sh [FREDHOLM]   (needs ../shared/scenes-thirdparty)
+# EXR), cold (Mesa's shader cache and Fredholm's cache of specialised SPIR-V both off) and warm (both filled by the
+# run before), for scenes with more and more effects. Usage: tests/bench/time_to_first_pixel.sh [FREDHOLM]   (needs ../shared/scenes-thirdparty)
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 fredholm=${1:-build/fredholm}
@@ -14,7 +14,7 @@ run() {  # mode scene [args...]
     local start end
     start=$(date +%s.%N)
     if [ "$mode" = cold ]; then
-        MESA_SHADER_CACHE_DISABLE=true "$fredholm" render "$scene" "$@" -o "$out/f.exr" --width 64 --height 64 --spp 1 \
+        MESA_SHADER_CACHE_DISABLE=true FREDHOLM_SPIRV_CACHE=off "$fredholm" render "$scene" "$@" -o "$out/f.exr" --width 64 --height 64 --spp 1 \
             --stats "$out/s.json" >/dev/null 2>&1
     else
         "$fredholm" render "$scene" "$@" -o "$out/f.exr" --width 64 --height 64 --spp 1 --stats "$out/s.json" >/dev/null 2>&1
@@ -25,6 +25,13 @@ print(f'{sys.argv[1]:<34} {sys.argv[2]:<5} wall {float(sys.argv[4]) - float(sys.
       f'render (with the pipelines\' compile) {j[\"render_seconds\"]:.3f} s')" "$(basename "$scene")" "$mode" "$start" "$end"
 }
 env=(--env scenes/environments/courtyard.exr)
+for scene in scenes/cornell.gltf "$models/DamagedHelmet/glTF/DamagedHelmet.gltf" \
+    "$models/GlassHurricaneCandleHolder/glTF/GlassHurricaneCandleHolder.gltf" \
+    "$models/IridescenceLamp/glTF/IridescenceLamp.gltf"; do  # fill the caches, so that the first warm run is warm
+    extra=()
+    [ "$scene" = scenes/cornell.gltf ] || extra=("${env[@]}")
+    "$fredholm" render "$scene" "${extra[@]}" -o "$out/f.exr" --width 64 --height 64 --spp 1 >/dev/null 2>&1
+done
 for mode in cold warm cold warm; do
     run $mode scenes/cornell.gltf
     run $mode "$models/DamagedHelmet/glTF/DamagedHelmet.gltf" "${env[@]}"
