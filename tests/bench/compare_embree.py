@@ -2,6 +2,7 @@
 """Incoherent rays per second of Fredholm's extend stage against Embree 4 (PyPI embreex) on the same mesh and rays.
 
   /opt/refbench/mitsuba-venv/bin/python tests/bench/compare_embree.py SCENE.glb [--rays 1000000] [--repeats 3]
+      [--order random|origin|direction-origin]
 
 The rays are diffuse bounces: origins uniform by area over every triangle of the scene, lifted off the surface by
 1e-4 of the scene's size, directions cosine-distributed about the triangle's normal (the side its winding faces); no
@@ -11,6 +12,9 @@ device; Embree: `EmbreeScene.run` of the whole array, one call per thread, wall 
 compared ray by ray (they must agree: the same mesh, the same rays). Reads .gltf and .glb files (node transforms applied;
 not Draco, meshopt or quantised meshes), such as tests/bench/make_displaced_sphere.py's spheres and the Khronos sample
 models. Alpha-tested materials make Fredholm pass through cut-out texels, which Embree does not: those rays disagree.
+--order sorts the rays on the host before either tracer sees them (the sort is not timed), to measure what a coherent
+ray order would buy: by the Morton code of the origin, or by a direction cell (16 x 16 x 16 over the unit cube) and
+then the origin's Morton code.
 Needs numpy and embreex (tests/bench/README.md).
 """
 import argparse
@@ -67,6 +71,26 @@ def diffuse_rays(triangles, count, seed):
     return origins.astype(np.float32), directions.astype(np.float32)
 
 
+def morton_code(cells, bits):
+    """Interleaves the bits of three integer coordinates (each below 2^bits) into one key per row."""
+    code = np.zeros(len(cells), dtype=np.uint64)
+    for bit in range(bits):
+        for axis in range(3):
+            code |= ((cells[:, axis].astype(np.uint64) >> np.uint64(bit)) & np.uint64(1)) << np.uint64(3 * bit + axis)
+    return code
+
+
+def order_rays(origins, directions, order):
+    """The permutation that puts the rays in the given order ("random": as generated)."""
+    if order == "random":
+        return np.arange(len(origins))
+    lo, hi = origins.min(0), origins.max(0)
+    key = morton_code(((origins - lo) / np.maximum(hi - lo, 1e-30) * 1023).astype(np.int64), 10)
+    if order == "direction-origin":
+        key |= morton_code(((directions * 0.5 + 0.5) * 15.999).astype(np.int64), 4) << np.uint64(30)
+    return np.argsort(key, kind="stable")
+
+
 def build_embree(triangles, origins, directions):
     """Embree's scene with its BVH built, and the seconds of the build alone: the first run commits the scene
     (Embree's default build quality, all threads). Handing the mesh over is left out: embreex copies it in Python,
@@ -108,10 +132,14 @@ def main():
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--threads", type=int, default=2, help="Embree threads (default: the machine's 2 cores)")
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--order", choices=["random", "origin", "direction-origin"], default="random",
+                    help="ray order both tracers get (default: as generated, unrelated neighbours)")
     ap.add_argument("--json", help="also write the figures here")
     args = ap.parse_args()
     triangles = read_triangles(args.scene)
     origins, directions = diffuse_rays(triangles, args.rays, args.seed)
+    permutation = order_rays(origins, directions, args.order)
+    origins, directions = origins[permutation], directions[permutation]
     with tempfile.TemporaryDirectory() as tmp:
         ray_file, hit_file, stats_file = (os.path.join(tmp, n) for n in ("rays.bin", "hits.bin", "stats.json"))
         np.concatenate([origins, directions], axis=1).astype("<f4").tofile(ray_file)
@@ -125,7 +153,8 @@ def main():
     both = np.isfinite(fredholm_t) & np.isfinite(embree_t)
     agree_hit = float(np.mean(np.isfinite(fredholm_t) == np.isfinite(embree_t)))
     rel = np.abs(fredholm_t[both] - embree_t[both]) / np.maximum(embree_t[both], 1e-12)
-    print(f"scene {os.path.basename(args.scene)}: {len(triangles)} triangles, {args.rays} diffuse-bounce rays")
+    print(f"scene {os.path.basename(args.scene)}: {len(triangles)} triangles, {args.rays} diffuse-bounce rays, "
+          f"order {args.order}")
     print(f"fredholm extend: {fredholm_rate / 1e6:.3f} Mrays/s (median of {args.repeats})")
     print(f"embree {args.threads} thread(s): {embree_rate / 1e6:.3f} Mrays/s (median of {args.repeats})")
     print(f"fredholm / embree: {fredholm_rate / embree_rate:.3f}; hit or miss agree on {100 * agree_hit:.4f}% of rays, "
@@ -137,7 +166,7 @@ def main():
     if args.json:
         with open(args.json, "w") as out:
             json.dump({"triangles": len(triangles), "rays": args.rays, "fredholm_rays_per_second": fredholm_rate,
-                       "embree_rays_per_second": embree_rate, "embree_threads": args.threads, "ratio": fredholm_rate / embree_rate,
+                       "embree_rays_per_second": embree_rate, "embree_threads": args.threads, "order": args.order, "ratio": fredholm_rate / embree_rate,
                        "hit_agreement": agree_hit, "relative_t_median": float(np.median(rel)),
                        "fredholm_bvh_build_seconds": fredholm_build, "embree_build_seconds": embree_build}, out, indent=1)
     return 0
