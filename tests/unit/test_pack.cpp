@@ -45,6 +45,14 @@ double area_of(const fh::gpu::TrianglePositions& p) {
     return 0.5 * glm::length(glm::cross(b - a, c - a));
 }
 
+// pi L A per emitting side, L the luminance of the material's (untextured) emission.
+double expected_power(const fh::Scene& s, const fh::PackedScene& packed, uint32_t light) {
+    const fh::gpu::Material& m = s.materials[packed.shading[light].material];
+    const double lum = 0.2126 * m.emission.r + 0.7152 * m.emission.g + 0.0722 * m.emission.b;
+    return lum * area_of(packed.positions[light]) * glm::pi<double>() *
+           ((m.flags & fh::gpu::MATERIAL_DOUBLE_SIDED) ? 2.0 : 1.0);
+}
+
 // Probability that the alias table picks each entry, from its thresholds (exact up to rounding).
 std::vector<double> implied_probabilities(const std::vector<fh::AliasEntry>& table) {
     std::vector<double> p(table.size(), 0.0);
@@ -111,11 +119,8 @@ TEST(Pack, WeighsEmittersByPower) {
     for (const Emitter& e : packed.emitters) {
         ASSERT_LT(e.light, packed.shading.size());
         ++is_emitter[e.light];
-        const fh::gpu::Material& m = s.materials[packed.shading[e.light].material];
-        const double lum = 0.2126 * m.emission.r + 0.7152 * m.emission.g + 0.0722 * m.emission.b;
         const double area = area_of(packed.positions[e.light]);
-        const double power = lum * area * glm::pi<double>() * ((m.flags & fh::gpu::MATERIAL_DOUBLE_SIDED) ? 2.0 : 1.0);
-        total += power;
+        total += expected_power(s, packed, e.light);
         pdf_sum += e.pick_pdf;
         EXPECT_NEAR(packed.shading[e.light].light_pdf_area, e.pick_pdf / area, 1e-6 * e.pick_pdf / area);
         EXPECT_LT(e.alias, packed.emitters.size());
@@ -123,10 +128,7 @@ TEST(Pack, WeighsEmittersByPower) {
     EXPECT_NEAR(packed.total_emitted_power, total, 1e-9 * total);
     EXPECT_NEAR(pdf_sum, 1.0, 1e-5);
     for (const Emitter& e : packed.emitters) {
-        const fh::gpu::Material& m = s.materials[packed.shading[e.light].material];
-        const double lum = 0.2126 * m.emission.r + 0.7152 * m.emission.g + 0.0722 * m.emission.b;
-        const double power = lum * area_of(packed.positions[e.light]) * glm::pi<double>() *
-                             ((m.flags & fh::gpu::MATERIAL_DOUBLE_SIDED) ? 2.0 : 1.0);
+        const double power = expected_power(s, packed, e.light);
         EXPECT_NEAR(e.pick_pdf, power / total, 1e-6 * power / total);
     }
     // Every emissive triangle with area is an emitter exactly once; the others have light_pdf_area 0.
@@ -141,6 +143,20 @@ TEST(Pack, WeighsEmittersByPower) {
     }
     EXPECT_EQ(packed.emitters.size(), expected);
     EXPECT_LT(expected, 334u);  // the zero-area emitter was left out
+}
+
+// Above 1024 triangles the emitters' luminance is measured on two threads (pack.cpp); every triangle still gets its own.
+TEST(Pack, WeighsEveryEmitterOfALargeScene) {
+    const fh::Scene s = make_test_scene(5000);
+    const fh::PackedScene packed = fh::pack_scene(s, fh::build_bvh(s.positions));
+    double total = 0.0;
+    for (const Emitter& e : packed.emitters) total += expected_power(s, packed, e.light);
+    EXPECT_NEAR(packed.total_emitted_power, total, 1e-9 * total);
+    EXPECT_EQ(packed.emitters.size(), 3332u);  // 3333 of 5000 emit (t % 3 != 0), less the zero-area triangle 1
+    for (const Emitter& e : packed.emitters) {
+        const double power = expected_power(s, packed, e.light);
+        EXPECT_NEAR(e.pick_pdf, power / total, 1e-6 * power / total) << e.light;
+    }
 }
 
 TEST(Pack, AliasSamplingMatchesPickPdf) {
@@ -208,8 +224,11 @@ TEST(Pack, LightEffectsFollowTheLightTable) {
     EXPECT_LT(at("emissive-triangles"), at("punctual-lights"));
     EXPECT_LT(at("punctual-lights"), at("environment"));
     EXPECT_EQ(names.size(), fh::list_effects().size());
-    for (const fh::EffectDecision& d : packed.effects.decisions)
-        if (d.bit == gpu::EFFECT_EMISSIVE_TRIANGLES) EXPECT_NE(d.why.find("material 2"), std::string::npos) << d.why;
+    for (const fh::EffectDecision& d : packed.effects.decisions) {
+        if (d.bit == gpu::EFFECT_EMISSIVE_TRIANGLES) {
+            EXPECT_NE(d.why.find("material 2"), std::string::npos) << d.why;
+        }
+    }
 }
 
 }  // namespace
