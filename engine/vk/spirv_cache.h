@@ -10,7 +10,7 @@
 
 namespace fh::vk {
 
-// 128 bits from two independent 64-bit FNV-1a hashes over the parts, in order.
+// 128 bits from two 64-bit FNV-1a-style hashes (different offsets and multipliers) over the parts, in order.
 struct SpirvKey {
     uint64_t a = 0, b = 0;
     std::string file_name() const;  // 32 hex digits + ".spv"
