@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -72,9 +73,15 @@ std::optional<std::vector<uint32_t>> SpirvCache::load(const SpirvKey& key) const
 void SpirvCache::prune(size_t max_entries) const {
     std::error_code error;
     std::vector<std::pair<std::filesystem::file_time_type, std::filesystem::path>> entries;
+    const auto now = std::filesystem::file_time_type::clock::now();
     for (const auto& entry : std::filesystem::directory_iterator(directory_, error)) {
-        if (entry.path().extension() != ".spv") continue;
-        entries.emplace_back(entry.last_write_time(error), entry.path());
+        const auto written = entry.last_write_time(error);
+        if (entry.path().extension() == ".spv") {
+            entries.emplace_back(written, entry.path());
+        } else if (entry.path().filename().string().find(".spv.tmp.") != std::string::npos &&
+                   now - written > std::chrono::hours(1)) {
+            std::filesystem::remove(entry.path(), error);  // left by a process killed while it wrote
+        }
     }
     if (entries.size() <= max_entries) return;
     std::sort(entries.begin(), entries.end());

@@ -31,7 +31,8 @@ public:
     // Writes a temporary file and renames it into place, so a reader never sees half a module; a cache that cannot
     // be written is not an error (the next run does the work again).
     // After a store, more than MAX_ENTRIES modules (about 60 KB each for a simple scene's shade, 0.9 MB with every
-    // effect) are pruned to the MAX_ENTRIES / 2 used last.
+    // effect) are pruned to the MAX_ENTRIES / 2 used last; prune also removes temporary files over an hour old (a
+    // writer killed before its rename).
     void store(const SpirvKey& key, std::span<const uint32_t> spirv) const;
     void prune(size_t max_entries) const;
     static constexpr size_t MAX_ENTRIES = 2048;

@@ -177,7 +177,16 @@ TEST(SpirvCache, PruneKeepsTheEntriesUsedLast) {
                             fs::file_time_type::clock::now() - std::chrono::hours(100 - i));  // older first
     }
     EXPECT_TRUE(cache.load(keys[0]).has_value());  // a use makes the oldest the newest
+    // Temporary files of killed writers go once they are an hour old; a fresh one may still be being written.
+    const fs::path stale = dir.path() / (keys[0].file_name() + ".tmp.1.0");
+    const fs::path fresh = dir.path() / (keys[0].file_name() + ".tmp.2.0");
+    std::ofstream(stale) << "x";
+    std::ofstream(fresh) << "x";
+    fs::last_write_time(stale, fs::file_time_type::clock::now() - std::chrono::hours(2));
     cache.prune(6);
+    EXPECT_FALSE(fs::exists(stale));
+    EXPECT_TRUE(fs::exists(fresh));
+    fs::remove(fresh);
     EXPECT_EQ(dir.file_count(), 3u);
     EXPECT_TRUE(cache.load(keys[0]).has_value());
     EXPECT_TRUE(cache.load(keys[7]).has_value());
