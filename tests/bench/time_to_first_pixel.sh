@@ -20,19 +20,13 @@ run() {  # mode scene [args...]
         "$fredholm" render "$scene" "$@" -o "$out/f.exr" --width 64 --height 64 --spp 1 --stats "$out/s.json" >/dev/null 2>&1
     fi
     end=$(date +%s.%N)
+    [ "$mode" = fill ] && return  # a warm run that fills the caches, not reported
     python3 -c "import json, sys; j = json.load(open('$out/s.json'))
 print(f'{sys.argv[1]:<34} {sys.argv[2]:<5} wall {float(sys.argv[4]) - float(sys.argv[3]):.2f} s, load {j[\"load_seconds\"]:.3f} s, '
       f'render (with the pipelines\' compile) {j[\"render_seconds\"]:.3f} s')" "$(basename "$scene")" "$mode" "$start" "$end"
 }
 env=(--env scenes/environments/courtyard.exr)
-for scene in scenes/cornell.gltf "$models/DamagedHelmet/glTF/DamagedHelmet.gltf" \
-    "$models/GlassHurricaneCandleHolder/glTF/GlassHurricaneCandleHolder.gltf" \
-    "$models/IridescenceLamp/glTF/IridescenceLamp.gltf"; do  # fill the caches, so that the first warm run is warm
-    extra=()
-    [ "$scene" = scenes/cornell.gltf ] || extra=("${env[@]}")
-    "$fredholm" render "$scene" "${extra[@]}" -o "$out/f.exr" --width 64 --height 64 --spp 1 >/dev/null 2>&1
-done
-for mode in cold warm cold warm; do
+for mode in fill cold warm cold warm; do  # fill first, so that the first warm run is warm
     run $mode scenes/cornell.gltf
     run $mode "$models/DamagedHelmet/glTF/DamagedHelmet.gltf" "${env[@]}"
     run $mode "$models/GlassHurricaneCandleHolder/glTF/GlassHurricaneCandleHolder.gltf" "${env[@]}"
