@@ -1,5 +1,7 @@
 // Stage "extend": finds the closest hit of every ray in the current queue.
-// Reads: rays[queue depth & 1], counters.ray_count, BVH nodes, triangle positions (with EFFECT_ALPHA also
+// Takes the queue in the order push.ray_order says (lib/ray_order.glsl): as queued, or sorted by bin_rays ..
+// scatter_rays.
+// Reads: rays[queue depth & 1], counters.ray_count, the sorted order, BVH nodes, triangle positions (with EFFECT_ALPHA also
 // paths[].rng, materials and textures; with EFFECT_MOTION_BLUR the path's time and the instances' motion).
 // Writes: hits[i] for ray i; counters.escaped_rays.
 #version 460
@@ -7,13 +9,14 @@
 #include "lib/bindings.glsl"
 #include "lib/queue.glsl"
 #include "lib/traverse.glsl"
+#include "lib/ray_order.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE) in;
 
 void main() {
-    uint i = gl_GlobalInvocationID.x;
     uint parity = push.depth & 1u;
-    if (i >= counters.ray_count[parity]) return;
+    if (gl_GlobalInvocationID.x >= counters.ray_count[parity]) return;
+    uint i = select_ray_index(gl_GlobalInvocationID.x);  // the queue index of the ray this invocation traces
     RayItem ray = rays[ray_slot(parity, i)];
     // Stochastic alpha keys on the path's RNG state, which differs for every path, sample and depth.
     uint alpha_seed = effect_on(EFFECT_ALPHA) ? pcg_hash(paths[ray.path].rng ^ 0x0a1fa0e5u) : 0u;

@@ -74,6 +74,9 @@ void add_bench_options(CLI::App& app, BenchCommand& c) {
     app.add_option("--json", c.json, "also write the figures as JSON");
     app.add_option("--device", c.device, "use the first Vulkan device whose name contains this");
     app.add_option("--bvh-leaf-size", c.bvh_leaf_size, "most triangles per BVH leaf")->check(CLI::Range(1u, gpu::WIDE_INSTANCE_COUNT - 1u));
+    add_ray_sort_option(app, c.sort_rays);
+    app.add_flag("--compare-ray-order", c.compare_ray_order,
+                 "also time the render with the ray sort on against off, alternating (what sorting buys or costs)");
 }
 
 namespace {
@@ -164,7 +167,8 @@ void write_bytes_atomically(const std::filesystem::path& file, const void* data,
 // --trace-rays: the extend stage alone over the rays of a file (six float32 each, world-space origin and direction,
 // no header), median GPU time of --repeats dispatches; --hits-out writes each ray's hit distance (float32, +inf for a
 // miss) in the same order, to compare with another tracer (tests/bench/compare_embree.py).
-int trace_ray_file(const vk::Context& context, const PreparedScene& prepared, const BenchCommand& c) {
+int trace_ray_file(const vk::Context& context, const PreparedScene& prepared, const RenderSettings& settings,
+                   const BenchCommand& c) {
     std::ifstream in(c.trace_rays, std::ios::binary);
     std::vector<float> values;
     in.seekg(0, std::ios::end);
@@ -182,14 +186,16 @@ int trace_ray_file(const vk::Context& context, const PreparedScene& prepared, co
         rays[i] = {float(v[0] - origin.x), float(v[1] - origin.y), float(v[2] - origin.z), uint32_t(i),
                    v[3], v[4], v[5], gpu::INVALID_INDEX};
     }
-    RayTracer tracer(context, prepared.packed, uint32_t(count));
+    const bool sort = settings.sort_rays;
+    RayTracer tracer(context, prepared.packed, uint32_t(count), sort);
     tracer.trace(rays, 1);  // lavapipe compiles at the first dispatch
     TracedRays traced = tracer.trace(rays, c.repeats);
     std::vector<double> seconds = traced.seconds;
     std::sort(seconds.begin(), seconds.end());
     const double median = seconds[seconds.size() / 2];
-    std::printf("trace-rays: %zu rays from %s: extend %.4f s (median of %u), %.3f Mrays/s; %u escaped\n",
+    std::printf("trace-rays: %zu rays from %s: extend %.4f s (median of %u; %s), %.3f Mrays/s; %u escaped\n",
                 count, c.trace_rays.string().c_str(), median, c.repeats,
+                sort ? "the rays sorted first, the sort's time included" : "the rays in file order",
                 double(count) / median * 1e-6, traced.escaped_rays);
     if (!c.hits_out.empty()) {
         std::vector<float> t(count);
@@ -200,6 +206,7 @@ int trace_ray_file(const vk::Context& context, const PreparedScene& prepared, co
     if (!c.json.empty()) {
         nlohmann::json j = {{"rays", count}, {"seconds", seconds}, {"median_seconds", median},
                             {"rays_per_second", double(count) / median}, {"escaped_rays", traced.escaped_rays},
+                            {"sorted", sort},
                             {"triangles_stored", prepared.scene.triangle_count()},
                             {"bvh_build_seconds", prepared.bvh_build_seconds}};
         const std::string text = j.dump(1) + "\n";
@@ -213,7 +220,7 @@ int trace_ray_file(const vk::Context& context, const PreparedScene& prepared, co
 // beyond its film.
 void print_memory_figures(const PreparedScene& prepared, const RenderSettings& settings) {
     const uint32_t effects = select_effects(prepared.packed.effects.bits, settings.forced_effects, settings.disabled_effects);
-    const double per_path = bytes_per_path(prepared.packed, effects, make_bdpt_store(settings));
+    const double per_path = bytes_per_path(prepared.packed, effects, make_path_store(settings));
     uint64_t scene_bytes = 0, triangle_bytes = 0;
     for (const BufferEstimate& b : estimate_render_memory(prepared.packed, 16, 16, 1, effects).buffers) {
         if (b.name == "tri_positions" || b.name == "tri_shading" || b.name == "tri_attributes" || b.name == "nodes")
@@ -237,6 +244,7 @@ int run_bench(const BenchCommand& c) {
     base.max_depth = c.max_depth;
     base.integrator = c.integrator;
     base.bvh_max_leaf_size = c.bvh_leaf_size;
+    base.sort_rays = c.sort_rays;
     base.environment_file = c.environment_file;
     base.has_background = c.has_background;
     for (int i = 0; i < 3; ++i) base.background[i] = c.background[i];
@@ -256,7 +264,7 @@ int run_bench(const BenchCommand& c) {
                 prepared.scene.instances.size(), prepared.load_seconds,
                 prepared.bvh_nodes, prepared.bvh_build_seconds, prepared.sah_cost);
     print_memory_figures(prepared, base);
-    if (!c.trace_rays.empty()) return trace_ray_file(*context, prepared, c);
+    if (!c.trace_rays.empty()) return trace_ray_file(*context, prepared, base, c);
     std::printf("device %s; integrator %s, %u spp, max depth %u, waves of %u paths, median of %u\n",
                 context->device_name().c_str(), to_string(c.integrator), c.spp, c.max_depth, base.wave_paths, c.repeats);
     // Start-up: the stages for the scene's effects, with the caches as this machine has them (the driver's, and
@@ -346,6 +354,15 @@ int run_bench(const BenchCommand& c) {
                     prepared.load_seconds + prepared.bvh_build_seconds, copied.load_seconds + copied.bvh_build_seconds);
         time_at_sizes(prepared, base, copied, base, {"two-level", "copied", "instancing"}, "instancing", "off",
                       "instanced_seconds");
+    }
+    if (c.compare_ray_order) {
+        // Same image either way (extend writes each hit at its ray's queue index): only the time differs.
+        std::printf("\nray order (%zu stored triangles):\n", prepared.packed.positions.size());
+        RenderSettings sorted = base, unsorted = base;
+        sorted.sort_rays = true;
+        unsorted.sort_rays = false;
+        time_at_sizes(prepared, sorted, prepared, unsorted, {"rays sorted", "queue order", "the sort"}, "ray_order",
+                      "queue", "sorted_seconds");
     }
     if (c.motion) {
         std::printf("\nmotion blur: shutter %s, %zu moving instance(s)%s; effects %s\n", describe_shutter(base).c_str(),

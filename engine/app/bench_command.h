@@ -23,6 +23,8 @@ struct BenchCommand {
     Integrator integrator = Integrator::path;  // --integrator path|light|bdpt
     uint32_t repeats = 3;
     uint32_t bvh_leaf_size = 4;  // RenderSettings::bvh_max_leaf_size
+    bool sort_rays = false;  // --sort-rays (also for --trace-rays)
+    bool compare_ray_order = false;  // --compare-ray-order: the render with the ray sort on against off
     std::filesystem::path json;
     std::filesystem::path trace_rays;     // --trace-rays: time the extend stage alone over these rays
     std::filesystem::path hits_out;       // --hits-out: their hit distances

@@ -62,6 +62,8 @@ void apply_vary(const std::string& key, const std::string& v, RenderSettings& s)
         s.mis = parse_on_off(key, v);
     } else if (key == "rr") {
         s.russian_roulette = parse_on_off(key, v);
+    } else if (key == "sort-rays") {
+        s.sort_rays = parse_on_off(key, v);
     } else if (key == "filter") {
         if (v != "box" && v != "gaussian") throw std::invalid_argument("filter: '" + v + "' is not box or gaussian");
         s.filter = v == "box" ? PixelFilter::box : PixelFilter::gaussian;
@@ -93,7 +95,7 @@ void apply_vary(const std::string& key, const std::string& v, RenderSettings& s)
         s.forced_effects = on ? s.forced_effects | bit : s.forced_effects & ~bit;
         s.disabled_effects = on ? s.disabled_effects & ~bit : s.disabled_effects | bit;
     } else {
-        throw std::invalid_argument("unknown key '" + key + "' (max-depth, nee, mis, rr, rr-start-depth, filter, sampler, integrator, "
+        throw std::invalid_argument("unknown key '" + key + "' (max-depth, nee, mis, rr, rr-start-depth, sort-rays, filter, sampler, integrator, "
                                     "aperture, aperture-radius, effect:NAME)");
     }
 }
@@ -296,7 +298,7 @@ void add_converge_options(CLI::App& app, ConvergeCommand& c) {
     two->excludes(ref_spp);
     app.add_option("--max-seconds", c.max_seconds, "render-time budget per configuration")->check(CLI::PositiveNumber);
     app.add_option("--max-spp", c.max_spp, "largest spp of the doubling sequence")->check(CLI::Range(1u, 1u << 20));
-    app.add_option("--vary", c.vary, "KEY=V1,V2,...: one curve per value (max-depth, nee, mis, rr, rr-start-depth, filter, sampler, integrator (path, light, bdpt), aperture (0: pinhole), aperture-radius; effect:NAME=on,off compiles "
+    app.add_option("--vary", c.vary, "KEY=V1,V2,...: one curve per value (max-depth, nee, mis, rr, rr-start-depth, sort-rays, filter, sampler, integrator (path, light, bdpt), aperture (0: pinhole), aperture-radius; effect:NAME=on,off compiles "
                    "an effect in or out (a material or light effect, or motion-blur), e.g. effect:transmission=on,off)")
         ->check(CLI::Validator(
             [](std::string& spec) {

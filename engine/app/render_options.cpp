@@ -56,6 +56,15 @@ void add_sampling_options(CLI::App& app, RenderSettings& s) {
                    "paths in flight per wave (default: 262144 on a CPU device such as lavapipe, 4194304 on a GPU, "
                    "halved until the wave fits the device's buffer limits and a quarter of its memory)")
         ->check(CLI::Range(1024u, 1u << 22));
+    add_ray_sort_option(app, s.sort_rays);
+}
+
+void add_ray_sort_option(CLI::App& app, bool& sort_rays) {
+    std::map<std::string, bool> on_off{{"on", true}, {"off", false}};
+    app.add_option("--sort-rays", sort_rays,
+                   "sort each bounce's rays by direction and origin before tracing them: on/off (default off: on "
+                   "lavapipe the sort costs about what it saves); the image is the same")
+        ->transform(CLI::CheckedTransformer(on_off));
 }
 
 void add_robustness_options(CLI::App& app, RenderSettings& s) {

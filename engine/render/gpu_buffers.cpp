@@ -86,7 +86,7 @@ gpu::TriangleAttributes make_default_attributes() {
 }  // namespace
 
 GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& scene, const gpu::FrameParams& frame,
-                              uint32_t effects, const BdptStore& bdpt) {
+                              uint32_t effects, const PathStore& store) {
     GpuBuffers b;
     b.params = make_filled_buffer(context, std::vector<gpu::FrameParams>{frame});
     b.nodes = make_texel_buffer(context, scene.nodes);
@@ -122,18 +122,20 @@ GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& sce
     b.path_spectra = make_state_buffer(context, path_spectra_bytes(frame.wave_capacity, effects));
     b.path_times = make_state_buffer(context, path_times_bytes(frame.wave_capacity, effects));
     b.glass_albedo = make_filled_buffer(context, flatten_glass_albedo_table(effects));
-    b.light_vertices = make_state_buffer(context, light_vertices_bytes(frame.wave_capacity, bdpt));
-    b.path_mis = make_state_buffer(context, path_mis_bytes(frame.wave_capacity, bdpt));
+    b.light_vertices = make_state_buffer(context, light_vertices_bytes(frame.wave_capacity, store));
+    b.path_mis = make_state_buffer(context, path_mis_bytes(frame.wave_capacity, store));
+    // bin_rays counts into zeros; scan_ray_bins leaves them zero again.
+    b.ray_sort = make_filled_buffer(context, std::vector<uint32_t>(ray_sort_bytes(frame.wave_capacity, store) / 4, 0u));
     // The limits check before rendering relies on the estimate: keep it exact.
     uint64_t allocated = 0;
     for (const vk::Buffer* buffer : {&b.params, &b.nodes, &b.tri_positions, &b.tri_shading, &b.materials, &b.emitters,
                                      &b.punctual_lights, &b.ggx_albedo, &b.counters, &b.counters_readback, &b.paths, &b.rays, &b.hits,
                                      &b.shadow_rays, &b.film, &b.tri_attributes, &b.texture_slots, &b.texture_images,
                                      &b.texels, &b.env_radiance, &b.env_cdf, &b.instances, &b.material_layers, &b.path_media,
-                                     &b.path_spectra, &b.path_times, &b.glass_albedo, &b.light_vertices, &b.path_mis})
+                                     &b.path_spectra, &b.path_times, &b.glass_albedo, &b.light_vertices, &b.path_mis, &b.ray_sort})
         allocated += buffer->size();
     if (allocated !=
-        estimate_render_memory(scene, frame.film_width, frame.film_height, frame.wave_capacity, effects, bdpt).device_bytes())
+        estimate_render_memory(scene, frame.film_width, frame.film_height, frame.wave_capacity, effects, store).device_bytes())
         throw std::logic_error("create_gpu_buffers: allocated sizes differ from estimate_render_memory");
     return b;
 }
@@ -166,6 +168,7 @@ void bind_gpu_buffers(vk::BindingTable& table, const GpuBuffers& b) {
     table.bind_buffer(gpu::BINDING_PATH_TIMES, b.path_times);
     table.bind_buffer(gpu::BINDING_LIGHT_VERTICES, b.light_vertices);
     table.bind_buffer(gpu::BINDING_PATH_MIS, b.path_mis);
+    table.bind_buffer(gpu::BINDING_RAY_SORT, b.ray_sort);
     table.bind_buffer(gpu::BINDING_GLASS_ALBEDO, b.glass_albedo);
 }
 

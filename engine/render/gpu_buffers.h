@@ -44,12 +44,13 @@ struct GpuBuffers {
     vk::Buffer glass_albedo;       // the glass lobe's albedo table (EFFECT_GLASS_MULTISCATTER; else one word)
     vk::Buffer light_vertices;     // stored light-subpath vertices (`--integrator bdpt`; else one element)
     vk::Buffer path_mis;           // each path's MIS quantities (`--integrator bdpt`; else one element)
+    vk::Buffer ray_sort;           // the ray sort's counts, offsets, keys and order (render/ray_sort.h)
 };
 
 // `effects`: the EFFECT_* set the stages are compiled with (buffers that only some effects read are sized
-// for them: estimate_render_memory); `bdpt`: what bidirectional path tracing stores.
+// for them: estimate_render_memory); `store`: what each path keeps besides its state (BDPT, the ray sort).
 GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& scene, const gpu::FrameParams& frame,
-                              uint32_t effects, const BdptStore& bdpt = {});
+                              uint32_t effects, const PathStore& store = {});
 void bind_gpu_buffers(vk::BindingTable& table, const GpuBuffers& buffers);
 
 }  // namespace fh

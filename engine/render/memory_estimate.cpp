@@ -54,24 +54,29 @@ uint64_t path_spectra_bytes(uint32_t wave_capacity, uint32_t effects) {
     return uint64_t((effects & gpu::EFFECT_SPECTRAL) ? wave_capacity : 1u) * sizeof(gpu::PathSpectrum);
 }
 
-BdptStore make_bdpt_store(const RenderSettings& settings) {
-    BdptStore b;
-    b.on = settings.integrator == Integrator::bdpt;
+PathStore make_path_store(const RenderSettings& settings) {
+    PathStore b;
+    b.bdpt = settings.integrator == Integrator::bdpt;
     b.light_vertex_slots = count_light_vertex_slots(settings);
+    b.sort_rays = settings.sort_rays;
     return b;
 }
 
-uint64_t light_vertices_bytes(uint32_t wave_capacity, const BdptStore& bdpt) {
-    return std::max<uint64_t>(bdpt.on ? uint64_t(wave_capacity) * bdpt.light_vertex_slots : 1, 1) *
+uint64_t ray_sort_bytes(uint32_t wave_capacity, const PathStore& store) {
+    return store.sort_rays ? (2ull * gpu::RAY_SORT_BINS + 3ull * wave_capacity) * sizeof(uint32_t) : sizeof(uint32_t);
+}
+
+uint64_t light_vertices_bytes(uint32_t wave_capacity, const PathStore& store) {
+    return std::max<uint64_t>(store.bdpt ? uint64_t(wave_capacity) * store.light_vertex_slots : 1, 1) *
            sizeof(gpu::LightVertex);
 }
 
-uint64_t path_mis_bytes(uint32_t wave_capacity, const BdptStore& bdpt) {
-    return uint64_t(bdpt.on ? wave_capacity : 1u) * sizeof(gpu::PathMis);
+uint64_t path_mis_bytes(uint32_t wave_capacity, const PathStore& store) {
+    return uint64_t(store.bdpt ? wave_capacity : 1u) * sizeof(gpu::PathMis);
 }
 
 MemoryEstimate estimate_render_memory(const PackedScene& scene, uint32_t width, uint32_t height,
-                                      uint32_t wave_capacity, uint32_t effects, const BdptStore& bdpt) {
+                                      uint32_t wave_capacity, uint32_t effects, const PathStore& store) {
     const uint64_t capacity = wave_capacity;
     const uint64_t film = uint64_t(width) * height * sizeof(gpu::FilmPixel);
     MemoryEstimate e;
@@ -104,8 +109,9 @@ MemoryEstimate estimate_render_memory(const PackedScene& scene, uint32_t width, 
         {"path_spectra", path_spectra_bytes(wave_capacity, effects), storage},
         {"path_times", path_times_bytes(wave_capacity, effects), storage},
         {"glass_albedo", glass_albedo_bytes(effects), storage},
-        {"light_vertices", light_vertices_bytes(wave_capacity, bdpt), storage},
-        {"path_mis", path_mis_bytes(wave_capacity, bdpt), storage},
+        {"light_vertices", light_vertices_bytes(wave_capacity, store), storage},
+        {"path_mis", path_mis_bytes(wave_capacity, store), storage},
+        {"ray_sort", ray_sort_bytes(wave_capacity, store), storage},
     };
     e.film_readback_bytes = film;
     return e;
@@ -116,7 +122,7 @@ MemoryEstimate estimate_render_memory(const PackedScene& scene, const RenderSett
     const uint64_t samples = uint64_t(s.film_width()) * s.film_height() * s.spp;
     return estimate_render_memory(scene, s.film_width(), s.film_height(), uint32_t(std::min<uint64_t>(s.wave_paths, samples)),
                                   select_effects(scene.effects.bits, s.forced_effects, s.disabled_effects),
-                                  make_bdpt_store(s));
+                                  make_path_store(s));
 }
 
 DeviceMemoryLimits query_memory_limits(const vk::Context& context) {
@@ -152,7 +158,7 @@ std::string remedy(const std::string& buffer) {
     if (buffer == "texels") what = "smaller textures";
     if (buffer == "env_radiance" || buffer == "env_cdf") what = "a smaller environment map";
     if (buffer == "paths" || buffer == "rays" || buffer == "hits" || buffer == "shadow_rays" ||
-        buffer == "light_vertices" || buffer == "path_mis")
+        buffer == "light_vertices" || buffer == "path_mis" || buffer == "ray_sort")
         what = "a smaller --wave-paths";
     return "; Fredholm does not split buffers yet: use " + what;
 }
@@ -196,9 +202,9 @@ void check_render_memory(const MemoryEstimate& estimate, const DeviceMemoryLimit
     if (!problem.empty()) throw std::runtime_error(problem);
 }
 
-double bytes_per_path(const PackedScene& scene, uint32_t effects, const BdptStore& bdpt) {
+double bytes_per_path(const PackedScene& scene, uint32_t effects, const PathStore& store) {
     const auto bytes = [&](uint32_t capacity) {
-        return estimate_render_memory(scene, 16, 16, capacity, effects, bdpt).device_bytes();
+        return estimate_render_memory(scene, 16, 16, capacity, effects, store).device_bytes();
     };
     return double(bytes(1u << 16) - bytes(1u << 15)) / double(1u << 15);
 }

@@ -52,18 +52,22 @@ uint64_t path_times_bytes(uint32_t wave_capacity, uint32_t effects);  // EFFECT_
 // The glass albedo table's buffer: the whole table with EFFECT_GLASS_MULTISCATTER, else one word.
 uint64_t glass_albedo_bytes(uint32_t effects);
 
-// What bidirectional path tracing keeps per path in flight: its MIS quantities (PathMis) and light_vertex_slots stored
-// light-subpath vertices (LightVertex, render/light_tracing.h count_light_vertex_slots). Off: one element each.
-struct BdptStore {
-    bool on = false;
+// What a path in flight keeps besides its state, by what the render does. Bidirectional path tracing: its MIS
+// quantities (PathMis) and light_vertex_slots stored light-subpath vertices (LightVertex, render/light_tracing.h
+// count_light_vertex_slots). The ray sort (render/ray_sort.h): a key, a rank and an order word per queued ray, and the key
+// counts. Off: one element each.
+struct PathStore {
+    bool bdpt = false;
     uint32_t light_vertex_slots = 0;
+    bool sort_rays = false;
 };
-BdptStore make_bdpt_store(const RenderSettings& settings);
-uint64_t light_vertices_bytes(uint32_t wave_capacity, const BdptStore& bdpt);
-uint64_t path_mis_bytes(uint32_t wave_capacity, const BdptStore& bdpt);
+PathStore make_path_store(const RenderSettings& settings);
+uint64_t light_vertices_bytes(uint32_t wave_capacity, const PathStore& store);
+uint64_t path_mis_bytes(uint32_t wave_capacity, const PathStore& store);
+uint64_t ray_sort_bytes(uint32_t wave_capacity, const PathStore& store);
 
 MemoryEstimate estimate_render_memory(const PackedScene& scene, uint32_t width, uint32_t height,
-                                      uint32_t wave_capacity, uint32_t effects, const BdptStore& bdpt = {});
+                                      uint32_t wave_capacity, uint32_t effects, const PathStore& store = {});
 // The same for a render with these settings (wave capacity as the Renderer picks it; wave_paths must be chosen:
 // render/wave_size.h with_wave_paths).
 MemoryEstimate estimate_render_memory(const PackedScene& scene, const RenderSettings& settings);
@@ -78,7 +82,7 @@ void check_render_memory(const MemoryEstimate& estimate, const DeviceMemoryLimit
 
 // Device bytes each path in flight adds (the wave's buffers: path state, queues, and the per-path arrays of
 // `effects`), from the estimate at two wave sizes.
-double bytes_per_path(const PackedScene& scene, uint32_t effects, const BdptStore& bdpt = {});
+double bytes_per_path(const PackedScene& scene, uint32_t effects, const PathStore& store = {});
 
 // "1.50 GiB (1610612736 bytes)"
 std::string format_bytes(uint64_t bytes);

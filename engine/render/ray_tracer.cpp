@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <stdexcept>
 
+#include "render/ray_sort.h"
 #include "render/renderer.h"
 #include "vk/buffer.h"
 #include "vk/commands.h"
@@ -24,8 +25,9 @@ gpu::FrameParams make_ray_frame(const PackedScene& scene, uint32_t capacity) {
     return frame;
 }
 
-StageOptions make_ray_stage_options(const PackedScene& scene) {
+StageOptions make_ray_stage_options(const PackedScene& scene, bool sort_rays) {
     StageOptions options;
+    options.sort_rays = sort_rays;
     options.effects = scene.effects.bits & ~gpu::EFFECT_MOTION_BLUR;  // rays at the shutter's centre
     options.instances = !scene.instances.empty();
     return options;
@@ -33,11 +35,12 @@ StageOptions make_ray_stage_options(const PackedScene& scene) {
 
 }  // namespace
 
-RayTracer::RayTracer(const vk::Context& context, const PackedScene& scene, uint32_t capacity)
+RayTracer::RayTracer(const vk::Context& context, const PackedScene& scene, uint32_t capacity, bool sort_rays)
     : context_(context),
       capacity_(capacity),
-      stages_(context, make_ray_stage_options(scene)),
-      buffers_(create_gpu_buffers(context, scene, make_ray_frame(scene, capacity), stages_.options().effects)) {
+      stages_(context, make_ray_stage_options(scene, sort_rays)),
+      buffers_(create_gpu_buffers(context, scene, make_ray_frame(scene, capacity), stages_.options().effects,
+                                  PathStore{.sort_rays = sort_rays})) {
     bind_gpu_buffers(stages_.bindings(), buffers_);
 }
 
@@ -53,15 +56,19 @@ TracedRays trace_ray_queue(const vk::Context& context, const StageTable& stages,
         counters.ray_count[0] = uint32_t(rays.size());
         counters.extend_args = {uint32_t((rays.size() + gpu::WORKGROUP_SIZE - 1) / gpu::WORKGROUP_SIZE), 1, 1};
         vk::upload_to_buffer(context, buffers.counters, &counters, sizeof(counters));
-        vk::CommandRecorder recorder(context, 1);
+        vk::CommandRecorder recorder(context, 4);
         recorder.begin();
         recorder.bind_table(stages.bindings());
         gpu::StagePush push{};
+        if (stages.options().sort_rays) push.ray_order = gpu::RAY_ORDER_SORTED;
         recorder.push_constants(&push, sizeof(push));
+        if (stages.options().sort_rays) record_ray_sort(recorder, stages, buffers);
         recorder.barrier_compute();
         recorder.dispatch_indirect(stages[Stage::extend], buffers.counters, offsetof(gpu::QueueCounters, extend_args));
         recorder.submit_and_wait();
-        for (const auto& [name, seconds] : recorder.dispatch_seconds()) result.seconds.push_back(seconds);
+        double seconds = 0.0;
+        for (const auto& [name, dispatch] : recorder.dispatch_seconds()) seconds += dispatch;
+        result.seconds.push_back(seconds);
     }
     result.hits.resize(rays.size());
     vk::download_from_buffer(context, buffers.hits, result.hits.data(), rays.size() * sizeof(gpu::HitItem));

@@ -18,20 +18,22 @@ class Context;
 struct TracedRays {
     std::vector<gpu::HitItem> hits;  // per ray, in order; triangle in BVH leaf order (INVALID_INDEX: a miss)
     uint32_t escaped_rays = 0;       // as the device counted them
-    std::vector<double> seconds;     // GPU time of each repeat's extend dispatch
+    std::vector<double> seconds;     // GPU time of each repeat: extend's dispatch, and the ray sort's when it sorts
 };
 
 // Traces `rays` through the extend stage of `stages`, in `buffers` (its rays, hits and counters; at most as many rays as
-// the hits buffer holds), `repeats` times, one dispatch each. Leaves the counters as the last dispatch left them.
+// the hits buffer holds), `repeats` times, one submission each; sorted first (render/ray_sort.h) when the stages
+// were built for it. Leaves the counters as the last dispatch left them.
 TracedRays trace_ray_queue(const vk::Context& context, const StageTable& stages, GpuBuffers& buffers,
                            const std::vector<gpu::RayItem>& rays, uint32_t repeats);
 
 class RayTracer {
 public:
-    // Buffers for up to `capacity` rays; the stages compiled for the scene's effects.
-    RayTracer(const vk::Context& context, const PackedScene& scene, uint32_t capacity);
+    // Buffers for up to `capacity` rays; the stages compiled for the scene's effects; `sort_rays`: each trace sorts
+    // the rays first (render/ray_sort.h), its time included.
+    RayTracer(const vk::Context& context, const PackedScene& scene, uint32_t capacity, bool sort_rays = false);
 
-    // Traces `rays` (RayItem::path is ignored; origin_triangle in BVH leaf order) `repeats` times, one dispatch each.
+    // Traces `rays` (RayItem::path is ignored; origin_triangle in BVH leaf order) `repeats` times.
     TracedRays trace(const std::vector<gpu::RayItem>& rays, uint32_t repeats = 1);
 
 private:

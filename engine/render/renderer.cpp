@@ -11,6 +11,7 @@
 #include "render/camera_medium.h"
 #include "render/film.h"
 #include "render/light_tracing.h"
+#include "render/ray_sort.h"
 #include "render/ray_tracer.h"
 #include "render/wave_size.h"
 #include "vk/context.h"
@@ -31,7 +32,8 @@ namespace {
 // With unlimited depth the host looks at the queue length every this many bounces (one readback per
 // submission, never between stages). Also bounds the work per submission (GPU watchdogs).
 constexpr uint32_t DEPTHS_PER_SUBMIT = 16;
-constexpr uint32_t MAX_DISPATCHES_PER_SUBMIT = 4 + 5 * DEPTHS_PER_SUBMIT;  // 5 per BDPT camera bounce; 3 before light bounces
+// 5 per BDPT camera bounce and 3 for its ray sort; 3 before light bounces.
+constexpr uint32_t MAX_DISPATCHES_PER_SUBMIT = 4 + 8 * DEPTHS_PER_SUBMIT;
 
 uint32_t group_count(uint64_t invocations) {
     return uint32_t((invocations + gpu::WORKGROUP_SIZE - 1) / gpu::WORKGROUP_SIZE);
@@ -116,6 +118,7 @@ StageOptions make_stage_options(const PackedScene& scene, const RenderSettings& 
     o.instances = !scene.instances.empty();
     o.sampler = s.sampler == Sampler::sobol ? gpu::SAMPLER_SOBOL : gpu::SAMPLER_INDEPENDENT;
     o.integrator = s.integrator;
+    o.sort_rays = s.sort_rays;
     check_light_tracing(scene.source.empty() ? std::string("scene") : scene.source, scene, s, camera, o.effects);
     return o;
 }
@@ -132,7 +135,7 @@ Renderer::Renderer(const vk::Context& context, const PackedScene& scene, const S
       settings_(with_wave_paths(settings, context, scene)),
       frame_(make_frame(scene, camera, settings_)),
       stages_(context, make_stage_options(scene, settings, camera)),
-      buffers_(create_gpu_buffers(context, scene, frame_, stages_.options().effects, make_bdpt_store(settings_))),
+      buffers_(create_gpu_buffers(context, scene, frame_, stages_.options().effects, make_path_store(settings_))),
       recorder_(context, MAX_DISPATCHES_PER_SUBMIT),
       has_lights_(!scene.emitters.empty()),
       origin_(scene.origin),
@@ -274,7 +277,10 @@ void Renderer::trace_subpaths(const Wave& wave, Subpaths side, RenderStats& stat
 void Renderer::record_bounce(uint32_t depth, const Wave& wave, Subpaths side) {
     const bool light = side == Subpaths::light;
     gpu::StagePush push = make_push(depth, wave);
+    // Camera rays leave in pixel order, which is coherent already: their sort starts with the first bounce.
+    if (stages_.options().sort_rays && (depth > 0 || light)) push.ray_order = gpu::RAY_ORDER_SORTED;
     recorder_.push_constants(&push, sizeof(push));
+    if (push.ray_order == gpu::RAY_ORDER_SORTED) record_ray_sort(recorder_, stages_, buffers_);
     recorder_.barrier_compute();
     recorder_.dispatch_indirect(stages_[Stage::extend], buffers_.counters, offsetof(gpu::QueueCounters, extend_args));
     if (!light && settings_.integrator == Integrator::bdpt && frame_.light_vertex_slots > 0) {

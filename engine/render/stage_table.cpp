@@ -10,6 +10,7 @@
 
 #include "shaders/accumulate.spv.h"
 #include "shaders/advance.spv.h"
+#include "shaders/bin_rays.spv.h"
 #include "shaders/connect.spv.h"
 #include "shaders/connect_subpaths.spv.h"
 #include "shaders/extend.spv.h"
@@ -19,6 +20,8 @@
 #include "shaders/light_generate_bdpt.spv.h"
 #include "shaders/light_shade.spv.h"
 #include "shaders/light_shade_bdpt.spv.h"
+#include "shaders/scan_ray_bins.spv.h"
+#include "shaders/scatter_rays.spv.h"
 #include "shaders/shade.spv.h"
 #include "shaders/shade_bdpt.spv.h"
 #include "shaders/splat.spv.h"
@@ -29,7 +32,8 @@ namespace fh {
 const char* stage_name(Stage stage) {
     constexpr const char* names[STAGE_COUNT] = {"generate",   "extend",         "shade",       "advance",
                                                 "connect",    "accumulate",     "light_generate", "light_shade",
-                                                "splat",      "connect_subpaths"};
+                                                "splat",      "connect_subpaths", "bin_rays",    "scan_ray_bins",
+                                                "scatter_rays"};
     return names[size_t(stage)];
 }
 
@@ -68,6 +72,11 @@ StageTable::StageTable(const vk::Context& context, const StageOptions& options)
     make(Stage::extend, spv_extend);
     make(Stage::advance, spv_advance);
     make(Stage::accumulate, spv_accumulate);
+    if (options.sort_rays) {
+        make(Stage::bin_rays, spv_bin_rays);
+        make(Stage::scan_ray_bins, spv_scan_ray_bins);
+        make(Stage::scatter_rays, spv_scatter_rays);
+    }
     if (options.integrator != Integrator::path) {
         make(Stage::light_generate, bdpt ? Spirv(spv_light_generate_bdpt) : Spirv(spv_light_generate));
         make(Stage::light_shade, bdpt ? Spirv(spv_light_shade_bdpt) : Spirv(spv_light_shade));

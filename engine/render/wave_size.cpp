@@ -6,12 +6,12 @@
 namespace fh {
 
 uint32_t choose_wave_paths(bool cpu_device, const DeviceMemoryLimits& limits, const PackedScene& scene,
-                           uint32_t effects, uint32_t film_width, uint32_t film_height, const BdptStore& bdpt) {
-    const double per_path = bytes_per_path(scene, effects, bdpt);
+                           uint32_t effects, uint32_t film_width, uint32_t film_height, const PathStore& store) {
+    const double per_path = bytes_per_path(scene, effects, store);
     uint32_t paths = cpu_device ? CPU_WAVE_PATHS : GPU_WAVE_PATHS;
     for (;; paths /= 2) {
         const bool buffers_fit =
-            find_memory_problem(estimate_render_memory(scene, film_width, film_height, paths, effects, bdpt), limits).empty();
+            find_memory_problem(estimate_render_memory(scene, film_width, film_height, paths, effects, store), limits).empty();
         const bool quarter = limits.device_local_heap == 0 || per_path * paths <= 0.25 * double(limits.device_local_heap);
         if (buffers_fit && quarter) break;
         if (paths <= MIN_AUTO_WAVE_PATHS && (buffers_fit || paths <= MIN_FITTING_WAVE_PATHS)) break;
@@ -20,18 +20,18 @@ uint32_t choose_wave_paths(bool cpu_device, const DeviceMemoryLimits& limits, co
 }
 
 uint32_t choose_wave_paths(const vk::Context& context, const PackedScene& scene, uint32_t effects,
-                           uint32_t film_width, uint32_t film_height, const BdptStore& bdpt) {
+                           uint32_t film_width, uint32_t film_height, const PathStore& store) {
     VkPhysicalDeviceProperties properties;
     vkGetPhysicalDeviceProperties(context.physical_device(), &properties);
     return choose_wave_paths(properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU, query_memory_limits(context), scene,
-                             effects, film_width, film_height, bdpt);
+                             effects, film_width, film_height, store);
 }
 
 RenderSettings with_wave_paths(RenderSettings settings, const vk::Context& context, const PackedScene& scene) {
     if (settings.wave_paths == 0)
         settings.wave_paths = choose_wave_paths(
             context, scene, select_effects(scene.effects.bits, settings.forced_effects, settings.disabled_effects),
-            settings.film_width(), settings.film_height(), make_bdpt_store(settings));
+            settings.film_width(), settings.film_height(), make_path_store(settings));
     return settings;
 }
 

@@ -28,9 +28,9 @@ constexpr uint32_t MIN_FITTING_WAVE_PATHS = 1u << 10;
 // The film (film_width x film_height) counts towards the device's memory with the wave.
 uint32_t choose_wave_paths(bool cpu_device, const DeviceMemoryLimits& limits, const PackedScene& scene,
                            uint32_t effects, uint32_t film_width = 1, uint32_t film_height = 1,
-                           const BdptStore& bdpt = {});
+                           const PathStore& store = {});
 uint32_t choose_wave_paths(const vk::Context& context, const PackedScene& scene, uint32_t effects,
-                           uint32_t film_width, uint32_t film_height, const BdptStore& bdpt = {});
+                           uint32_t film_width, uint32_t film_height, const PathStore& store = {});
 
 // `settings` with wave_paths chosen for the device when it is 0 (--wave-paths not given); as it is otherwise.
 RenderSettings with_wave_paths(RenderSettings settings, const vk::Context& context, const PackedScene& scene);

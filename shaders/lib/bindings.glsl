@@ -16,6 +16,7 @@ layout(std430, binding = BINDING_PATH_TIMES) buffer PathTimeBuffer { float path_
 layout(std430, binding = BINDING_GLASS_ALBEDO) readonly buffer GlassAlbedoBuffer { float glass_albedo_words[]; };
 layout(std430, binding = BINDING_LIGHT_VERTICES) buffer LightVertexBuffer { LightVertex light_vertices[]; };
 layout(std430, binding = BINDING_PATH_MIS) buffer PathMisBuffer { PathMis path_mis[]; };
+layout(std430, binding = BINDING_RAY_SORT) buffer RaySortBuffer { uint ray_sort_words[]; };  // lib/ray_order.glsl
 // The scene's read-only structs (layout.h TEXELS bindings): load_bvh_node, load_triangle_positions,
 // load_triangle_shading, load_material, load_emitter, load_punctual_light, load_triangle_attributes, load_instance,
 // load_material_layers, written at build time from layout.h.

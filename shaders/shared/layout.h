@@ -64,7 +64,11 @@ FH_CONST uint BINDING_PATH_TIMES = 25u;     // float[wave capacity]: a path's ti
 // FrameParams.light_vertex_slots per path (LightVertex[wave capacity x slots]), and each path's MIS quantities.
 FH_CONST uint BINDING_LIGHT_VERTICES = 26u;
 FH_CONST uint BINDING_PATH_MIS = 27u;         // PathMis[wave capacity]
-FH_CONST uint BINDING_COUNT = 28u;
+// The ray queue's sorted order (`--sort-rays`; else one word): uint words, RAY_SORT_BINS counts, then
+// RAY_SORT_BINS offsets, then per queued ray its key, then its rank within the key, then the queue index of the i-th
+// ray in key order (lib/ray_order.glsl).
+FH_CONST uint BINDING_RAY_SORT = 28u;
+FH_CONST uint BINDING_COUNT = 29u;
 FH_CONST uint TEXEL_BYTES = 16u;             // one RGBA32UI texel of a TEXELS binding
 
 // ---- Specialization constants (constant_id) -------------------------------------------------------------
@@ -410,8 +414,18 @@ struct StagePush {
     uint pixel_count;
     uint sample_begin;      // and sample indices [sample_begin, sample_begin + sample_count)
     uint sample_count;
-    uint pad0, pad1, pad2;
+    uint ray_order;         // RAY_ORDER_*: extend takes the queue as it is, or through the sorted order
+    uint pad0, pad1;
 };
+
+// Ray order for extend (StagePush.ray_order): the queue as shade filled it, or sorted by a key of each ray's direction
+// and origin (lib/ray_order.glsl): rays that start close and point the same way visit the same BVH nodes, so the 8
+// lanes of a SIMD group diverge less (README "Speed", "Ray order").
+FH_CONST uint RAY_ORDER_QUEUE = 0u;
+FH_CONST uint RAY_ORDER_SORTED = 1u;
+FH_CONST uint RAY_SORT_DIRECTION_BITS = 3u;  // per axis of the octahedral map: 8 x 8 direction cells
+FH_CONST uint RAY_SORT_ORIGIN_BITS = 3u;     // per axis of the scene's box: 8 x 8 x 8 origin cells, Morton order
+FH_CONST uint RAY_SORT_BINS = 1u << (2u * RAY_SORT_DIRECTION_BITS + 3u * RAY_SORT_ORIGIN_BITS);  // 32768 keys
 
 // ---- Wavefront state -------------------------------------------------------------------------------------
 struct DispatchArgs {

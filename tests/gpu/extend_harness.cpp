@@ -27,7 +27,7 @@ Scene make_grey_scene(const std::vector<glm::vec3>& positions) {
 
 // Runs extend once over `rays`.
 ExtendResult run_extend_once(vk::Context& context, const PackedScene& packed, const Bvh& bvh,
-                             const std::vector<Ray>& rays) {
+                             const std::vector<Ray>& rays, bool sort_rays) {
     std::vector<uint32_t> leaf_index_of(bvh.triangle_order.size());
     for (size_t i = 0; i < bvh.triangle_order.size(); ++i) leaf_index_of[bvh.triangle_order[i]] = uint32_t(i);
     std::vector<gpu::RayItem> items(rays.size());
@@ -37,7 +37,7 @@ ExtendResult run_extend_once(vk::Context& context, const PackedScene& packed, co
         items[i] = {rays[i].origin.x, rays[i].origin.y, rays[i].origin.z, uint32_t(i),
                     rays[i].dir.x,    rays[i].dir.y,    rays[i].dir.z,    from};
     }
-    RayTracer tracer(context, packed, uint32_t(rays.size()));
+    RayTracer tracer(context, packed, uint32_t(rays.size()), sort_rays);
     TracedRays traced = tracer.trace(items);
     ExtendResult result;
     result.hits = std::move(traced.hits);
@@ -61,12 +61,12 @@ vk::Context& shared_test_context() {
 }
 
 ExtendResult run_extend_stage(const std::vector<glm::vec3>& positions, const std::vector<Ray>& rays,
-                              const BvhOptions& options) {
+                              const BvhOptions& options, bool sort_rays) {
     vk::Context& context = shared_test_context();
     Scene scene = make_grey_scene(positions);
     Bvh bvh = build_bvh(scene.positions, options);
     PackedScene packed = pack_scene(scene, bvh);
-    return run_extend_once(context, packed, bvh, rays);
+    return run_extend_once(context, packed, bvh, rays, sort_rays);
 }
 
 }  // namespace fh::test

@@ -25,8 +25,9 @@ struct ExtendResult {
 // One Vulkan context for the whole test binary (validation on when FREDHOLM_VALIDATION=1).
 vk::Context& shared_test_context();
 
-// Builds a BVH over `positions` (3 per triangle), queues `rays`, dispatches extend, reads the hits.
+// Builds a BVH over `positions` (3 per triangle), queues `rays`, dispatches extend (after the ray sort with
+// `sort_rays`, render/ray_sort.h), reads the hits.
 ExtendResult run_extend_stage(const std::vector<glm::vec3>& positions, const std::vector<Ray>& rays,
-                              const BvhOptions& options = {});
+                              const BvhOptions& options = {}, bool sort_rays = false);
 
 }  // namespace fh::test

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "../unit/test_meshes.h"
@@ -71,6 +72,34 @@ TEST(ExtendStage, RandomRaysMatchDoubleReference) {
     EXPECT_EQ(result.escaped_rays, uint32_t(misses));  // the device's escape counter counts what it reports
     EXPECT_GT(misses, 0);
     EXPECT_LT(misses, int(rays.size()));
+}
+
+// The ray sort (--sort-rays) changes only which lane traces which ray: every ray gets the same hit, to the bit, at its
+// own queue index. A sort that lost or repeated a ray leaves some hits unwritten and fails here.
+TEST(ExtendStage, SortedRaysGetTheSameHits) {
+    const std::vector<glm::vec3> soup = make_random_soup(800, 11);
+    Rng rng(7);
+    std::vector<Ray> rays;
+    for (int i = 0; i < 20000; ++i)  // in no order: many keys, several rays to most
+        rays.push_back({rng.uniform3(-12.0f, 12.0f), glm::normalize(rng.uniform3(-1.0f, 1.0f))});
+    const ExtendResult queued = run_extend_stage(soup, rays);
+    const ExtendResult sorted = run_extend_stage(soup, rays, {}, true);
+    ASSERT_EQ(sorted.hits.size(), queued.hits.size());
+    int different = 0;
+    for (size_t i = 0; i < rays.size(); ++i) {
+        const gpu::HitItem& a = queued.hits[i];
+        const gpu::HitItem& b = sorted.hits[i];
+        const bool same = a.triangle == b.triangle &&
+                          (a.triangle == gpu::INVALID_INDEX || (std::memcmp(&a.t, &b.t, sizeof a.t) == 0 &&
+                                                                std::memcmp(&a.b1, &b.b1, sizeof a.b1) == 0 &&
+                                                                std::memcmp(&a.b2, &b.b2, sizeof a.b2) == 0));
+        if (!same && ++different <= 5)
+            ADD_FAILURE() << "ray " << i << ": queue order triangle " << a.triangle << " t " << a.t << ", sorted "
+                          << b.triangle << " t " << b.t;
+    }
+    EXPECT_EQ(different, 0);
+    EXPECT_EQ(sorted.escaped_rays, queued.escaped_rays);
+    EXPECT_EQ(count_disagreements(soup, rays, sorted), 0);
 }
 
 TEST(ExtendStage, AxisParallelRaysAndOriginsOnBoxPlanes) {

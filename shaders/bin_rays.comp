@@ -1,0 +1,22 @@
+// Stage "bin_rays", the first of the ray sort (lib/ray_order.glsl): each queued ray's key and its rank among the rays
+// of that key (the count before it), and how many rays have each key. Reads: rays[queue depth & 1],
+// counters.ray_count, params (scene bounds). Writes: the ray-sort buffer's keys, ranks and counts (scan_ray_bins
+// leaves the counts zero for the next depth).
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "lib/bindings.glsl"
+#include "lib/ray_order.glsl"
+
+layout(local_size_x = WORKGROUP_SIZE) in;
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    uint parity = push.depth & 1u;
+    if (i >= counters.ray_count[parity]) return;
+    uint slot = ray_slot(parity, i);
+    vec3 origin = vec3(rays[slot].origin_x, rays[slot].origin_y, rays[slot].origin_z);
+    vec3 dir = vec3(rays[slot].dir_x, rays[slot].dir_y, rays[slot].dir_z);
+    uint key = make_ray_sort_key(origin, dir);
+    ray_sort_words[ray_sort_key_word(i)] = key;
+    ray_sort_words[ray_sort_rank_word(i)] = atomicAdd(ray_sort_words[RAY_SORT_COUNTS + key], 1u);
+}
