@@ -11,8 +11,12 @@ uint ray_sort_key_word(uint i) { return 2u * RAY_SORT_BINS + i; }
 uint ray_sort_rank_word(uint i) { return 2u * RAY_SORT_BINS + params.wave_capacity + i; }
 uint ray_sort_order_word(uint i) { return 2u * RAY_SORT_BINS + 2u * params.wave_capacity + i; }
 
-// Spreads the low 3 bits of v to bits 0, 3 and 6 (Morton order of 8 x 8 x 8 cells).
-uint spread_3_bits(uint v) { return (v & 1u) | ((v & 2u) << 2) | ((v & 4u) << 4); }
+// Spreads the low RAY_SORT_ORIGIN_BITS bits of v to every third bit (Morton order of the origin cells).
+uint spread_3_bits(uint v) {
+    uint spread = 0u;
+    for (uint bit = 0u; bit < RAY_SORT_ORIGIN_BITS; ++bit) spread |= ((v >> bit) & 1u) << (3u * bit);
+    return spread;
+}
 
 // The sort key: the direction's cell in an octahedral map (8 x 8 cells of about equal solid angle) above the origin's
 // cell in the scene's box (8 x 8 x 8, Morton order). Sorted by direction first: lanes whose rays point apart take
