@@ -16,7 +16,5 @@ void main() {
     uint slot = ray_slot(parity, i);
     vec3 origin = vec3(rays[slot].origin_x, rays[slot].origin_y, rays[slot].origin_z);
     vec3 dir = vec3(rays[slot].dir_x, rays[slot].dir_y, rays[slot].dir_z);
-    uint key = make_ray_sort_key(origin, dir);
-    ray_sort_words[ray_sort_key_word(i)] = key;
-    ray_sort_words[ray_sort_rank_word(i)] = atomicAdd(ray_sort_words[RAY_SORT_COUNTS + key], 1u);
+    bin_ray(i, origin, dir);
 }

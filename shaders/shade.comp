@@ -24,6 +24,7 @@
 #include "lib/path_color.glsl"
 #include "lib/surface_bsdf.glsl"
 #include "lib/bdpt.glsl"
+#include "lib/ray_order.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE) in;
 
@@ -305,6 +306,9 @@ void main() {
     uint slot;
     PUSH_TO_QUEUE(counters.ray_count[parity ^ 1u], push_ray, slot);
     if (push_ray) rays[ray_slot(parity ^ 1u, slot)] = next;
+    // The next extend sorts its rays: each is binned here, where its origin and direction are at hand.
+    if (push_ray && push.bin_pushed_rays != 0u)
+        bin_ray(slot, vec3(next.origin_x, next.origin_y, next.origin_z), vec3(next.dir_x, next.dir_y, next.dir_z));
     PUSH_TO_QUEUE(counters.shadow_count, push_shadow, slot);
     if (push_shadow) shadow_rays[slot] = shadow;
 }

@@ -83,15 +83,19 @@ namespace {
 
 // The median-time render of `repeats` (one Renderer: pipelines are built once, outside the timing, and one
 // untimed sample per pixel first lets drivers that compile at first dispatch, such as lavapipe, do so).
+RenderStats median_run(std::vector<RenderStats> runs) {
+    std::sort(runs.begin(), runs.end(),
+              [](const RenderStats& a, const RenderStats& b) { return a.render_seconds < b.render_seconds; });
+    return runs[runs.size() / 2];
+}
+
 RenderStats time_render(const vk::Context& context, const PreparedScene& prepared, const SceneCamera& camera,
                         const RenderSettings& settings, uint32_t repeats) {
     Renderer renderer(context, prepared.packed, camera, settings);
     renderer.render_samples(0, 1);
     std::vector<RenderStats> runs;
     for (uint32_t r = 0; r < repeats; ++r) runs.push_back(renderer.render());
-    std::sort(runs.begin(), runs.end(),
-              [](const RenderStats& a, const RenderStats& b) { return a.render_seconds < b.render_seconds; });
-    return runs[runs.size() / 2];
+    return median_run(runs);
 }
 
 std::string format_stage_seconds(const RenderStats& m) {
@@ -118,8 +122,8 @@ nlohmann::json describe_run(uint32_t size, const RenderStats& m, const std::stri
             {"nonfinite_samples", m.nonfinite_samples}};
 }
 
-// What a feature costs at one size: the render with it, then right after it the render without it (the
-// machine's speed drifts), printed as "WITH a s, WITHOUT b s: FEATURE costs +x% of the render time". The
+// What a feature costs at one size: renders with it and without it, alternating (the machine's speed drifts), printed
+// as "WITH a s, WITHOUT b s: FEATURE costs +x% of the render time". The
 // variant with it is `with` rendered with `with_settings`, the one without it `without` with `without_settings`.
 struct FeatureNames {
     const char* with;     // "with textures"
@@ -132,10 +136,20 @@ std::pair<RenderStats, RenderStats> time_feature(const vk::Context& context, con
                                                  uint32_t size, uint32_t repeats, const PreparedScene& with,
                                                  const PreparedScene& without, const FeatureNames& names) {
     with_settings.width = with_settings.height = without_settings.width = without_settings.height = size;
-    const RenderStats a = time_render(context, with, camera, with_settings, repeats);
-    const RenderStats b = time_render(context, without, camera, without_settings, repeats);
-    std::printf("%4ux%-4u %s %.3f s, %s %.3f s: %s cost %+.1f%% of the render time\n", size, size, names.with,
-                a.render_seconds, names.without, b.render_seconds, names.feature,
+    // Both renderers built first, then their renders alternate (with, without, with, ...): the machine's speed
+    // drifts within seconds, and blocks of repeats would charge the drift to the feature.
+    Renderer with_renderer(context, with.packed, camera, with_settings);
+    Renderer without_renderer(context, without.packed, camera, without_settings);
+    with_renderer.render_samples(0, 1);
+    without_renderer.render_samples(0, 1);
+    std::vector<RenderStats> with_runs, without_runs;
+    for (uint32_t r = 0; r < repeats; ++r) {
+        with_runs.push_back(with_renderer.render());
+        without_runs.push_back(without_renderer.render());
+    }
+    const RenderStats a = median_run(with_runs), b = median_run(without_runs);
+    std::printf("%4ux%-4u %s %.3f s, %s %.3f s (alternating, medians of %u): %s cost %+.1f%% of the render time\n",
+                size, size, names.with, a.render_seconds, names.without, b.render_seconds, repeats, names.feature,
                 100.0 * (a.render_seconds - b.render_seconds) / b.render_seconds);
     return {a, b};
 }

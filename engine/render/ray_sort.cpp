@@ -9,10 +9,13 @@
 
 namespace fh {
 
-void record_ray_sort(vk::CommandRecorder& recorder, const StageTable& stages, const GpuBuffers& buffers) {
+void record_ray_sort(vk::CommandRecorder& recorder, const StageTable& stages, const GpuBuffers& buffers,
+                     bool binned) {
     const VkDeviceSize queue = offsetof(gpu::QueueCounters, extend_args);
-    recorder.barrier_compute();
-    recorder.dispatch_indirect(stages[Stage::bin_rays], buffers.counters, queue);
+    if (!binned) {
+        recorder.barrier_compute();
+        recorder.dispatch_indirect(stages[Stage::bin_rays], buffers.counters, queue);
+    }
     recorder.barrier_compute();
     recorder.dispatch(stages[Stage::scan_ray_bins], 1);
     recorder.barrier_compute();

@@ -12,8 +12,10 @@ class CommandRecorder;
 class StageTable;
 struct GpuBuffers;
 
-// Records the three sort stages over the ray queue of the push constants' depth (whose length extend_args holds),
-// each after a barrier. The caller then dispatches extend with StagePush.ray_order = RAY_ORDER_SORTED.
-void record_ray_sort(vk::CommandRecorder& recorder, const StageTable& stages, const GpuBuffers& buffers);
+// Records the sort stages over the ray queue of the push constants' depth (whose length extend_args holds), each
+// after a barrier; `binned`: the stage that pushed the rays binned them (shade with StagePush.bin_pushed_rays), so
+// bin_rays is left out. The caller then dispatches extend with StagePush.ray_order = RAY_ORDER_SORTED.
+void record_ray_sort(vk::CommandRecorder& recorder, const StageTable& stages, const GpuBuffers& buffers,
+                     bool binned = false);
 
 }  // namespace fh

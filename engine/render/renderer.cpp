@@ -277,10 +277,13 @@ void Renderer::trace_subpaths(const Wave& wave, Subpaths side, RenderStats& stat
 void Renderer::record_bounce(uint32_t depth, const Wave& wave, Subpaths side) {
     const bool light = side == Subpaths::light;
     gpu::StagePush push = make_push(depth, wave);
-    // Camera rays leave in pixel order, which is coherent already: their sort starts with the first bounce.
-    if (stages_.options().sort_rays && (depth > 0 || light)) push.ray_order = gpu::RAY_ORDER_SORTED;
+    // Camera rays leave in pixel order, which is coherent already: their sort starts with the first bounce. Shade
+    // bins the camera side's rays as it pushes them; light subpaths are binned by bin_rays.
+    const bool sort = stages_.options().sort_rays;
+    if (sort && (depth > 0 || light)) push.ray_order = gpu::RAY_ORDER_SORTED;
+    if (sort && !light) push.bin_pushed_rays = 1u;
     recorder_.push_constants(&push, sizeof(push));
-    if (push.ray_order == gpu::RAY_ORDER_SORTED) record_ray_sort(recorder_, stages_, buffers_);
+    if (push.ray_order == gpu::RAY_ORDER_SORTED) record_ray_sort(recorder_, stages_, buffers_, !light);
     recorder_.barrier_compute();
     recorder_.dispatch_indirect(stages_[Stage::extend], buffers_.counters, offsetof(gpu::QueueCounters, extend_args));
     if (!light && settings_.integrator == Integrator::bdpt && frame_.light_vertex_slots > 0) {

@@ -38,6 +38,13 @@ uint make_ray_sort_key(vec3 origin, vec3 dir) {
     return (direction << (3u * RAY_SORT_ORIGIN_BITS)) | morton;
 }
 
+// Counts queued ray i under its key and keeps its rank among the rays of that key (bin_rays, or shade as it pushes).
+void bin_ray(uint i, vec3 origin, vec3 dir) {
+    uint key = make_ray_sort_key(origin, dir);
+    ray_sort_words[ray_sort_key_word(i)] = key;
+    ray_sort_words[ray_sort_rank_word(i)] = atomicAdd(ray_sort_words[RAY_SORT_COUNTS + key], 1u);
+}
+
 // The queue index of the i-th ray extend traces.
 uint select_ray_index(uint i) {
     return push.ray_order == RAY_ORDER_SORTED ? ray_sort_words[ray_sort_order_word(i)] : i;

@@ -415,7 +415,8 @@ struct StagePush {
     uint sample_begin;      // and sample indices [sample_begin, sample_begin + sample_count)
     uint sample_count;
     uint ray_order;         // RAY_ORDER_*: extend takes the queue as it is, or through the sorted order
-    uint pad0, pad1;
+    uint bin_pushed_rays;   // 1: shade bins the rays it pushes for the next extend's sort (lib/ray_order.glsl)
+    uint pad0;
 };
 
 // Ray order for extend (StagePush.ray_order): the queue as shade filled it, or sorted by a key of each ray's direction

@@ -138,6 +138,7 @@ FH_OFFSET(StagePush, pixel_count, 8);
 FH_OFFSET(StagePush, sample_begin, 12);
 FH_OFFSET(StagePush, sample_count, 16);
 FH_OFFSET(StagePush, ray_order, 20);
+FH_OFFSET(StagePush, bin_pushed_rays, 24);
 
 FH_SIZE(DispatchArgs, 12);
 
