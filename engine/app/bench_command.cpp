@@ -81,14 +81,14 @@ void add_bench_options(CLI::App& app, BenchCommand& c) {
 
 namespace {
 
-// The median-time render of `repeats` (one Renderer: pipelines are built once, outside the timing, and one
-// untimed sample per pixel first lets drivers that compile at first dispatch, such as lavapipe, do so).
 RenderStats median_run(std::vector<RenderStats> runs) {
     std::sort(runs.begin(), runs.end(),
               [](const RenderStats& a, const RenderStats& b) { return a.render_seconds < b.render_seconds; });
     return runs[runs.size() / 2];
 }
 
+// The median-time render of `repeats` (one Renderer: pipelines are built once, outside the timing, and one
+// untimed sample per pixel first lets drivers that compile at first dispatch, such as lavapipe, do so).
 RenderStats time_render(const vk::Context& context, const PreparedScene& prepared, const SceneCamera& camera,
                         const RenderSettings& settings, uint32_t repeats) {
     Renderer renderer(context, prepared.packed, camera, settings);
@@ -137,7 +137,8 @@ std::pair<RenderStats, RenderStats> time_feature(const vk::Context& context, con
                                                  const PreparedScene& without, const FeatureNames& names) {
     with_settings.width = with_settings.height = without_settings.width = without_settings.height = size;
     // Both renderers built first, then their renders alternate (with, without, with, ...): the machine's speed
-    // drifts within seconds, and blocks of repeats would charge the drift to the feature.
+    // drifts within seconds, and blocks of repeats would charge the drift to the feature. Both renderers' buffers
+    // are held at once (twice a single render's device memory).
     Renderer with_renderer(context, with.packed, camera, with_settings);
     Renderer without_renderer(context, without.packed, camera, without_settings);
     with_renderer.render_samples(0, 1);

@@ -103,7 +103,7 @@ void apply_vary(const std::string& key, const std::string& v, RenderSettings& s)
 bool same_settings(const RenderSettings& a, const RenderSettings& b) {
     return a.max_depth == b.max_depth && a.nee == b.nee && a.mis == b.mis &&
            a.russian_roulette == b.russian_roulette && a.rr_start_depth == b.rr_start_depth && a.filter == b.filter &&
-           a.sampler == b.sampler && a.integrator == b.integrator &&
+           a.sampler == b.sampler && a.integrator == b.integrator && a.sort_rays == b.sort_rays &&
            a.forced_effects == b.forced_effects &&
            a.disabled_effects == b.disabled_effects && describe_lens(a.lens) == describe_lens(b.lens);
 }
@@ -245,6 +245,7 @@ std::string describe_command(const ConvergeCommand& c) {
     if (!s.nee) line += " --nee off";
     if (!s.mis) line += " --mis off";
     if (!s.russian_roulette) line += " --rr off";
+    if (s.sort_rays) line += " --sort-rays on";
     if (s.rr_start_depth != RenderSettings{}.rr_start_depth) line += " --rr-start-depth " + std::to_string(s.rr_start_depth);
     if (s.forced_effects) line += " --force-effect " + describe_effects(s.forced_effects);
     if (s.disabled_effects) line += " --disable-effect " + describe_effects(s.disabled_effects);

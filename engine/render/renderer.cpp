@@ -281,7 +281,8 @@ void Renderer::record_bounce(uint32_t depth, const Wave& wave, Subpaths side) {
     // bins the camera side's rays as it pushes them; light subpaths are binned by bin_rays.
     const bool sort = stages_.options().sort_rays;
     if (sort && (depth > 0 || light)) push.ray_order = gpu::RAY_ORDER_SORTED;
-    if (sort && !light) push.bin_pushed_rays = 1u;
+    // Only where a next extend follows (shade pushes nothing at the last depth; scan_ray_bins clears the counts).
+    if (sort && !light && (settings_.max_depth == 0 || depth + 1 < settings_.max_depth)) push.bin_pushed_rays = 1u;
     recorder_.push_constants(&push, sizeof(push));
     if (push.ray_order == gpu::RAY_ORDER_SORTED) record_ray_sort(recorder_, stages_, buffers_, !light);
     recorder_.barrier_compute();
