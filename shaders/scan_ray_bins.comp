@@ -6,7 +6,7 @@
 #include "lib/bindings.glsl"
 #include "lib/ray_order.glsl"
 
-const uint SCAN_LANES = 256u;
+const uint SCAN_LANES = 128u;  // the least maxComputeWorkGroupInvocations Vulkan guarantees
 const uint BINS_PER_LANE = RAY_SORT_BINS / SCAN_LANES;
 layout(local_size_x = SCAN_LANES) in;
 
@@ -19,7 +19,7 @@ void main() {
     for (uint k = 0u; k < BINS_PER_LANE; ++k) sum += ray_sort_words[RAY_SORT_COUNTS + first + k];
     lane_start[lane] = sum;
     barrier();
-    if (lane == 0u) {  // 256 sums: one lane's loop costs less than a tree of barriers here
+    if (lane == 0u) {  // 128 sums: one lane's loop costs less than a tree of barriers here
         uint run = 0u;
         for (uint j = 0u; j < SCAN_LANES; ++j) {
             uint count = lane_start[j];

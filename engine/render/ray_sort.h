@@ -1,8 +1,7 @@
 // The ray sort before extend (README "Ray order"): each bounce's queue counted into keys of direction and origin
-// (bin_rays), the keys' starts (scan_ray_bins) and the queue's order by key (scatter_rays), which extend follows.
+// (by shade as it pushes the rays, else bin_rays), the keys' starts (scan_ray_bins) and the queue's order by key
+// (scatter_rays), which extend follows.
 #pragma once
-#include <cstdint>
-
 
 namespace fh {
 

@@ -1,5 +1,6 @@
 // The order extend takes the ray queue in (layout.h RAY_ORDER_*): a counting sort of the queue by a key of each ray's
-// direction and origin, run by bin_rays, scan_ray_bins and scatter_rays before extend. Only the order in which the
+// direction and origin, binned by shade (bin_ray as it pushes) or bin_rays, then scan_ray_bins and scatter_rays
+// before extend. Only the order in which the
 // lanes pick rays changes: each ray's hit is written at its own queue index, so the images keep their bits.
 #ifndef FH_RAY_ORDER_GLSL
 #define FH_RAY_ORDER_GLSL
@@ -12,7 +13,7 @@ uint ray_sort_rank_word(uint i) { return 2u * RAY_SORT_BINS + params.wave_capaci
 uint ray_sort_order_word(uint i) { return 2u * RAY_SORT_BINS + 2u * params.wave_capacity + i; }
 
 // Spreads the low RAY_SORT_ORIGIN_BITS bits of v to every third bit (Morton order of the origin cells).
-uint spread_3_bits(uint v) {
+uint spread_to_every_third_bit(uint v) {
     uint spread = 0u;
     for (uint bit = 0u; bit < RAY_SORT_ORIGIN_BITS; ++bit) spread |= ((v >> bit) & 1u) << (3u * bit);
     return spread;
@@ -33,7 +34,8 @@ uint make_ray_sort_key(vec3 origin, vec3 dir) {
     vec3 extent = max(params.scene_max.xyz - params.scene_min.xyz, vec3(1e-30f));
     vec3 u = clamp((origin - params.scene_min.xyz) / extent * origin_cells, vec3(0.0f), vec3(origin_cells - 1.0f));
     uvec3 c = uvec3(u) & origin_mask;
-    uint morton = spread_3_bits(c.x) | (spread_3_bits(c.y) << 1) | (spread_3_bits(c.z) << 2);
+    uint morton = spread_to_every_third_bit(c.x) | (spread_to_every_third_bit(c.y) << 1) |
+                  (spread_to_every_third_bit(c.z) << 2);
     uint direction = (d.y << RAY_SORT_DIRECTION_BITS) | d.x;
     return (direction << (3u * RAY_SORT_ORIGIN_BITS)) | morton;
 }
