@@ -63,7 +63,10 @@ PathStore make_path_store(const RenderSettings& settings) {
 }
 
 uint64_t ray_sort_bytes(uint32_t wave_capacity, const PathStore& store) {
-    return store.sort_rays ? (2ull * gpu::RAY_SORT_BINS + 3ull * wave_capacity) * sizeof(uint32_t) : sizeof(uint32_t);
+    return store.sort_rays
+               ? (uint64_t(gpu::RAY_SORT_FIXED_WORDS) + uint64_t(gpu::RAY_SORT_WORDS_PER_RAY) * wave_capacity) *
+                     sizeof(uint32_t)
+               : sizeof(uint32_t);
 }
 
 uint64_t light_vertices_bytes(uint32_t wave_capacity, const PathStore& store) {

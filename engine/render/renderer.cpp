@@ -32,7 +32,8 @@ namespace {
 // With unlimited depth the host looks at the queue length every this many bounces (one readback per
 // submission, never between stages). Also bounds the work per submission (GPU watchdogs).
 constexpr uint32_t DEPTHS_PER_SUBMIT = 16;
-// 5 per BDPT camera bounce and 3 for its ray sort; 3 before light bounces.
+// At most 7 per bounce (a BDPT camera bounce: its 2 sort stages, extend, connect_subpaths, shade, advance, connect;
+// a light bounce: its 3 sort stages, extend, light_shade, advance, splat); 3 before light bounces.
 constexpr uint32_t MAX_DISPATCHES_PER_SUBMIT = 4 + 8 * DEPTHS_PER_SUBMIT;
 
 uint32_t group_count(uint64_t invocations) {

@@ -5,12 +5,13 @@
 #ifndef FH_RAY_ORDER_GLSL
 #define FH_RAY_ORDER_GLSL
 
-// Where the parts of the ray-sort buffer start (layout.h BINDING_RAY_SORT).
+// Where the parts of the ray-sort buffer start (layout.h BINDING_RAY_SORT: the fixed words, then the
+// RAY_SORT_WORDS_PER_RAY arrays key, rank, order).
 const uint RAY_SORT_COUNTS = 0u;
 const uint RAY_SORT_OFFSETS = RAY_SORT_BINS;
-uint ray_sort_key_word(uint i) { return 2u * RAY_SORT_BINS + i; }
-uint ray_sort_rank_word(uint i) { return 2u * RAY_SORT_BINS + params.wave_capacity + i; }
-uint ray_sort_order_word(uint i) { return 2u * RAY_SORT_BINS + 2u * params.wave_capacity + i; }
+uint ray_sort_key_word(uint i) { return RAY_SORT_FIXED_WORDS + i; }
+uint ray_sort_rank_word(uint i) { return RAY_SORT_FIXED_WORDS + params.wave_capacity + i; }
+uint ray_sort_order_word(uint i) { return RAY_SORT_FIXED_WORDS + 2u * params.wave_capacity + i; }
 
 // Spreads the low RAY_SORT_ORIGIN_BITS bits of v to every third bit (Morton order of the origin cells).
 uint spread_to_every_third_bit(uint v) {

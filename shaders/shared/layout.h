@@ -64,9 +64,9 @@ FH_CONST uint BINDING_PATH_TIMES = 25u;     // float[wave capacity]: a path's ti
 // FrameParams.light_vertex_slots per path (LightVertex[wave capacity x slots]), and each path's MIS quantities.
 FH_CONST uint BINDING_LIGHT_VERTICES = 26u;
 FH_CONST uint BINDING_PATH_MIS = 27u;         // PathMis[wave capacity]
-// The ray queue's sorted order (`--sort-rays`; else one word): uint words, RAY_SORT_BINS counts, then
-// RAY_SORT_BINS offsets, then per queued ray its key, then its rank within the key, then the queue index of the i-th
-// ray in key order (lib/ray_order.glsl).
+// The ray queue's sorted order (`--sort-rays`; else one word): uint words, RAY_SORT_BINS counts, then RAY_SORT_BINS
+// offsets, then per queued ray its key, then its rank within the key, then the queue index of the i-th ray in key
+// order (RAY_SORT_FIXED_WORDS and RAY_SORT_WORDS_PER_RAY below; lib/ray_order.glsl).
 FH_CONST uint BINDING_RAY_SORT = 28u;
 FH_CONST uint BINDING_COUNT = 29u;
 FH_CONST uint TEXEL_BYTES = 16u;             // one RGBA32UI texel of a TEXELS binding
@@ -427,6 +427,10 @@ FH_CONST uint RAY_ORDER_SORTED = 1u;
 FH_CONST uint RAY_SORT_DIRECTION_BITS = 3u;  // per axis of the octahedral map: 8 x 8 direction cells
 FH_CONST uint RAY_SORT_ORIGIN_BITS = 3u;     // per axis of the scene's box: 8 x 8 x 8 origin cells, Morton order
 FH_CONST uint RAY_SORT_BINS = 1u << (2u * RAY_SORT_DIRECTION_BITS + 3u * RAY_SORT_ORIGIN_BITS);  // 32768 keys
+// The ray-sort buffer's words (BINDING_RAY_SORT): RAY_SORT_BINS counts and RAY_SORT_BINS offsets, then
+// RAY_SORT_WORDS_PER_RAY arrays of wave-capacity words (key, rank, order).
+FH_CONST uint RAY_SORT_FIXED_WORDS = 2u * RAY_SORT_BINS;
+FH_CONST uint RAY_SORT_WORDS_PER_RAY = 3u;
 
 // ---- Wavefront state -------------------------------------------------------------------------------------
 struct DispatchArgs {
