@@ -152,6 +152,8 @@ std::pair<RenderStats, RenderStats> time_feature(const vk::Context& context, con
     std::printf("%4ux%-4u %s %.3f s, %s %.3f s (alternating, medians of %u): %s cost %+.1f%% of the render time\n",
                 size, size, names.with, a.render_seconds, names.without, b.render_seconds, repeats, names.feature,
                 100.0 * (a.render_seconds - b.render_seconds) / b.render_seconds);
+    std::printf("%9s %s: %s\n%9s %s: %s\n", "", names.with, format_stage_seconds(a).c_str(), "", names.without,
+                format_stage_seconds(b).c_str());
     return {a, b};
 }
 
@@ -201,7 +203,7 @@ int trace_ray_file(const vk::Context& context, const PreparedScene& prepared, co
         rays[i] = {float(v[0] - origin.x), float(v[1] - origin.y), float(v[2] - origin.z), uint32_t(i),
                    v[3], v[4], v[5], gpu::INVALID_INDEX};
     }
-    const bool sort = settings.sort_rays;
+    const bool sort = settings.sort_rays.value();  // resolved by with_device_defaults
     RayTracer tracer(context, prepared.packed, uint32_t(count), sort);
     tracer.trace(rays, 1);  // lavapipe compiles at the first dispatch
     TracedRays traced = tracer.trace(rays, c.repeats);
@@ -271,7 +273,7 @@ int run_bench(const BenchCommand& c) {
     if (c.motion && !base.has_shutter()) throw std::invalid_argument("--motion needs --shutter OPEN,CLOSE");
     PreparedScene prepared = prepare_scene(scene_file, base);
     auto context = make_compute_context(false, c.device);
-    base = with_wave_paths(base, *context, prepared.packed);
+    base = with_device_defaults(base, *context, prepared.packed);
     SceneCamera camera = choose_camera(prepared.scene, -1);
     std::printf("scene %s: %zu triangles (%zu stored, %zu instances), loaded in %.3f s, BVH %zu nodes built in %.3f s "
                 "(SAH cost %.2f)\n",
@@ -280,8 +282,9 @@ int run_bench(const BenchCommand& c) {
                 prepared.bvh_nodes, prepared.bvh_build_seconds, prepared.sah_cost);
     print_memory_figures(prepared, base);
     if (!c.trace_rays.empty()) return trace_ray_file(*context, prepared, base, c);
-    std::printf("device %s; integrator %s, %u spp, max depth %u, waves of %u paths, median of %u\n",
-                context->device_name().c_str(), to_string(c.integrator), c.spp, c.max_depth, base.wave_paths, c.repeats);
+    std::printf("device %s; integrator %s, %u spp, max depth %u, waves of %u paths, rays %s, median of %u\n",
+                context->device_name().c_str(), to_string(c.integrator), c.spp, c.max_depth, base.wave_paths,
+                base.sort_rays.value() ? "sorted" : "in queue order", c.repeats);
     // Start-up: the stages for the scene's effects, with the caches as this machine has them (the driver's, and
     // Fredholm's specialised SPIR-V: a first run on a machine pays both; README "Time to first pixel").
     const double pipeline_build = time_pipeline_build(*context, prepared, camera, base);
@@ -335,6 +338,7 @@ int run_bench(const BenchCommand& c) {
             nlohmann::json run = describe_run(size, b, "none");
             run[without_key] = without_value;
             run[with_key] = a.render_seconds;
+            run["with_stage_seconds"] = a.stage_seconds;
             results.push_back(run);
         }
     };
@@ -425,7 +429,7 @@ int run_bench(const BenchCommand& c) {
     }
     if (!c.json.empty()) {
         nlohmann::json j{{"scene", scene_file.string()}, {"device", context->device_name()},
-                         {"wave_paths", base.wave_paths}, {"max_depth", c.max_depth}, {"repeats", c.repeats},
+                         {"wave_paths", base.wave_paths}, {"sort_rays", base.sort_rays.value()}, {"max_depth", c.max_depth}, {"repeats", c.repeats},
                          {"integrator", to_string(c.integrator)}, {"pipeline_build_seconds", pipeline_build},
                          {"results", results}};
         write_file_atomically(c.json, [&](const std::filesystem::path& temp) { std::ofstream(temp) << j.dump(2) << "\n"; });

@@ -63,7 +63,8 @@ void apply_vary(const std::string& key, const std::string& v, RenderSettings& s)
     } else if (key == "rr") {
         s.russian_roulette = parse_on_off(key, v);
     } else if (key == "sort-rays") {
-        s.sort_rays = parse_on_off(key, v);
+        if (v == "auto") s.sort_rays.reset();
+        else s.sort_rays = parse_on_off(key, v);
     } else if (key == "filter") {
         if (v != "box" && v != "gaussian") throw std::invalid_argument("filter: '" + v + "' is not box or gaussian");
         s.filter = v == "box" ? PixelFilter::box : PixelFilter::gaussian;
@@ -245,7 +246,7 @@ std::string describe_command(const ConvergeCommand& c) {
     if (!s.nee) line += " --nee off";
     if (!s.mis) line += " --mis off";
     if (!s.russian_roulette) line += " --rr off";
-    if (s.sort_rays) line += " --sort-rays on";
+    if (s.sort_rays) line += std::string(" --sort-rays ") + (*s.sort_rays ? "on" : "off");
     if (s.rr_start_depth != RenderSettings{}.rr_start_depth) line += " --rr-start-depth " + std::to_string(s.rr_start_depth);
     if (s.forced_effects) line += " --force-effect " + describe_effects(s.forced_effects);
     if (s.disabled_effects) line += " --disable-effect " + describe_effects(s.disabled_effects);

@@ -67,7 +67,7 @@ IntegratorChoice choose_integrator_by_pilot(const vk::Context& context, const Pa
         s.integrator = candidate;
         s.spp = 2 * max_spp;
         s.bdpt_strategy_s = s.bdpt_strategy_t = 0;
-        s = with_wave_paths(s, context, scene);  // as the render will choose it (an explicit --wave-paths stays)
+        s = with_device_defaults(s, context, scene);  // as the render will choose it (an explicit --wave-paths stays)
         try {
             check_render_settings(scene, camera, s);
         } catch (const std::invalid_argument&) {

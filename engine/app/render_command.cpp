@@ -104,6 +104,7 @@ void write_stats(const std::filesystem::path& file, const RenderCommand& c, cons
     j["crop"] = describe_crop(s.crop_x0, s.crop_y0, s.crop_x1, s.crop_y1);
     j["seed"] = s.seed;
     j["wave_paths"] = s.wave_paths;
+    j["sort_rays"] = s.sort_rays.value_or(false);
     j["max_depth"] = s.max_depth;
     j["render_seconds"] = stats.render_seconds;
     j["samples_per_second"] = stats.render_seconds > 0 ? samples / stats.render_seconds : 0.0;
@@ -373,7 +374,7 @@ int run_frame(const RenderCommand& command, vk::Context* shared_context) {
         if (!c.quiet) std::fprintf(stderr, "fredholm: %s\n", choice.report.c_str());
         c.settings.integrator = choice.integrator;
     }
-    c.settings = with_wave_paths(c.settings, *context, prepared.packed);
+    c.settings = with_device_defaults(c.settings, *context, prepared.packed);
     try {
         check_render_memory(estimate_render_memory(prepared.packed, settings), query_memory_limits(*context));
     } catch (const std::runtime_error& e) {

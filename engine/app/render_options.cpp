@@ -59,12 +59,17 @@ void add_sampling_options(CLI::App& app, RenderSettings& s) {
     add_ray_sort_option(app, s.sort_rays);
 }
 
-void add_ray_sort_option(CLI::App& app, bool& sort_rays) {
-    std::map<std::string, bool> on_off{{"on", true}, {"off", false}};
-    app.add_option("--sort-rays", sort_rays,
-                   "sort each bounce's rays by direction and origin before tracing them: on/off (default off: on "
-                   "lavapipe the sort costs about what it saves); the image is the same")
-        ->transform(CLI::CheckedTransformer(on_off));
+void add_ray_sort_option(CLI::App& app, std::optional<bool>& sort_rays) {
+    app.add_option_function<std::string>(
+           "--sort-rays",
+           [&sort_rays](const std::string& v) {
+               if (v == "auto") sort_rays.reset();
+               else sort_rays = v == "on";
+           },
+           "sort each bounce's rays by direction and origin before tracing them: auto/on/off (default auto: on for a "
+           "GPU and a scene of at least 1024 triangles, off on a CPU device such as lavapipe, where the sort costs "
+           "about what it saves); the image is the same")
+        ->check(CLI::IsMember({"auto", "on", "off"}));
 }
 
 void add_robustness_options(CLI::App& app, RenderSettings& s) {

@@ -21,7 +21,7 @@ void add_integrator_option(CLI::App& app, RenderSettings& settings);
 // --filter, --filter-radius, --sampler, --integrator, --nee, --mis, --rr, --wave-paths, --sort-rays.
 void add_sampling_options(CLI::App& app, RenderSettings& settings);
 // --sort-rays on|off (render/ray_sort.h).
-void add_ray_sort_option(CLI::App& app, bool& sort_rays);
+void add_ray_sort_option(CLI::App& app, std::optional<bool>& sort_rays);
 
 // --disable-technique NAME[,NAME...] (robustness techniques, to measure their cost), --bvh-leaf-size,
 // --disable-effect and --force-effect.

@@ -58,7 +58,7 @@ PathStore make_path_store(const RenderSettings& settings) {
     PathStore b;
     b.bdpt = settings.integrator == Integrator::bdpt;
     b.light_vertex_slots = count_light_vertex_slots(settings);
-    b.sort_rays = settings.sort_rays;
+    b.sort_rays = settings.sort_rays.value_or(false);  // resolved by with_device_defaults before any estimate
     return b;
 }
 
@@ -121,7 +121,7 @@ MemoryEstimate estimate_render_memory(const PackedScene& scene, uint32_t width, 
 }
 
 MemoryEstimate estimate_render_memory(const PackedScene& scene, const RenderSettings& s) {
-    if (s.wave_paths == 0) throw std::logic_error("estimate_render_memory: wave_paths not chosen (with_wave_paths)");
+    if (s.wave_paths == 0) throw std::logic_error("estimate_render_memory: wave_paths not chosen (with_device_defaults)");
     const uint64_t samples = uint64_t(s.film_width()) * s.film_height() * s.spp;
     return estimate_render_memory(scene, s.film_width(), s.film_height(), uint32_t(std::min<uint64_t>(s.wave_paths, samples)),
                                   select_effects(scene.effects.bits, s.forced_effects, s.disabled_effects),

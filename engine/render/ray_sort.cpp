@@ -9,6 +9,8 @@
 
 namespace fh {
 
+static_assert(gpu::RAY_SORT_BINS % gpu::RAY_SORT_BLOCK_BINS == 0, "the scan's blocks tile the keys");
+
 void record_ray_sort(vk::CommandRecorder& recorder, const StageTable& stages, const GpuBuffers& buffers,
                      bool binned) {
     const VkDeviceSize queue = offsetof(gpu::QueueCounters, extend_args);
@@ -17,7 +19,9 @@ void record_ray_sort(vk::CommandRecorder& recorder, const StageTable& stages, co
         recorder.dispatch_indirect(stages[Stage::bin_rays], buffers.counters, queue);
     }
     recorder.barrier_compute();
-    recorder.dispatch(stages[Stage::scan_ray_bins], 1);
+    recorder.dispatch(stages[Stage::sum_ray_bins], gpu::RAY_SORT_BLOCKS);
+    recorder.barrier_compute();
+    recorder.dispatch(stages[Stage::scan_ray_bins], gpu::RAY_SORT_BLOCKS);
     recorder.barrier_compute();
     recorder.dispatch_indirect(stages[Stage::scatter_rays], buffers.counters, queue);
 }

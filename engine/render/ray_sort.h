@@ -1,9 +1,13 @@
 // The ray sort before extend (README "Ray order"): each bounce's queue counted into keys of direction and origin
-// (by shade as it pushes the rays, else bin_rays), the keys' starts (scan_ray_bins) and the queue's order by key
-// (scatter_rays), which extend follows.
+// (by shade as it pushes the rays, else bin_rays), the keys' starts (sum_ray_bins, then scan_ray_bins: a prefix sum
+// in blocks) and the queue's order by key (scatter_rays), which extend follows.
 #pragma once
+#include <cstdint>
 
 namespace fh {
+
+// The most dispatches record_ray_sort records: bin_rays, sum_ray_bins, scan_ray_bins, scatter_rays.
+inline constexpr uint32_t RAY_SORT_MAX_DISPATCHES = 4;
 
 namespace vk {
 class CommandRecorder;

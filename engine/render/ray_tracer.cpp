@@ -56,7 +56,7 @@ TracedRays trace_ray_queue(const vk::Context& context, const StageTable& stages,
         counters.ray_count[0] = uint32_t(rays.size());
         counters.extend_args = {uint32_t((rays.size() + gpu::WORKGROUP_SIZE - 1) / gpu::WORKGROUP_SIZE), 1, 1};
         vk::upload_to_buffer(context, buffers.counters, &counters, sizeof(counters));
-        vk::CommandRecorder recorder(context, 4);
+        vk::CommandRecorder recorder(context, RAY_SORT_MAX_DISPATCHES + 1);  // the sort, extend
         recorder.begin();
         recorder.bind_table(stages.bindings());
         gpu::StagePush push{};

@@ -32,9 +32,9 @@ namespace {
 // With unlimited depth the host looks at the queue length every this many bounces (one readback per
 // submission, never between stages). Also bounds the work per submission (GPU watchdogs).
 constexpr uint32_t DEPTHS_PER_SUBMIT = 16;
-// At most 7 per bounce (a BDPT camera bounce: its 2 sort stages, extend, connect_subpaths, shade, advance, connect;
-// a light bounce: its 3 sort stages, extend, light_shade, advance, splat); 3 before light bounces.
-constexpr uint32_t MAX_DISPATCHES_PER_SUBMIT = 4 + 8 * DEPTHS_PER_SUBMIT;
+// At most 8 per bounce (a light bounce: the whole sort, extend, light_shade, advance, splat; a BDPT camera bounce:
+// the sort but bin_rays, extend, connect_subpaths, shade, advance, connect); 3 before light bounces.
+constexpr uint32_t MAX_DISPATCHES_PER_SUBMIT = 4 + (RAY_SORT_MAX_DISPATCHES + 4) * DEPTHS_PER_SUBMIT;
 
 uint32_t group_count(uint64_t invocations) {
     return uint32_t((invocations + gpu::WORKGROUP_SIZE - 1) / gpu::WORKGROUP_SIZE);
@@ -119,7 +119,7 @@ StageOptions make_stage_options(const PackedScene& scene, const RenderSettings& 
     o.instances = !scene.instances.empty();
     o.sampler = s.sampler == Sampler::sobol ? gpu::SAMPLER_SOBOL : gpu::SAMPLER_INDEPENDENT;
     o.integrator = s.integrator;
-    o.sort_rays = s.sort_rays;
+    o.sort_rays = s.sort_rays.value_or(false);  // resolved (with_device_defaults) but for check_render_settings
     check_light_tracing(scene.source.empty() ? std::string("scene") : scene.source, scene, s, camera, o.effects);
     return o;
 }
@@ -133,9 +133,9 @@ void check_render_settings(const PackedScene& scene, const SceneCamera& camera, 
 Renderer::Renderer(const vk::Context& context, const PackedScene& scene, const SceneCamera& camera,
                    const RenderSettings& settings)
     : context_(context),
-      settings_(with_wave_paths(settings, context, scene)),
+      settings_(with_device_defaults(settings, context, scene)),
       frame_(make_frame(scene, camera, settings_)),
-      stages_(context, make_stage_options(scene, settings, camera)),
+      stages_(context, make_stage_options(scene, settings_, camera)),
       buffers_(create_gpu_buffers(context, scene, frame_, stages_.options().effects, make_path_store(settings_))),
       recorder_(context, MAX_DISPATCHES_PER_SUBMIT),
       has_lights_(!scene.emitters.empty()),

@@ -1,6 +1,7 @@
 // What a render is asked to do: film size, samples, path length, sampling switches.
 #pragma once
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "scene/instancing.h"
@@ -50,9 +51,9 @@ struct RenderSettings {
     bool russian_roulette = true;
     uint32_t rr_start_depth = 3;   // roulette from this many segments on
     uint32_t wave_paths = 0;  // paths in flight per wave; 0: chosen for the device (render/wave_size.h)
-    // --sort-rays: extend takes each bounce's rays sorted by direction and origin (render/ray_sort.h). Off by default:
-    // on lavapipe the sort costs about what it saves (README "Ray order").
-    bool sort_rays = false;
+    // --sort-rays: extend takes each bounce's rays sorted by direction and origin (render/ray_sort.h). Unset (auto):
+    // chosen for the device and scene by with_device_defaults (render/wave_size.h; README "Ray order").
+    std::optional<bool> sort_rays;
     uint32_t disabled_techniques = 0;  // layout.h TECHNIQUE_* bits switched off (cost measurements only)
     uint32_t bvh_max_leaf_size = 4;    // triangles per BVH leaf at most
     uint32_t disabled_effects = 0;     // --disable-effect: layout.h EFFECT_* bits compiled out (measurement only)

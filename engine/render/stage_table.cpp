@@ -25,6 +25,7 @@
 #include "shaders/shade.spv.h"
 #include "shaders/shade_bdpt.spv.h"
 #include "shaders/splat.spv.h"
+#include "shaders/sum_ray_bins.spv.h"
 #include "shared/layout.h"
 
 namespace fh {
@@ -32,8 +33,8 @@ namespace fh {
 const char* stage_name(Stage stage) {
     constexpr const char* names[STAGE_COUNT] = {"generate",   "extend",         "shade",       "advance",
                                                 "connect",    "accumulate",     "light_generate", "light_shade",
-                                                "splat",      "connect_subpaths", "bin_rays",    "scan_ray_bins",
-                                                "scatter_rays"};
+                                                "splat",      "connect_subpaths", "bin_rays",    "sum_ray_bins",
+                                                "scan_ray_bins", "scatter_rays"};
     return names[size_t(stage)];
 }
 
@@ -74,6 +75,7 @@ StageTable::StageTable(const vk::Context& context, const StageOptions& options)
     make(Stage::accumulate, spv_accumulate);
     if (options.sort_rays) {
         make(Stage::bin_rays, spv_bin_rays);
+        make(Stage::sum_ray_bins, spv_sum_ray_bins);
         make(Stage::scan_ray_bins, spv_scan_ray_bins);
         make(Stage::scatter_rays, spv_scatter_rays);
     }

@@ -10,9 +10,9 @@ namespace fh {
 
 enum class Stage {
     generate, extend, shade, advance, connect, accumulate, light_generate, light_shade, splat, connect_subpaths,
-    bin_rays, scan_ray_bins, scatter_rays
+    bin_rays, sum_ray_bins, scan_ray_bins, scatter_rays
 };
-inline constexpr size_t STAGE_COUNT = 13;
+inline constexpr size_t STAGE_COUNT = 14;
 const char* stage_name(Stage stage);
 
 // What the pipelines are specialised for (layout.h SPEC_*): branches a scene does not need compile away.
@@ -22,7 +22,7 @@ struct StageOptions {
     bool instances = false;                 // two-level BVH (pack.h PackedScene::instances)
     uint32_t sampler = 0;                   // layout.h SAMPLER_*
     Integrator integrator = Integrator::path;  // which stages are built, and which SPIR-V (FH_INTEGRATOR): BDPT builds both sides'
-    bool sort_rays = false;                 // the ray sort's stages (bin_rays, scan_ray_bins, scatter_rays) are built
+    bool sort_rays = false;                 // the ray sort's stages (bin_rays, sum_ray_bins, scan_ray_bins, scatter_rays) are built
 };
 
 class StageTable {

@@ -19,15 +19,28 @@ uint32_t choose_wave_paths(bool cpu_device, const DeviceMemoryLimits& limits, co
     return paths;
 }
 
-uint32_t choose_wave_paths(const vk::Context& context, const PackedScene& scene, uint32_t effects,
-                           uint32_t film_width, uint32_t film_height, const PathStore& store) {
+namespace {
+
+bool is_cpu_device(const vk::Context& context) {
     VkPhysicalDeviceProperties properties;
     vkGetPhysicalDeviceProperties(context.physical_device(), &properties);
-    return choose_wave_paths(properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU, query_memory_limits(context), scene,
-                             effects, film_width, film_height, store);
+    return properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
 }
 
-RenderSettings with_wave_paths(RenderSettings settings, const vk::Context& context, const PackedScene& scene) {
+}  // namespace
+
+uint32_t choose_wave_paths(const vk::Context& context, const PackedScene& scene, uint32_t effects,
+                           uint32_t film_width, uint32_t film_height, const PathStore& store) {
+    return choose_wave_paths(is_cpu_device(context), query_memory_limits(context), scene, effects, film_width,
+                             film_height, store);
+}
+
+bool choose_sort_rays(bool cpu_device, const PackedScene& scene) {
+    return !cpu_device && scene.positions.size() >= MIN_AUTO_SORT_TRIANGLES;
+}
+
+RenderSettings with_device_defaults(RenderSettings settings, const vk::Context& context, const PackedScene& scene) {
+    if (!settings.sort_rays) settings.sort_rays = choose_sort_rays(is_cpu_device(context), scene);
     if (settings.wave_paths == 0)
         settings.wave_paths = choose_wave_paths(
             context, scene, select_effects(scene.effects.bits, settings.forced_effects, settings.disabled_effects),

@@ -32,7 +32,15 @@ uint32_t choose_wave_paths(bool cpu_device, const DeviceMemoryLimits& limits, co
 uint32_t choose_wave_paths(const vk::Context& context, const PackedScene& scene, uint32_t effects,
                            uint32_t film_width, uint32_t film_height, const PathStore& store = {});
 
-// `settings` with wave_paths chosen for the device when it is 0 (--wave-paths not given); as it is otherwise.
-RenderSettings with_wave_paths(RenderSettings settings, const vk::Context& context, const PackedScene& scene);
+// Whether --sort-rays auto sorts: on a GPU for scenes of at least MIN_AUTO_SORT_TRIANGLES stored triangles, never on
+// a CPU device. Measured (README "Ray order", bench --compare-ray-order, 1024 x 1024): on an H100 the sort saved 5 to
+// 13% of the render time from 1,290 to 1,310,730 triangles (path, light and BDPT) and cost 6 to 12% on the Cornell box
+// (42) and the door gap (20); on lavapipe it costs about what it saves at every size.
+constexpr size_t MIN_AUTO_SORT_TRIANGLES = 1024;
+bool choose_sort_rays(bool cpu_device, const PackedScene& scene);
+
+// `settings` with what was left to the device chosen: wave_paths when it is 0 (--wave-paths not given), sort_rays
+// when unset (--sort-rays auto); the rest as it is.
+RenderSettings with_device_defaults(RenderSettings settings, const vk::Context& context, const PackedScene& scene);
 
 }  // namespace fh

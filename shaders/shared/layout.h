@@ -427,9 +427,15 @@ FH_CONST uint RAY_ORDER_SORTED = 1u;
 FH_CONST uint RAY_SORT_DIRECTION_BITS = 3u;  // per axis of the octahedral map: 8 x 8 direction cells
 FH_CONST uint RAY_SORT_ORIGIN_BITS = 3u;     // per axis of the scene's box: 8 x 8 x 8 origin cells, Morton order
 FH_CONST uint RAY_SORT_BINS = 1u << (2u * RAY_SORT_DIRECTION_BITS + 3u * RAY_SORT_ORIGIN_BITS);  // 32768 keys
-// The ray-sort buffer's words (BINDING_RAY_SORT): RAY_SORT_BINS counts and RAY_SORT_BINS offsets, then
-// RAY_SORT_WORDS_PER_RAY arrays of wave-capacity words (key, rank, order).
-FH_CONST uint RAY_SORT_FIXED_WORDS = 2u * RAY_SORT_BINS;
+// The keys' prefix sum runs in blocks, one workgroup of RAY_SORT_SCAN_LANES lanes per block (sum_ray_bins, then
+// scan_ray_bins): a GPU spreads the scan over its cores, lavapipe over its threads.
+FH_CONST uint RAY_SORT_SCAN_LANES = 128u;  // the least maxComputeWorkGroupInvocations Vulkan guarantees
+FH_CONST uint RAY_SORT_BINS_PER_LANE = 16u;
+FH_CONST uint RAY_SORT_BLOCK_BINS = RAY_SORT_SCAN_LANES * RAY_SORT_BINS_PER_LANE;  // 512
+FH_CONST uint RAY_SORT_BLOCKS = RAY_SORT_BINS / RAY_SORT_BLOCK_BINS;                // 64
+// The ray-sort buffer's words (BINDING_RAY_SORT): RAY_SORT_BINS counts, RAY_SORT_BINS offsets and RAY_SORT_BLOCKS
+// block sums, then RAY_SORT_WORDS_PER_RAY arrays of wave-capacity words (key, rank, order).
+FH_CONST uint RAY_SORT_FIXED_WORDS = 2u * RAY_SORT_BINS + RAY_SORT_BLOCKS;
 FH_CONST uint RAY_SORT_WORDS_PER_RAY = 3u;
 
 // ---- Wavefront state -------------------------------------------------------------------------------------

@@ -111,3 +111,15 @@ TEST(WaveSize, AnEstimateNeedsAChosenWave) {
     fh::RenderSettings s;
     EXPECT_THROW(fh::estimate_render_memory(fh::PackedScene{}, s), std::logic_error);
 }
+
+// --sort-rays auto: never on a CPU device (lavapipe: the sort costs about what it saves), on a GPU from
+// MIN_AUTO_SORT_TRIANGLES stored triangles (an H100 saved 5 to 13% from 1,290 triangles up, lost 6 to 12% at 20 and 42).
+TEST(RaySortChoice, ChosenByDeviceKindAndSceneSize) {
+    fh::PackedScene scene;
+    scene.positions.resize(42);
+    EXPECT_FALSE(fh::choose_sort_rays(true, scene));
+    EXPECT_FALSE(fh::choose_sort_rays(false, scene));
+    scene.positions.resize(fh::MIN_AUTO_SORT_TRIANGLES);
+    EXPECT_FALSE(fh::choose_sort_rays(true, scene));
+    EXPECT_TRUE(fh::choose_sort_rays(false, scene));
+}
