@@ -19,7 +19,7 @@
 #include "render/memory_estimate.h"
 #include "render/ray_tracer.h"
 #include "render/renderer.h"
-#include "render/wave_size.h"
+#include "render/device_defaults.h"
 #include "render/techniques.h"
 #include "scene/effects.h"
 #include "shared/layout.h"

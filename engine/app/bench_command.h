@@ -23,7 +23,7 @@ struct BenchCommand {
     Integrator integrator = Integrator::path;  // --integrator path|light|bdpt
     uint32_t repeats = 3;
     uint32_t bvh_leaf_size = 4;  // RenderSettings::bvh_max_leaf_size
-    std::optional<bool> sort_rays;  // --sort-rays (also for --trace-rays); unset: auto (render/wave_size.h)
+    std::optional<bool> sort_rays;  // --sort-rays (also for --trace-rays); unset: auto (render/device_defaults.h)
     bool compare_ray_order = false;  // --compare-ray-order: the render with the ray sort on against off
     std::filesystem::path json;
     std::filesystem::path trace_rays;     // --trace-rays: time the extend stage alone over these rays

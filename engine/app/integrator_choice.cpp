@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "render/renderer.h"
-#include "render/wave_size.h"
+#include "render/device_defaults.h"
 
 namespace fh {
 

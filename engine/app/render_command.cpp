@@ -21,7 +21,7 @@
 #include "render/lens.h"
 #include "render/memory_estimate.h"
 #include "render/techniques.h"
-#include "render/wave_size.h"
+#include "render/device_defaults.h"
 
 namespace fh {
 namespace {

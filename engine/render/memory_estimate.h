@@ -69,7 +69,7 @@ uint64_t ray_sort_bytes(uint32_t wave_capacity, const PathStore& store);
 MemoryEstimate estimate_render_memory(const PackedScene& scene, uint32_t width, uint32_t height,
                                       uint32_t wave_capacity, uint32_t effects, const PathStore& store = {});
 // The same for a render with these settings (wave capacity as the Renderer picks it; wave_paths must be chosen:
-// render/wave_size.h with_device_defaults).
+// render/device_defaults.h with_device_defaults).
 MemoryEstimate estimate_render_memory(const PackedScene& scene, const RenderSettings& settings);
 
 DeviceMemoryLimits query_memory_limits(const vk::Context& context);

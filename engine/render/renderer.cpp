@@ -13,7 +13,7 @@
 #include "render/light_tracing.h"
 #include "render/ray_sort.h"
 #include "render/ray_tracer.h"
-#include "render/wave_size.h"
+#include "render/device_defaults.h"
 #include "vk/context.h"
 
 namespace fh {

@@ -50,9 +50,9 @@ struct RenderSettings {
     bool mis = true;               // MIS between NEE and BSDF sampling
     bool russian_roulette = true;
     uint32_t rr_start_depth = 3;   // roulette from this many segments on
-    uint32_t wave_paths = 0;  // paths in flight per wave; 0: chosen for the device (render/wave_size.h)
+    uint32_t wave_paths = 0;  // paths in flight per wave; 0: chosen for the device (render/device_defaults.h)
     // --sort-rays: extend takes each bounce's rays sorted by direction and origin (render/ray_sort.h). Unset (auto):
-    // chosen for the device and scene by with_device_defaults (render/wave_size.h; README "Ray order").
+    // chosen for the device and scene by with_device_defaults (render/device_defaults.h; README "Ray order").
     std::optional<bool> sort_rays;
     uint32_t disabled_techniques = 0;  // layout.h TECHNIQUE_* bits switched off (cost measurements only)
     uint32_t bvh_max_leaf_size = 4;    // triangles per BVH leaf at most

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "render/memory_estimate.h"
-#include "render/wave_size.h"
+#include "render/device_defaults.h"
 
 namespace {
 

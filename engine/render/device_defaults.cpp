@@ -1,4 +1,4 @@
-#include "render/wave_size.h"
+#include "render/device_defaults.h"
 
 #include "scene/effects.h"
 #include "vk/context.h"

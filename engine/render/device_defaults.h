@@ -1,4 +1,5 @@
-// How many paths a wave holds when --wave-paths is not given: chosen per device, by measurement (README "Speed").
+// What a render leaves to the device, chosen per device by measurement (README "Speed"): how many paths a wave holds
+// when --wave-paths is not given, and whether the rays are sorted under --sort-rays auto.
 #pragma once
 #include <cstdint>
 
