@@ -1,15 +1,11 @@
 // The order extend takes the ray queue in (layout.h RAY_ORDER_*): a counting sort of the queue by a key of each ray's
 // direction and origin, binned by shade (bin_ray as it pushes) or bin_rays, then sum_ray_bins, scan_ray_bins and
-// scatter_rays before extend. Only the order in which the
-// lanes pick rays changes: each ray's hit is written at its own queue index, so the images keep their bits.
+// scatter_rays before extend. Only the order in which the lanes pick rays changes: each ray's hit is written at its
+// own queue index, so the images keep their bits.
 #ifndef FH_RAY_ORDER_GLSL
 #define FH_RAY_ORDER_GLSL
 
-// Where the parts of the ray-sort buffer start (layout.h BINDING_RAY_SORT: the fixed words, then the
-// RAY_SORT_WORDS_PER_RAY arrays key, rank, order).
-const uint RAY_SORT_COUNTS = 0u;
-const uint RAY_SORT_OFFSETS = RAY_SORT_BINS;
-const uint RAY_SORT_BLOCK_SUMS = 2u * RAY_SORT_BINS;
+// Queued ray i's words in the per-ray arrays of the ray-sort buffer (layout.h RAY_SORT_FIXED_WORDS on).
 uint ray_sort_key_word(uint i) { return RAY_SORT_FIXED_WORDS + i; }
 uint ray_sort_rank_word(uint i) { return RAY_SORT_FIXED_WORDS + params.wave_capacity + i; }
 uint ray_sort_order_word(uint i) { return RAY_SORT_FIXED_WORDS + 2u * params.wave_capacity + i; }

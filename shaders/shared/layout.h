@@ -64,9 +64,9 @@ FH_CONST uint BINDING_PATH_TIMES = 25u;     // float[wave capacity]: a path's ti
 // FrameParams.light_vertex_slots per path (LightVertex[wave capacity x slots]), and each path's MIS quantities.
 FH_CONST uint BINDING_LIGHT_VERTICES = 26u;
 FH_CONST uint BINDING_PATH_MIS = 27u;         // PathMis[wave capacity]
-// The ray queue's sorted order (`--sort-rays`; else one word): uint words, RAY_SORT_BINS counts, then RAY_SORT_BINS
-// offsets, then per queued ray its key, then its rank within the key, then the queue index of the i-th ray in key
-// order (RAY_SORT_FIXED_WORDS and RAY_SORT_WORDS_PER_RAY below; lib/ray_order.glsl).
+// The ray queue's sorted order (`--sort-rays`; else one word): uint words, RAY_SORT_BINS counts, RAY_SORT_BINS
+// offsets and RAY_SORT_BLOCKS block sums, then per queued ray its key, then its rank within the key, then the queue
+// index of the i-th ray in key order (RAY_SORT_COUNTS .. RAY_SORT_WORDS_PER_RAY below; lib/ray_order.glsl).
 FH_CONST uint BINDING_RAY_SORT = 28u;
 FH_CONST uint BINDING_COUNT = 29u;
 FH_CONST uint TEXEL_BYTES = 16u;             // one RGBA32UI texel of a TEXELS binding
@@ -431,11 +431,14 @@ FH_CONST uint RAY_SORT_BINS = 1u << (2u * RAY_SORT_DIRECTION_BITS + 3u * RAY_SOR
 // scan_ray_bins): a GPU spreads the scan over its cores, lavapipe over its threads.
 FH_CONST uint RAY_SORT_SCAN_LANES = 128u;  // the least maxComputeWorkGroupInvocations Vulkan guarantees
 FH_CONST uint RAY_SORT_BINS_PER_LANE = 16u;
-FH_CONST uint RAY_SORT_BLOCK_BINS = RAY_SORT_SCAN_LANES * RAY_SORT_BINS_PER_LANE;  // 512
-FH_CONST uint RAY_SORT_BLOCKS = RAY_SORT_BINS / RAY_SORT_BLOCK_BINS;                // 64
-// The ray-sort buffer's words (BINDING_RAY_SORT): RAY_SORT_BINS counts, RAY_SORT_BINS offsets and RAY_SORT_BLOCKS
-// block sums, then RAY_SORT_WORDS_PER_RAY arrays of wave-capacity words (key, rank, order).
-FH_CONST uint RAY_SORT_FIXED_WORDS = 2u * RAY_SORT_BINS + RAY_SORT_BLOCKS;
+FH_CONST uint RAY_SORT_BLOCK_BINS = RAY_SORT_SCAN_LANES * RAY_SORT_BINS_PER_LANE;  // 2048
+FH_CONST uint RAY_SORT_BLOCKS = RAY_SORT_BINS / RAY_SORT_BLOCK_BINS;                // 16
+// Where the ray-sort buffer's parts start (BINDING_RAY_SORT, in words): the counts, the offsets, the block sums,
+// then RAY_SORT_WORDS_PER_RAY arrays of wave-capacity words (key, rank, order) from RAY_SORT_FIXED_WORDS on.
+FH_CONST uint RAY_SORT_COUNTS = 0u;
+FH_CONST uint RAY_SORT_OFFSETS = RAY_SORT_COUNTS + RAY_SORT_BINS;
+FH_CONST uint RAY_SORT_BLOCK_SUMS = RAY_SORT_OFFSETS + RAY_SORT_BINS;
+FH_CONST uint RAY_SORT_FIXED_WORDS = RAY_SORT_BLOCK_SUMS + RAY_SORT_BLOCKS;
 FH_CONST uint RAY_SORT_WORDS_PER_RAY = 3u;
 
 // ---- Wavefront state -------------------------------------------------------------------------------------
