@@ -73,7 +73,7 @@ void add_bench_options(CLI::App& app, BenchCommand& c) {
     app.add_option("--hits-out", c.hits_out, "with --trace-rays: write each ray's hit distance (float32, inf: miss)");
     app.add_option("--json", c.json, "also write the figures as JSON");
     app.add_option("--device", c.device, "use the first Vulkan device whose name contains this");
-    app.add_option("--bvh-leaf-size", c.bvh_leaf_size, "most triangles per BVH leaf")->check(CLI::Range(1u, gpu::WIDE_INSTANCE_COUNT - 1u));
+    app.add_option("--bvh-leaf-size", c.bvh_leaf_size, "most triangles per BVH leaf")->check(CLI::Range(1u, gpu::WIDE_MAX_LEAF));
     add_ray_sort_option(app, c.sort_rays);
     app.add_flag("--compare-ray-order", c.compare_ray_order,
                  "also time the render with the ray sort on against off, alternating (what sorting buys or costs)");

@@ -91,7 +91,7 @@ void add_robustness_options(CLI::App& app, RenderSettings& s) {
             }
         });
     app.add_option("--bvh-leaf-size", s.bvh_max_leaf_size, "most triangles per BVH leaf")
-        ->check(CLI::Range(1u, gpu::WIDE_INSTANCE_COUNT - 1u));
+        ->check(CLI::Range(1u, gpu::WIDE_MAX_LEAF));
     add_effect_options(app, s);
 }
 

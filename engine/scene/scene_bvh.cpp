@@ -68,10 +68,12 @@ void check_stack_bound(SceneBvh& s) {
 SceneBvh make_single_level(const Bvh& bvh) {
     const auto start = std::chrono::steady_clock::now();
     SceneBvh s;
-    s.nodes = make_wide_nodes(bvh.nodes);
+    WideBvh wide = make_wide_nodes(bvh.nodes);
+    s.nodes = std::move(wide.nodes);
     set_bounds(bvh.nodes, s);
     check_stack_bound(s);
-    s.triangle_order = bvh.triangle_order;
+    s.triangle_order.reserve(wide.leaf_order.size());
+    for (uint32_t leaf : wide.leaf_order) s.triangle_order.push_back(bvh.triangle_order[leaf]);
     s.sah_cost = bvh.sah_cost;
     s.node_count = bvh.nodes.size();
     s.max_depth = bvh.max_depth;
@@ -107,11 +109,13 @@ SceneBvh build_scene_bvh(const Scene& scene, const BvhOptions& options) {
         roots[m] = bvh.nodes[0];
         s.node_count += bvh.nodes.size();
         deepest_mesh = std::max(deepest_mesh, bvh.max_depth);
+        const WideBvh wide = make_wide_nodes(bvh.nodes);
         leaf_offset[m] = uint32_t(s.triangle_order.size());
-        for (uint32_t t : bvh.triangle_order) s.triangle_order.push_back(uint32_t(meshes[m].first_triangle) + t);
+        for (uint32_t leaf : wide.leaf_order)
+            s.triangle_order.push_back(uint32_t(meshes[m].first_triangle) + bvh.triangle_order[leaf]);
         root_of[m] = uint32_t(mesh_nodes.size());  // relative to the first mesh node, fixed below
-        for (gpu::BvhWideNode w : make_wide_nodes(bvh.nodes)) {
-            for_each_wide_child(w, [&](uint32_t& index, uint32_t count) { index += count == 0 ? root_of[m] : leaf_offset[m]; });
+        for (gpu::BvhWideNode w : wide.nodes) {
+            offset_wide_node(w, root_of[m], leaf_offset[m]);
             mesh_nodes.push_back(w);
         }
     }
@@ -125,19 +129,18 @@ SceneBvh build_scene_bvh(const Scene& scene, const BvhOptions& options) {
     s.node_count += tlas.nodes.size();
     s.sah_cost = tlas.sah_cost;
     s.max_depth = tlas.max_depth + 1 + deepest_mesh;
-    s.nodes = make_wide_nodes(tlas.nodes);
+    WideBvh top_wide = make_wide_nodes(tlas.nodes);
+    s.nodes = std::move(top_wide.nodes);
     set_bounds(tlas.nodes, s);
+    for (gpu::BvhWideNode& w : s.nodes) mark_instance_leaves(w);
+    // Instances in the top level's leaf order: a node's instance children are consecutive.
+    std::vector<SceneInstance> ordered;
+    ordered.reserve(placements.size());
+    for (uint32_t leaf : top_wide.leaf_order) ordered.push_back(placements[tlas.triangle_order[leaf]]);
+    placements = std::move(ordered);
     const uint32_t mesh_base = uint32_t(s.nodes.size());
-    for (gpu::BvhWideNode& w : s.nodes)
-        for_each_wide_child(w, [&](uint32_t& index, uint32_t& count) {
-            if (count == 0) return;
-            index = tlas.triangle_order[index];  // the instance
-            count = gpu::WIDE_INSTANCE_COUNT;
-        });
     for (gpu::BvhWideNode w : mesh_nodes) {
-        for_each_wide_child(w, [&](uint32_t& index, uint32_t count) {
-            if (count == 0) index += mesh_base;
-        });
+        offset_wide_node(w, mesh_base, 0);
         s.nodes.push_back(w);
     }
 

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstddef>
 #include <stdexcept>
 #include <string>
 
@@ -109,59 +110,102 @@ void quantise_boxes(const std::vector<gpu::BvhNode>& nodes, const Children& chil
     }
 }
 
+// The word holding slot k's kind, and where in it.
+uint32_t& kind_word(gpu::BvhWideNode& node, uint32_t k) { return k < 2 ? node.exponents : node.first_node; }
+uint32_t kind_shift(uint32_t k) { return gpu::WIDE_KIND_SHIFT + gpu::WIDE_COUNT_BITS * (k & 1u); }
+
+void write_wide_kind(gpu::BvhWideNode& node, uint32_t k, uint32_t kind) {
+    const uint32_t mask = (1u << gpu::WIDE_COUNT_BITS) - 1u;
+    uint32_t& word = kind_word(node, k);
+    word = (word & ~(mask << kind_shift(k))) | kind << kind_shift(k);
+}
+
+void write_first_node(gpu::BvhWideNode& node, uint64_t first) {
+    if (first > gpu::WIDE_MAX_FIRST_NODE)
+        throw std::invalid_argument("wide_bvh.cpp: BVH node " + std::to_string(first) + " is past the " +
+                                    std::to_string(gpu::WIDE_MAX_FIRST_NODE) + " a wide node can name");
+    node.first_node = (node.first_node & ~gpu::WIDE_MAX_FIRST_NODE) | uint32_t(first);
+}
+
+void write_first_leaf(gpu::BvhWideNode& node, uint64_t first) {
+    if (first > gpu::WIDE_MAX_INDEX)
+        throw std::invalid_argument("wide_bvh.cpp: BVH leaf index " + std::to_string(first) + " is above the " +
+                                    std::to_string(gpu::WIDE_MAX_INDEX) + " a wide node can name");
+    node.first_leaf = uint32_t(first);
+}
+
+gpu::BvhWideNode make_empty_node() {
+    gpu::BvhWideNode w{};
+    for (uint32_t k = 0; k < gpu::BVH_WIDTH; ++k) write_wide_kind(w, k, gpu::WIDE_NO_CHILD);
+    return w;
+}
+
 }  // namespace
 
-std::vector<gpu::BvhWideNode> make_wide_nodes(const std::vector<gpu::BvhNode>& nodes) {
-    std::vector<gpu::BvhWideNode> wide;
+WideBvh make_wide_nodes(const std::vector<gpu::BvhNode>& nodes) {
+    WideBvh wide;
     if (nodes.empty()) return wide;
-    auto make_empty = [] {
-        gpu::BvhWideNode w{};
-        w.child_0 = w.child_1 = w.child_2 = w.child_3 = gpu::INVALID_INDEX;
-        return w;
-    };
-    // Depth-first: (binary interior node, the wide node and slot that point at it).
+    // Depth-first over (binary interior node, the wide node made for it); a node's interior children are allocated
+    // together, so they are consecutive, and after it.
     struct Task {
-        uint32_t binary, parent, slot;
+        uint32_t binary, wide;
     };
-    std::vector<Task> tasks = {{0, gpu::INVALID_INDEX, 0}};
+    std::vector<Task> tasks = {{0, 0}};
+    wide.nodes.push_back(make_empty_node());
     while (!tasks.empty()) {
         const Task task = tasks.back();
         tasks.pop_back();
-        const uint32_t here = uint32_t(wide.size());
-        if (task.parent != gpu::INVALID_INDEX) wide_child_word(wide[task.parent], task.slot) = pack_wide_child(here, 0);
-        wide.push_back(make_empty());
         const Children children = collect_children(nodes, task.binary);
-        quantise_boxes(nodes, children, wide[here]);
-        for (uint32_t k = children.size; k-- > 0;) {  // pushed last to first: the first child's subtree comes next
+        gpu::BvhWideNode w = make_empty_node();
+        quantise_boxes(nodes, children, w);
+        write_first_node(w, wide.nodes.size());
+        write_first_leaf(w, wide.leaf_order.size());
+        const size_t first_task = tasks.size();
+        for (uint32_t k = 0; k < children.size; ++k) {
             const gpu::BvhNode& n = nodes[children.node[k]];
             const uint32_t count = leaf_count(n);
-            if (count >= gpu::WIDE_INSTANCE_COUNT)
+            if (count > gpu::WIDE_MAX_LEAF)
                 throw std::invalid_argument("wide_bvh.cpp: a BVH leaf of " + std::to_string(count) +
-                                            " triangles; wide nodes hold at most " +
-                                            std::to_string(gpu::WIDE_INSTANCE_COUNT - 1));
-            if (count) wide_child_word(wide[here], k) = pack_wide_child(n.child_or_first, count);
-            else tasks.push_back({children.node[k], here, k});
+                                            " triangles; wide nodes hold at most " + std::to_string(gpu::WIDE_MAX_LEAF));
+            write_wide_kind(w, k, count);
+            if (count) {
+                for (uint32_t t = 0; t < count; ++t) wide.leaf_order.push_back(n.child_or_first + t);
+            } else {
+                tasks.push_back({children.node[k], uint32_t(wide.nodes.size())});
+                wide.nodes.push_back(make_empty_node());
+            }
         }
+        std::reverse(tasks.begin() + std::ptrdiff_t(first_task), tasks.end());  // the first child's subtree next
+        wide.nodes[task.wide] = w;
     }
+    if (wide.leaf_order.size() > size_t(gpu::WIDE_MAX_INDEX) + 1)
+        throw std::invalid_argument("wide_bvh.cpp: " + std::to_string(wide.leaf_order.size()) +
+                                    " BVH leaf triangles; wide nodes name at most " +
+                                    std::to_string(uint64_t(gpu::WIDE_MAX_INDEX) + 1));
     return wide;
 }
 
-uint32_t pack_wide_child(uint32_t index, uint32_t count) {
-    if (index > gpu::WIDE_MAX_INDEX)
-        throw std::invalid_argument("wide_bvh.cpp: BVH child index " + std::to_string(index) + " is above the " +
-                                    std::to_string(gpu::WIDE_MAX_INDEX) + " a wide node can hold");
-    if (count > gpu::WIDE_INSTANCE_COUNT)
-        throw std::invalid_argument("wide_bvh.cpp: BVH child count " + std::to_string(count) + " is above " +
-                                    std::to_string(gpu::WIDE_INSTANCE_COUNT));
-    return index << gpu::WIDE_COUNT_BITS | count;
+uint32_t read_wide_kind(const gpu::BvhWideNode& node, uint32_t k) {
+    const uint32_t word = k < 2 ? node.exponents : node.first_node;
+    return (word >> kind_shift(k)) & ((1u << gpu::WIDE_COUNT_BITS) - 1u);
 }
 
+uint32_t read_first_node(const gpu::BvhWideNode& node) { return node.first_node & gpu::WIDE_MAX_FIRST_NODE; }
+
 WideChild read_wide_child(const gpu::BvhWideNode& node, uint32_t k) {
-    const uint32_t words[gpu::BVH_WIDTH] = {node.child_0, node.child_1, node.child_2, node.child_3};
+    // Interior children take consecutive nodes, leaves consecutive triangles (an instance one), in slot order.
+    uint32_t next_node = read_first_node(node), next_leaf = node.first_leaf;
+    for (uint32_t j = 0; j < k; ++j) {
+        const uint32_t kind = read_wide_kind(node, j);
+        if (kind == 0) ++next_node;
+        else if (kind == gpu::WIDE_INSTANCE_COUNT) ++next_leaf;
+        else if (kind != gpu::WIDE_NO_CHILD) next_leaf += kind;
+    }
     WideChild c;
-    if (words[k] != gpu::INVALID_INDEX) {
-        c.index = wide_word_index(words[k]);
-        c.count = wide_word_count(words[k]);
+    const uint32_t kind = read_wide_kind(node, k);
+    if (kind != gpu::WIDE_NO_CHILD) {
+        c.index = kind == 0 ? next_node : next_leaf;
+        c.count = kind;
     }
     const float origin[3] = {node.origin_x, node.origin_y, node.origin_z};
     const uint32_t lo[3] = {node.lo_x, node.lo_y, node.lo_z}, hi[3] = {node.hi_x, node.hi_y, node.hi_z};
@@ -171,6 +215,22 @@ WideChild read_wide_child(const gpu::BvhWideNode& node, uint32_t k) {
         c.hi[axis] = dequantise(origin[axis], (hi[axis] >> (8 * k)) & 0xffu, step);
     }
     return c;
+}
+
+void offset_wide_node(gpu::BvhWideNode& node, uint32_t node_offset, uint32_t leaf_offset) {
+    write_first_node(node, uint64_t(read_first_node(node)) + node_offset);
+    write_first_leaf(node, uint64_t(node.first_leaf) + leaf_offset);
+}
+
+void mark_instance_leaves(gpu::BvhWideNode& node) {
+    for (uint32_t k = 0; k < gpu::BVH_WIDTH; ++k) {
+        const uint32_t kind = read_wide_kind(node, k);
+        if (kind == 0 || kind == gpu::WIDE_NO_CHILD) continue;
+        if (kind != 1)
+            throw std::invalid_argument("wide_bvh.cpp: a top-level leaf of " + std::to_string(kind) +
+                                        " instances; each names one");
+        write_wide_kind(node, k, gpu::WIDE_INSTANCE_COUNT);
+    }
 }
 
 uint32_t measure_stack_bound(const std::vector<gpu::BvhWideNode>& nodes, const std::vector<gpu::Instance>& instances) {

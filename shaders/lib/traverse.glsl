@@ -28,7 +28,7 @@ struct TraceHit {
 // source_index), not to the one visited first. Triangles are tested up to the next float above the best t
 // so that ties come back; the index is loaded only for a tie.
 //
-// Two-level BVH (scene_has_instances): a top-level leaf (count WIDE_INSTANCE_COUNT) names an Instance; the ray is
+// Two-level BVH (scene_has_instances): a top-level leaf (kind WIDE_INSTANCE_COUNT) names an Instance; the ray is
 // mapped to the mesh's object space (an affine map keeps t: the object-space ray is parametrised like the
 // world one) and traversal goes on at the mesh BVH's root on the same stack. Entries pushed from then on sit at
 // or above `instance_base`; popping one below it returns to the top level with the world-space ray.
@@ -64,8 +64,20 @@ bool is_same_surface(uint tri, TrianglePositions tp, uint origin_triangle, vec3 
 const float MISSED_CHILD = 3.0e38f;  // above any entry distance a hit box has (at most best.t, finite)
 struct ChildEntry {
     float entry;
-    uint word;  // BvhWideNode.child_k: index << WIDE_COUNT_BITS | count (0: a node; WIDE_INSTANCE_COUNT: an instance)
+    uint word;  // index << WIDE_COUNT_BITS | kind (0: a node; WIDE_INSTANCE_COUNT: an instance; else triangles)
 };
+
+// The word of the slot whose kind is in the low bits of `kinds` (INVALID_INDEX for none), which it shifts out.
+// Indices are implicit (layout.h BvhWideNode): interior children take consecutive nodes, leaves consecutive
+// triangles (an instance one), in slot order.
+uint take_child_word(inout uint kinds, inout uint next_node, inout uint next_leaf) {
+    uint kind = kinds & ((1u << WIDE_COUNT_BITS) - 1u);
+    kinds >>= WIDE_COUNT_BITS;
+    uint word = kind == 0u ? next_node << WIDE_COUNT_BITS : (next_leaf << WIDE_COUNT_BITS | kind);
+    next_node += kind == 0u ? 1u : 0u;
+    next_leaf += kind == WIDE_INSTANCE_COUNT ? 1u : (kind < WIDE_INSTANCE_COUNT ? kind : 0u);
+    return kind == WIDE_NO_CHILD ? INVALID_INDEX : word;
+}
 
 // float(q) for q < 2^23 as an OR and a subtraction (2^23 + q has q in its mantissa), exact like the conversion it
 // replaces: on lavapipe the extend stage ran about 5% faster with it (README "Speed").
@@ -141,7 +153,7 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin
     // box; in an instance's object space by that bound times the most its map stretches a distance.
     float world_pad = box_padding(origin, params.scene_min.xyz, params.scene_max.xyz);
     float pad = world_pad;
-    uint stack[TRAVERSAL_STACK_SIZE];  // child words (BvhWideNode.child_k)
+    uint stack[TRAVERSAL_STACK_SIZE];  // child words (take_child_word)
     uint stack_size = 0u;
     uint index = 0u;  // the root node
     uint count = 0u;
@@ -162,10 +174,16 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin
                 vec3 node_origin = vec3(n.origin_x, n.origin_y, n.origin_z);
                 vec3 step = uintBitsToFloat((uvec3(n.exponents) >> uvec3(0u, 8u, 16u) & 0xffu) << 23u);
                 uvec3 lo_q = uvec3(n.lo_x, n.lo_y, n.lo_z), hi_q = uvec3(n.hi_x, n.hi_y, n.hi_z);
-                ChildEntry c0 = test_child(n.child_0, 0u, node_origin, step, lo_q, hi_q, origin, inv_dir, best.t, pad);
-                ChildEntry c1 = test_child(n.child_1, 8u, node_origin, step, lo_q, hi_q, origin, inv_dir, best.t, pad);
-                ChildEntry c2 = test_child(n.child_2, 16u, node_origin, step, lo_q, hi_q, origin, inv_dir, best.t, pad);
-                ChildEntry c3 = test_child(n.child_3, 24u, node_origin, step, lo_q, hi_q, origin, inv_dir, best.t, pad);
+                uint kinds = n.exponents >> WIDE_KIND_SHIFT | n.first_node >> WIDE_KIND_SHIFT << 8u;
+                uint next_node = n.first_node & WIDE_MAX_FIRST_NODE, next_leaf = n.first_leaf;
+                uint word_0 = take_child_word(kinds, next_node, next_leaf);
+                uint word_1 = take_child_word(kinds, next_node, next_leaf);
+                uint word_2 = take_child_word(kinds, next_node, next_leaf);
+                uint word_3 = take_child_word(kinds, next_node, next_leaf);
+                ChildEntry c0 = test_child(word_0, 0u, node_origin, step, lo_q, hi_q, origin, inv_dir, best.t, pad);
+                ChildEntry c1 = test_child(word_1, 8u, node_origin, step, lo_q, hi_q, origin, inv_dir, best.t, pad);
+                ChildEntry c2 = test_child(word_2, 16u, node_origin, step, lo_q, hi_q, origin, inv_dir, best.t, pad);
+                ChildEntry c3 = test_child(word_3, 24u, node_origin, step, lo_q, hi_q, origin, inv_dir, best.t, pad);
                 // Nearest first: a sorting network of five compare-exchanges (missed children sort last).
                 order_entries(c0, c1);
                 order_entries(c2, c3);

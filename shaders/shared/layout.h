@@ -166,9 +166,13 @@ FH_CONST uint RENDER_MIS = 2u;             // combine NEE and BSDF sampling by M
 FH_CONST uint RENDER_RR = 4u;              // Russian roulette
 FH_CONST uint BVH_LEAF_COUNT_BITS = 16u;   // BvhNode.count_and_axis: low bits count, high bits axis
 FH_CONST uint BVH_WIDTH = 4u;              // children per BvhWideNode
-FH_CONST uint WIDE_COUNT_BITS = 6u;        // BvhWideNode.child_k (and a traversal stack entry): index << 6 | count
-FH_CONST uint WIDE_INSTANCE_COUNT = 63u;   // the count of a top-level leaf (index = Instance); leaves hold 1 .. 62
-FH_CONST uint WIDE_MAX_INDEX = 0x3fffffeu; // the largest index a child can name (all ones is INVALID_INDEX: no child)
+FH_CONST uint WIDE_COUNT_BITS = 4u;        // a BvhWideNode slot's kind, and a traversal stack entry: index << 4 | kind
+FH_CONST uint WIDE_MAX_LEAF = 13u;         // kinds 1 .. 13: a leaf of that many triangles (0: a wide node)
+FH_CONST uint WIDE_INSTANCE_COUNT = 14u;   // the kind of a top-level leaf (index = Instance)
+FH_CONST uint WIDE_NO_CHILD = 15u;         // the kind of an empty slot
+FH_CONST uint WIDE_KIND_SHIFT = 24u;       // BvhWideNode.exponents and .first_node: two slots' kinds in bits 24-31
+FH_CONST uint WIDE_MAX_FIRST_NODE = 0xffffffu;  // BvhWideNode.first_node's index bits
+FH_CONST uint WIDE_MAX_INDEX = 0x3fffffeu; // the largest triangle or Instance index a child can name
 FH_CONST uint TRAVERSAL_STACK_SIZE = 96u;  // entries; the host checks that a BVH never needs more (wide_bvh.h)
 FH_CONST uint PUNCTUAL_LIGHT_BIT = 0x80000000u;  // Emitter.light: set = PunctualLight index, clear = triangle
 FH_CONST uint ENVIRONMENT_LIGHT = 0x7fffffffu;  // Emitter.light: the environment (EFFECT_ENVIRONMENT)
@@ -196,24 +200,27 @@ struct BvhNode {
     uint count_and_axis;  // triangle count (0 = interior) | split axis << BVH_LEAF_COUNT_BITS
 };
 
-// What the GPU traverses: a 4-wide BVH with quantised child boxes, 64 bytes (four texels) for four children where
+// What the GPU traverses: a 4-wide BVH with quantised child boxes, 48 bytes (three texels) for four children where
 // two-child nodes of full floats took 128 (Ylitie et al. 2017, "Efficient Incoherent Ray Traversal on GPUs Through
-// Compressed Wide BVHs", with four children and one index per child). One visit tests four boxes: half the visits and
-// half the node words of the binary tree (scene/wide_bvh.h collapses the binary BVH into it).
+// Compressed Wide BVHs", with four children). One visit tests four boxes: half the visits and half the node words of
+// the binary tree (scene/wide_bvh.h collapses the binary BVH into it).
 // Child k's box along an axis is [origin + lo * step, origin + hi * step] with lo, hi byte k of lo_x.. / hi_x..
 // and step = 2^(exponent - 127), rounded outwards on the host so that the float sums the shader computes contain the
-// child's exact box. Child k is another wide node (count 0), a leaf (index = first triangle), a top-level leaf
-// (count WIDE_INSTANCE_COUNT, index = Instance) or absent (child_k INVALID_INDEX). Index and count share one word,
-// index << WIDE_COUNT_BITS | count, which traversal pushes on its stack as it is: one stack word per entry. Indices
-// stay below 2^26 (WIDE_MAX_INDEX): the loader refuses more than 2^26 triangles, lavapipe's texel buffers (2^27
-// texels of 16 bytes; a triangle takes 3, a node 4) end sooner, and the host checks every index (wide_bvh.h).
+// child's exact box. Each slot has a 4-bit kind: 0 another wide node, 1 .. WIDE_MAX_LEAF a leaf of that many
+// triangles, WIDE_INSTANCE_COUNT a top-level leaf (one Instance), WIDE_NO_CHILD none. Indices are implicit, as in
+// Ylitie et al.: a node's interior children are consecutive nodes from first_node on, its leaves' triangles (or
+// instances) consecutive from first_leaf on, both in slot order; so the host orders the triangles and instances
+// by wide node (wide_bvh.h WideBvh::leaf_order). Traversal pushes a child as one word, index << WIDE_COUNT_BITS |
+// kind. Indices stay below 2^26 (WIDE_MAX_INDEX; nodes below 2^24): the loader refuses more than 2^26 triangles,
+// lavapipe's texel buffers (2^27 texels of 16 bytes; a triangle takes 3, a node 3) end sooner, and the host checks
+// every index (wide_bvh.cpp).
 struct BvhWideNode {
     float origin_x, origin_y, origin_z;
-    uint exponents;  // the step's biased float exponent per axis: x in bits 0-7, y 8-15, z 16-23
+    uint exponents;  // the step's biased float exponent per axis: x in bits 0-7, y 8-15, z 16-23; kinds of slots 0, 1
     uint lo_x, lo_y, lo_z;  // byte k: child k's low corner, in steps above origin
     uint hi_x, hi_y, hi_z;  // byte k: its high corner
-    uint child_0, child_1, child_2, child_3;  // index << WIDE_COUNT_BITS | count (0: a node), or INVALID_INDEX
-    uint unused_0, unused_1;
+    uint first_node;  // bits 0-23: the first interior child; kinds of slots 2, 3 in bits 24-31
+    uint first_leaf;  // the first triangle (top level: Instance) of the leaf children
 };
 
 // One placement of a mesh in a two-level BVH (SPEC_HAS_INSTANCES): a top-level leaf (count WIDE_INSTANCE_COUNT) enters

@@ -26,10 +26,11 @@ Scene make_grey_scene(const std::vector<glm::vec3>& positions) {
 }
 
 // Runs extend once over `rays`.
-ExtendResult run_extend_once(vk::Context& context, const PackedScene& packed, const Bvh& bvh,
-                             const std::vector<Ray>& rays, bool sort_rays) {
-    std::vector<uint32_t> leaf_index_of(bvh.triangle_order.size());
-    for (size_t i = 0; i < bvh.triangle_order.size(); ++i) leaf_index_of[bvh.triangle_order[i]] = uint32_t(i);
+// Triangles are named as in the scene; the GPU's are in leaf order (TrianglePositions.source_index maps back).
+ExtendResult run_extend_once(vk::Context& context, const PackedScene& packed, const std::vector<Ray>& rays,
+                             bool sort_rays) {
+    std::vector<uint32_t> leaf_index_of(packed.positions.size());
+    for (size_t i = 0; i < packed.positions.size(); ++i) leaf_index_of[packed.positions[i].source_index] = uint32_t(i);
     std::vector<gpu::RayItem> items(rays.size());
     for (size_t i = 0; i < rays.size(); ++i) {
         const uint32_t from = rays[i].origin_triangle == gpu::INVALID_INDEX ? gpu::INVALID_INDEX
@@ -42,7 +43,7 @@ ExtendResult run_extend_once(vk::Context& context, const PackedScene& packed, co
     ExtendResult result;
     result.hits = std::move(traced.hits);
     for (gpu::HitItem& hit : result.hits)
-        if (hit.triangle != gpu::INVALID_INDEX) hit.triangle = bvh.triangle_order[hit.triangle];
+        if (hit.triangle != gpu::INVALID_INDEX) hit.triangle = packed.positions[hit.triangle].source_index;
     result.escaped_rays = traced.escaped_rays;
     EXPECT_EQ(context.validation_message_count(), 0u) << "Vulkan validation messages (printed above)";
     return result;
@@ -64,9 +65,8 @@ ExtendResult run_extend_stage(const std::vector<glm::vec3>& positions, const std
                               const BvhOptions& options, bool sort_rays) {
     vk::Context& context = shared_test_context();
     Scene scene = make_grey_scene(positions);
-    Bvh bvh = build_bvh(scene.positions, options);
-    PackedScene packed = pack_scene(scene, bvh);
-    return run_extend_once(context, packed, bvh, rays, sort_rays);
+    PackedScene packed = pack_scene(scene, build_bvh(scene.positions, options));
+    return run_extend_once(context, packed, rays, sort_rays);
 }
 
 }  // namespace fh::test

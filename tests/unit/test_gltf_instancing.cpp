@@ -138,10 +138,11 @@ TEST(GltfInstancing, TwoLevelBvhReachesEveryTriangleThroughItsInstances) {
     std::multiset<uint32_t> order(bvh.triangle_order.begin(), bvh.triangle_order.end());
     EXPECT_EQ(order, (std::multiset<uint32_t>{0, 1}));
     std::set<uint32_t> leaves;
-    for (fh::gpu::BvhWideNode w : bvh.nodes)
-        fh::for_each_wide_child(w, [&](uint32_t index, uint32_t count) {
-            if (count == fh::gpu::WIDE_INSTANCE_COUNT) leaves.insert(index);
-        });
+    for (const fh::gpu::BvhWideNode& w : bvh.nodes)
+        for (uint32_t k = 0; k < fh::gpu::BVH_WIDTH; ++k) {
+            const fh::WideChild c = fh::read_wide_child(w, k);
+            if (c.count == fh::gpu::WIDE_INSTANCE_COUNT) leaves.insert(c.index);
+        }
     EXPECT_EQ(leaves, (std::set<uint32_t>{0, 1, 2, 3, 4, 5}));
     for (const fh::gpu::Instance& inst : bvh.instances) EXPECT_LT(inst.root_node, bvh.nodes.size());
     EXPECT_THROW(fh::pack_scene(s, fh::build_bvh(s.positions)), std::invalid_argument);

@@ -10,6 +10,7 @@ namespace fh::glsl {
 #include "lib/intersect.glsl"
 }
 #include "scene/bvh.h"
+#include "scene/scene_bvh.h"
 #include "scene/wide_bvh.h"
 #include "test_meshes.h"
 
@@ -37,8 +38,10 @@ struct Accel {
     std::vector<vec3> positions;  // leaf order, 3 per triangle
     fh::Bvh bvh;
     std::vector<fh::gpu::BvhWideNode> wide;
-    explicit Accel(const std::vector<vec3>& p) : bvh(fh::build_bvh(p)), wide(fh::make_wide_nodes(bvh.nodes)) {
-        for (uint32_t t : bvh.triangle_order) positions.insert(positions.end(), {p[3 * t], p[3 * t + 1], p[3 * t + 2]});
+    explicit Accel(const std::vector<vec3>& p) : bvh(fh::build_bvh(p)) {
+        fh::SceneBvh level = fh::make_single_level(bvh);
+        wide = std::move(level.nodes);
+        for (uint32_t t : level.triangle_order) positions.insert(positions.end(), {p[3 * t], p[3 * t + 1], p[3 * t + 2]});
     }
     size_t triangle_count() const { return positions.size() / 3; }
 };

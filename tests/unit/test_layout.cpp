@@ -24,13 +24,13 @@ FH_OFFSET(BvhNode, child_or_first, 12);
 FH_OFFSET(BvhNode, max_x, 16);
 FH_OFFSET(BvhNode, count_and_axis, 28);
 
-FH_SIZE(BvhWideNode, 64);
+FH_SIZE(BvhWideNode, 48);
 FH_OFFSET(BvhWideNode, origin_x, 0);
 FH_OFFSET(BvhWideNode, exponents, 12);
 FH_OFFSET(BvhWideNode, lo_x, 16);
 FH_OFFSET(BvhWideNode, hi_x, 28);
-FH_OFFSET(BvhWideNode, child_0, 40);
-FH_OFFSET(BvhWideNode, child_3, 52);
+FH_OFFSET(BvhWideNode, first_node, 40);
+FH_OFFSET(BvhWideNode, first_leaf, 44);
 
 // The scene arrays bound as texel buffers (layout.h TEXELS) are read as whole 16-byte RGBA32UI texels.
 static_assert(sizeof(BvhWideNode) % TEXEL_BYTES == 0 && sizeof(TrianglePositions) % TEXEL_BYTES == 0 &&
@@ -224,7 +224,7 @@ TEST(Layout, ArrayStridesFollowStd430) {
 TEST(Layout, SizesMatchTheGpuStructs) {
     // Repeated as runtime checks so a failing build is not the only report.
     EXPECT_EQ(sizeof(BvhNode), 32u);
-    EXPECT_EQ(sizeof(BvhWideNode), 64u);
+    EXPECT_EQ(sizeof(BvhWideNode), 48u);
     EXPECT_EQ(sizeof(TrianglePositions), 48u);
     EXPECT_EQ(sizeof(TriangleShading), 48u);
     EXPECT_EQ(sizeof(Material), 96u);

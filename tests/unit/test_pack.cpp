@@ -81,10 +81,11 @@ TEST(Pack, StoresTrianglesInLeafOrder) {
     const fh::PackedScene packed = fh::pack_scene(s, bvh);
     ASSERT_EQ(packed.positions.size(), 500u);
     ASSERT_EQ(packed.shading.size(), 500u);
-    EXPECT_EQ(packed.nodes.size(), fh::make_wide_nodes(bvh.nodes).size());
+    const fh::WideBvh wide = fh::make_wide_nodes(bvh.nodes);
+    EXPECT_EQ(packed.nodes.size(), wide.nodes.size());
     EXPECT_EQ(packed.materials.size(), 3u);
     for (size_t i = 0; i < 500; ++i) {
-        const uint32_t t = bvh.triangle_order[i];
+        const uint32_t t = bvh.triangle_order[wide.leaf_order[i]];
         EXPECT_EQ(packed.positions[i].p2_y, s.positions[3 * t + 2].y);
         EXPECT_EQ(packed.positions[i].p0_x, s.positions[3 * t].x);
         EXPECT_EQ(packed.shading[i].material, s.triangle_material[t]);
@@ -103,7 +104,7 @@ TEST(Pack, FlagsTrianglesOfAlphaTestedMaterials) {
     const fh::PackedScene packed = fh::pack_scene(s, bvh);
     size_t flagged = 0;
     for (size_t i = 0; i < packed.positions.size(); ++i) {
-        const uint32_t material = s.triangle_material[bvh.triangle_order[i]];
+        const uint32_t material = s.triangle_material[packed.positions[i].source_index];
         const uint32_t expected = material == 0 ? 0u : fh::gpu::TRIANGLE_ALPHA_TESTED;
         EXPECT_EQ(packed.positions[i].flags, expected) << i;
         flagged += expected != 0u;

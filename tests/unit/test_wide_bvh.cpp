@@ -33,8 +33,9 @@ struct Walk {
 };
 
 // The exact box of the triangles under wide node `index`, checking every child's quantised box holds its part.
-Box check_node(const std::vector<BvhWideNode>& wide, const fh::Bvh& bvh, std::span<const glm::vec3> p, uint32_t index,
-               Walk& walk) {
+// order: the wide nodes' leaf positions -> triangle.
+Box check_node(const std::vector<BvhWideNode>& wide, const std::vector<uint32_t>& order, std::span<const glm::vec3> p,
+               uint32_t index, Walk& walk) {
     ++walk.nodes;
     Box all;
     std::vector<std::pair<fh::WideChild, Box>> present;
@@ -44,11 +45,11 @@ Box check_node(const std::vector<BvhWideNode>& wide, const fh::Bvh& bvh, std::sp
         Box exact;
         if (c.count == 0) {
             EXPECT_GT(c.index, index) << "children come after their parent";
-            exact = check_node(wide, bvh, p, c.index, walk);
+            exact = check_node(wide, order, p, c.index, walk);
         } else {
             for (uint32_t t = c.index; t < c.index + c.count; ++t) {
                 ++walk.seen.at(t);
-                for (int v = 0; v < 3; ++v) exact.grow(p[3 * size_t(bvh.triangle_order[t]) + v]);
+                for (int v = 0; v < 3; ++v) exact.grow(p[3 * size_t(order.at(t)) + v]);
             }
         }
         present.push_back({c, exact});
@@ -71,10 +72,14 @@ Box check_node(const std::vector<BvhWideNode>& wide, const fh::Bvh& bvh, std::sp
 
 std::vector<BvhWideNode> check_wide(std::span<const glm::vec3> p, const fh::BvhOptions& options = {}) {
     const fh::Bvh bvh = fh::build_bvh(p, options);
-    const std::vector<BvhWideNode> wide = fh::make_wide_nodes(bvh.nodes);
+    const fh::WideBvh collapsed = fh::make_wide_nodes(bvh.nodes);
+    const std::vector<BvhWideNode>& wide = collapsed.nodes;
+    std::vector<uint32_t> order;  // what make_single_level gives
+    for (uint32_t leaf : collapsed.leaf_order) order.push_back(bvh.triangle_order.at(leaf));
+    EXPECT_EQ(order.size(), p.size() / 3);
     Walk walk;
     walk.seen.assign(p.size() / 3, 0);
-    check_node(wide, bvh, p, 0, walk);
+    check_node(wide, order, p, 0, walk);
     EXPECT_EQ(walk.nodes, wide.size()) << "every node is reached once";
     EXPECT_EQ(std::count(walk.seen.begin(), walk.seen.end(), 1), std::ptrdiff_t(p.size() / 3))
         << "every triangle in exactly one leaf";
@@ -134,33 +139,58 @@ TEST(WideBvh, StackBoundIsTheWorstPathsPushes) {
 }
 
 TEST(WideBvh, RefusesLeavesItCannotCount) {
-    fh::gpu::BvhNode leaf{0, 0, 0, 0, 1, 1, 1, fh::gpu::WIDE_INSTANCE_COUNT};
+    fh::gpu::BvhNode leaf{0, 0, 0, 0, 1, 1, 1, fh::gpu::WIDE_MAX_LEAF + 1u};
     EXPECT_THROW(fh::make_wide_nodes({leaf}), std::invalid_argument);
-    leaf.count_and_axis = fh::gpu::WIDE_INSTANCE_COUNT - 1u;
-    EXPECT_EQ(fh::make_wide_nodes({leaf}).size(), 1u);
-    EXPECT_EQ(fh::read_wide_child(fh::make_wide_nodes({leaf})[0], 0).count, fh::gpu::WIDE_INSTANCE_COUNT - 1u);
+    leaf.count_and_axis = fh::gpu::WIDE_MAX_LEAF;
+    const fh::WideBvh one = fh::make_wide_nodes({leaf});
+    ASSERT_EQ(one.nodes.size(), 1u);
+    EXPECT_EQ(fh::read_wide_child(one.nodes[0], 0).count, fh::gpu::WIDE_MAX_LEAF);
+    EXPECT_EQ(one.leaf_order.size(), size_t(fh::gpu::WIDE_MAX_LEAF));
 }
 
-// Index and count share a child's word: both come back as packed, and an index the word cannot hold is refused
-// rather than cut.
-TEST(WideBvh, PacksChildIndexAndCount) {
-    fh::gpu::BvhWideNode w{};
-    w.child_0 = fh::pack_wide_child(fh::gpu::WIDE_MAX_INDEX, fh::gpu::WIDE_INSTANCE_COUNT);
-    w.child_1 = fh::pack_wide_child(12345u, 0u);
-    w.child_2 = fh::gpu::INVALID_INDEX;
-    w.child_3 = fh::pack_wide_child(0u, 3u);
-    EXPECT_EQ(fh::read_wide_child(w, 0).index, fh::gpu::WIDE_MAX_INDEX);
-    EXPECT_EQ(fh::read_wide_child(w, 0).count, fh::gpu::WIDE_INSTANCE_COUNT);
-    EXPECT_EQ(fh::read_wide_child(w, 1).index, 12345u);
-    EXPECT_EQ(fh::read_wide_child(w, 1).count, 0u);
-    EXPECT_EQ(fh::read_wide_child(w, 2).index, fh::gpu::INVALID_INDEX);
-    EXPECT_EQ(fh::read_wide_child(w, 3).count, 3u);
-    EXPECT_NE(w.child_0, fh::gpu::INVALID_INDEX);  // the largest index with the instance count is still a child
-    EXPECT_THROW(fh::pack_wide_child(fh::gpu::WIDE_MAX_INDEX + 1u, 0u), std::invalid_argument);
-    EXPECT_THROW(fh::pack_wide_child(0u, fh::gpu::WIDE_INSTANCE_COUNT + 1u), std::invalid_argument);
-    // Offsets added to a mesh's nodes (two-level builds) go through the same check.
-    EXPECT_THROW(fh::for_each_wide_child(w, [](uint32_t& index, uint32_t) { index += 1u << 30; }),
-                 std::invalid_argument);
+// Indices are implicit: interior children are consecutive nodes from first_node, leaves consecutive triangles (an
+// instance one) from first_leaf, in slot order; kinds share words with the exponents and first_node.
+TEST(WideBvh, ReadsImplicitChildIndices) {
+    // Eight one-triangle leaves in a balanced tree: a root of four two-leaf subtrees, each a node of two leaves.
+    std::vector<glm::vec3> eight;
+    for (int i = 0; i < 8; ++i)
+        eight.insert(eight.end(), {{10.0f * i, 0, 0}, {10.0f * i + 1, 0, 0}, {10.0f * i, 1, 0}});
+    const fh::WideBvh w = fh::make_wide_nodes(fh::build_bvh(eight, {1, 16, 64}).nodes);
+    ASSERT_EQ(w.nodes.size(), 5u);
+    for (uint32_t k = 0; k < 4; ++k) {
+        const fh::WideChild c = fh::read_wide_child(w.nodes[0], k);
+        EXPECT_EQ(c.count, 0u);
+        EXPECT_EQ(c.index, 1u + k) << "the root's children are nodes 1 to 4, in slot order";
+        EXPECT_EQ(fh::read_wide_child(w.nodes[c.index], 0).count, 1u);
+        EXPECT_EQ(fh::read_wide_child(w.nodes[c.index], 1).index, fh::read_wide_child(w.nodes[c.index], 0).index + 1u);
+        EXPECT_EQ(fh::read_wide_kind(w.nodes[c.index], 2), fh::gpu::WIDE_NO_CHILD);
+    }
+    // A hand-made node: a node, three triangles, an instance, none.
+    BvhWideNode n{};
+    n.exponents = 0x7f7f7fu | (0u | 3u << 4) << fh::gpu::WIDE_KIND_SHIFT;
+    n.first_node = 1234u | (fh::gpu::WIDE_INSTANCE_COUNT | fh::gpu::WIDE_NO_CHILD << 4) << fh::gpu::WIDE_KIND_SHIFT;
+    n.first_leaf = 100u;
+    n.hi_x = 0xffu;
+    EXPECT_EQ(fh::read_wide_child(n, 0).index, 1234u);
+    EXPECT_EQ(fh::read_wide_child(n, 1).index, 100u);
+    EXPECT_EQ(fh::read_wide_child(n, 1).count, 3u);
+    EXPECT_EQ(fh::read_wide_child(n, 2).index, 103u);
+    EXPECT_EQ(fh::read_wide_child(n, 2).count, fh::gpu::WIDE_INSTANCE_COUNT);
+    EXPECT_EQ(fh::read_wide_child(n, 3).index, fh::gpu::INVALID_INDEX);
+    EXPECT_EQ(fh::read_wide_child(n, 0).hi.x, 255.0f) << "the kinds leave the exponents alone (step 1)";
+    // Offsets (a mesh's tree placed after others) move both, keep the kinds, and refuse what the bits cannot hold.
+    fh::offset_wide_node(n, 10u, 5u);
+    EXPECT_EQ(fh::read_wide_child(n, 0).index, 1244u);
+    EXPECT_EQ(fh::read_wide_child(n, 2).index, 108u);
+    EXPECT_EQ(fh::read_wide_kind(n, 3), fh::gpu::WIDE_NO_CHILD);
+    EXPECT_THROW(fh::offset_wide_node(n, fh::gpu::WIDE_MAX_FIRST_NODE, 0u), std::invalid_argument);
+    EXPECT_THROW(fh::offset_wide_node(n, 0u, fh::gpu::WIDE_MAX_INDEX), std::invalid_argument);
+    // The top level: a leaf of one box becomes an instance; a leaf of two is refused.
+    fh::gpu::BvhWideNode top = w.nodes[1];
+    fh::mark_instance_leaves(top);
+    EXPECT_EQ(fh::read_wide_kind(top, 0), fh::gpu::WIDE_INSTANCE_COUNT);
+    EXPECT_EQ(fh::read_wide_child(top, 1).index, fh::read_wide_child(w.nodes[1], 1).index);
+    EXPECT_THROW(fh::mark_instance_leaves(n), std::invalid_argument);
 }
 
 }  // namespace
