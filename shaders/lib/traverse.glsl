@@ -110,13 +110,13 @@ uint child_count(uint word) { return word & ((1u << WIDE_COUNT_BITS) - 1u); }
 
 // A macro, not a function: GLSL passes arrays by copy, and the stack is trace_ray's. The host keeps every tree within
 // the stack (scene_bvh.cpp check_stack_bound); the bound check only keeps a write in range. An entry is the child's
-// word as the node holds it: one word where index and count took two (on lavapipe the stack lives in scratch memory,
-// one scattered store per word and lane; README "Wide BVH nodes" has the A/B rounds).
-#define PUSH_ENTRY(e)                                                          \
-    if ((e).entry < MISSED_CHILD && stack_size < TRAVERSAL_STACK_SIZE) {        \
-        stack[stack_size] = (e).word;                                           \
-        ++stack_size;                                                           \
-    }
+// word: one word where index and count took two (on lavapipe the stack lives in scratch memory, one scattered store
+// per word and lane; README "Wide BVH nodes" has the A/B rounds). The word is stored whether or not the child was
+// hit, above the top where it was not (the array's last entry takes a store at a full stack), and only the size
+// depends on the hit: on lavapipe a store under a per-lane condition cost more than the store itself.
+#define PUSH_ENTRY(e)                                                                       \
+    stack[min(stack_size, TRAVERSAL_STACK_SIZE)] = (e).word;                                 \
+    stack_size += (e).entry < MISSED_CHILD && stack_size < TRAVERSAL_STACK_SIZE ? 1u : 0u;
 
 // Takes the top stack entry; one pushed at the top level (below instance_base) returns the ray to world space.
 #define POP_ENTRY()                                                                            \
@@ -153,7 +153,7 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin
     // box; in an instance's object space by that bound times the most its map stretches a distance.
     float world_pad = box_padding(origin, params.scene_min.xyz, params.scene_max.xyz);
     float pad = world_pad;
-    uint stack[TRAVERSAL_STACK_SIZE];  // child words (take_child_word)
+    uint stack[TRAVERSAL_STACK_SIZE + 1u];  // child words (take_child_word); the last takes unpushed stores
     uint stack_size = 0u;
     uint index = 0u;  // the root node
     uint count = 0u;
