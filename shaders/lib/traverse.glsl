@@ -119,10 +119,7 @@ uint child_count(uint word) { return word & ((1u << WIDE_COUNT_BITS) - 1u); }
     stack_size += (e).entry < MISSED_CHILD && stack_size < TRAVERSAL_STACK_SIZE ? 1u : 0u;
 
 // Takes the top stack entry; one pushed at the top level (below instance_base) returns the ray to world space.
-#define POP_ENTRY()                                                                            \
-    --stack_size;                                                                              \
-    index = child_index(stack[stack_size]);                                                    \
-    count = child_count(stack[stack_size]);                                                    \
+#define LEAVE_INSTANCE_BELOW_BASE()                                                            \
     if (scene_has_instances && instance != INVALID_INDEX && stack_size < instance_base) {      \
         instance = INVALID_INDEX;                                                              \
         origin = world_origin;                                                                 \
@@ -131,6 +128,12 @@ uint child_count(uint word) { return word & ((1u << WIDE_COUNT_BITS) - 1u); }
         inv_dir = make_safe_inverse_dir(dir);                                                  \
         pad = world_pad;                                                                       \
     }
+
+#define POP_ENTRY()                                                                            \
+    --stack_size;                                                                              \
+    index = child_index(stack[stack_size]);                                                    \
+    count = child_count(stack[stack_size]);                                                    \
+    LEAVE_INSTANCE_BELOW_BASE()
 
 // alpha_seed: with EFFECT_ALPHA, the ray's key for stochastic alpha (material.glsl is_surface_present); a
 // candidate hit on a cut-out or not-drawn-this-time point is skipped as if the triangle were not there.
@@ -194,12 +197,16 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin
                 PUSH_ENTRY(c3)
                 PUSH_ENTRY(c2)
                 PUSH_ENTRY(c1)
-                index = c0.entry < MISSED_CHILD ? child_index(c0.word) : INVALID_INDEX;
-                count = c0.entry < MISSED_CHILD ? child_count(c0.word) : 0u;
                 // A lane that missed every child takes its next entry here rather than idle (masked) until every
-                // lane of the SIMD group holds a leaf.
-                if (c0.entry >= MISSED_CHILD && stack_size > 0u) {
-                    POP_ENTRY()
+                // lane of the SIMD group holds a leaf. The top entry is loaded whether or not it is taken.
+                bool hit_any = c0.entry < MISSED_CHILD;
+                bool pop = !hit_any && stack_size > 0u;
+                uint next = hit_any ? c0.word : stack[max(stack_size, 1u) - 1u];
+                stack_size -= pop ? 1u : 0u;
+                index = hit_any || pop ? child_index(next) : INVALID_INDEX;
+                count = hit_any || pop ? child_count(next) : 0u;
+                if (pop) {
+                    LEAVE_INSTANCE_BELOW_BASE()
                 }
             }
             // Entering an instance maps the ray into its mesh's space and descends on from the mesh's root. Here rather
@@ -278,4 +285,5 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin
 }
 #undef PUSH_ENTRY
 #undef POP_ENTRY
+#undef LEAVE_INSTANCE_BELOW_BASE
 #endif
