@@ -16,7 +16,7 @@
 
 namespace fh {
 namespace {
-constexpr uint32_t MAX_TRAVERSAL_DEPTH = 64;  // shaders/lib/traverse.glsl TRAVERSAL_STACK_SIZE
+constexpr uint32_t MAX_TRAVERSAL_DEPTH = 64;  // BvhOptions::max_depth; the GPU stack itself: scene_bvh.cpp check_stack_bound
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -123,7 +123,8 @@ void write_wide_kind(gpu::BvhWideNode& node, uint32_t k, uint32_t kind) {
 void write_first_node(gpu::BvhWideNode& node, uint64_t first) {
     if (first > gpu::WIDE_MAX_FIRST_NODE)
         throw std::invalid_argument("wide_bvh.cpp: BVH node " + std::to_string(first) + " is past the " +
-                                    std::to_string(gpu::WIDE_MAX_FIRST_NODE) + " a wide node can name");
+                                    std::to_string(gpu::WIDE_MAX_FIRST_NODE) +
+                                    " a wide node can name (a larger --bvh-leaf-size makes fewer nodes)");
     node.first_node = (node.first_node & ~gpu::WIDE_MAX_FIRST_NODE) | uint32_t(first);
 }
 
@@ -158,7 +159,10 @@ WideBvh make_wide_nodes(const std::vector<gpu::BvhNode>& nodes) {
         const Children children = collect_children(nodes, task.binary);
         gpu::BvhWideNode w = make_empty_node();
         quantise_boxes(nodes, children, w);
-        write_first_node(w, wide.nodes.size());
+        // first_node matters only to a node with interior children (checked, and moved by offset_wide_node, only there).
+        const bool has_interior = std::any_of(children.node, children.node + children.size,
+                                              [&](uint32_t c) { return leaf_count(nodes[c]) == 0; });
+        if (has_interior) write_first_node(w, wide.nodes.size());
         write_first_leaf(w, wide.leaf_order.size());
         const size_t first_task = tasks.size();
         for (uint32_t k = 0; k < children.size; ++k) {
@@ -218,7 +222,9 @@ WideChild read_wide_child(const gpu::BvhWideNode& node, uint32_t k) {
 }
 
 void offset_wide_node(gpu::BvhWideNode& node, uint32_t node_offset, uint32_t leaf_offset) {
-    write_first_node(node, uint64_t(read_first_node(node)) + node_offset);
+    bool has_interior = false;
+    for (uint32_t k = 0; k < gpu::BVH_WIDTH; ++k) has_interior |= read_wide_kind(node, k) == 0;
+    if (has_interior) write_first_node(node, uint64_t(read_first_node(node)) + node_offset);
     write_first_leaf(node, uint64_t(node.first_leaf) + leaf_offset);
 }
 

@@ -41,8 +41,9 @@ uint32_t read_first_node(const gpu::BvhWideNode& node);
 
 WideChild read_wide_child(const gpu::BvhWideNode& node, uint32_t k);
 
-// Moves a node's children: its interior children by node_offset, its leaves by leaf_offset (a mesh's tree placed
-// after others in one array). Throws std::invalid_argument for a first child past gpu::WIDE_MAX_FIRST_NODE.
+// Moves a node's children (a mesh's tree placed after others in one array): its interior children by node_offset (a
+// node without any keeps first_node as it is), its leaves by leaf_offset. Throws std::invalid_argument for a first
+// child past gpu::WIDE_MAX_FIRST_NODE or gpu::WIDE_MAX_INDEX.
 void offset_wide_node(gpu::BvhWideNode& node, uint32_t node_offset, uint32_t leaf_offset);
 
 // Makes every leaf child of `node` (each one "triangle": an instance's box) an instance (top level).

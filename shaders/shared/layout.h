@@ -31,7 +31,7 @@ FH_CONST uint WORKGROUP_SIZE = 64u;  // lavapipe: 8-lane subgroups, 64..256 per 
 // texel buffer reaches maxTexelBufferElements x 16 bytes (2 GiB on lavapipe) where a storage buffer stops at
 // maxStorageBufferRange (128 MiB). The others are storage buffers, but for the one uniform buffer.
 FH_CONST uint BINDING_PARAMS = 0u;          // FrameParams, one element
-FH_CONST uint BINDING_BVH_NODES = 1u;       // TEXELS BvhWideNode[], depth-first, root at 0
+FH_CONST uint BINDING_BVH_NODES = 1u;       // TEXELS BvhWideNode[], root at 0, children after their parent, siblings consecutive
 FH_CONST uint BINDING_TRI_POSITIONS = 2u;   // TEXELS TrianglePositions[], in BVH leaf order
 FH_CONST uint BINDING_TRI_SHADING = 3u;     // TEXELS TriangleShading[], same order
 FH_CONST uint BINDING_MATERIALS = 4u;       // TEXELS Material[]
@@ -172,7 +172,7 @@ FH_CONST uint WIDE_INSTANCE_COUNT = 14u;   // the kind of a top-level leaf (inde
 FH_CONST uint WIDE_NO_CHILD = 15u;         // the kind of an empty slot
 FH_CONST uint WIDE_KIND_SHIFT = 24u;       // BvhWideNode.exponents and .first_node: two slots' kinds in bits 24-31
 FH_CONST uint WIDE_MAX_FIRST_NODE = 0xffffffu;  // BvhWideNode.first_node's index bits
-FH_CONST uint WIDE_MAX_INDEX = 0x3fffffeu; // the largest triangle or Instance index a child can name
+FH_CONST uint WIDE_MAX_INDEX = 0x3fffffeu; // the largest triangle or Instance index a child names (the loader's 2^26)
 FH_CONST uint TRAVERSAL_STACK_SIZE = 96u;  // entries; the host checks that a BVH never needs more (wide_bvh.h)
 FH_CONST uint PUNCTUAL_LIGHT_BIT = 0x80000000u;  // Emitter.light: set = PunctualLight index, clear = triangle
 FH_CONST uint ENVIRONMENT_LIGHT = 0x7fffffffu;  // Emitter.light: the environment (EFFECT_ENVIRONMENT)
@@ -223,7 +223,7 @@ struct BvhWideNode {
     uint first_leaf;  // the first triangle (top level: Instance) of the leaf children
 };
 
-// One placement of a mesh in a two-level BVH (SPEC_HAS_INSTANCES): a top-level leaf (count WIDE_INSTANCE_COUNT) enters
+// One placement of a mesh in a two-level BVH (SPEC_HAS_INSTANCES): a top-level leaf (kind WIDE_INSTANCE_COUNT) enters
 // the mesh's own BVH with the ray mapped to object space. Rows of 3x4 affine maps; render space is world space
 // minus Scene::origin. Normals go to render space by the transpose of object_from_render's linear part.
 struct Instance {

@@ -185,6 +185,9 @@ TEST(WideBvh, ReadsImplicitChildIndices) {
     EXPECT_EQ(fh::read_wide_kind(n, 3), fh::gpu::WIDE_NO_CHILD);
     EXPECT_THROW(fh::offset_wide_node(n, fh::gpu::WIDE_MAX_FIRST_NODE, 0u), std::invalid_argument);
     EXPECT_THROW(fh::offset_wide_node(n, 0u, fh::gpu::WIDE_MAX_INDEX), std::invalid_argument);
+    fh::gpu::BvhWideNode leaves_only = w.nodes[1];  // its first_node names nothing: neither moved nor checked
+    fh::offset_wide_node(leaves_only, fh::gpu::WIDE_MAX_FIRST_NODE, 0u);
+    EXPECT_EQ(fh::read_first_node(leaves_only), 0u);
     // The top level: a leaf of one box becomes an instance; a leaf of two is refused.
     fh::gpu::BvhWideNode top = w.nodes[1];
     fh::mark_instance_leaves(top);

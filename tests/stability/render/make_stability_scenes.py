@@ -266,7 +266,7 @@ def accumulation(out):
 
 def coplanar(out):
     """Twelve overlapping coplanar emitters of different colours (a fixed pseudo-random layout): where they
-    overlap, the one first in the file must win, whatever the BVH (so leaf sizes 1, 4 and 16 agree)."""
+    overlap, the one first in the file must win, whatever the BVH (so leaf sizes 1, 4 and 13 agree)."""
     g = Gltf()
     state = 12345
     for k in range(12):
