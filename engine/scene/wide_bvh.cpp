@@ -110,14 +110,22 @@ void quantise_boxes(const std::vector<gpu::BvhNode>& nodes, const Children& chil
     }
 }
 
-// The word holding slot k's kind, and where in it.
-uint32_t& kind_word(gpu::BvhWideNode& node, uint32_t k) { return k < 2 ? node.exponents : node.first_node; }
+// The word holding slot k's kind (slots 0, 1: exponents; 2, 3: first_node), and where in it.
+template <typename Node>
+auto& kind_word(Node& node, uint32_t k) { return k < 2 ? node.exponents : node.first_node; }
 uint32_t kind_shift(uint32_t k) { return gpu::WIDE_KIND_SHIFT + gpu::WIDE_COUNT_BITS * (k & 1u); }
+constexpr uint32_t KIND_MASK = (1u << gpu::WIDE_COUNT_BITS) - 1u;
 
 void write_wide_kind(gpu::BvhWideNode& node, uint32_t k, uint32_t kind) {
-    const uint32_t mask = (1u << gpu::WIDE_COUNT_BITS) - 1u;
     uint32_t& word = kind_word(node, k);
-    word = (word & ~(mask << kind_shift(k))) | kind << kind_shift(k);
+    word = (word & ~(KIND_MASK << kind_shift(k))) | kind << kind_shift(k);
+}
+
+// first_node names something only for a node with interior children; it is set, moved and checked only there.
+bool has_interior_child(const gpu::BvhWideNode& node) {
+    for (uint32_t k = 0; k < gpu::BVH_WIDTH; ++k)
+        if (read_wide_kind(node, k) == 0) return true;
+    return false;
 }
 
 void write_first_node(gpu::BvhWideNode& node, uint64_t first) {
@@ -159,10 +167,7 @@ WideBvh make_wide_nodes(const std::vector<gpu::BvhNode>& nodes) {
         const Children children = collect_children(nodes, task.binary);
         gpu::BvhWideNode w = make_empty_node();
         quantise_boxes(nodes, children, w);
-        // first_node matters only to a node with interior children (checked, and moved by offset_wide_node, only there).
-        const bool has_interior = std::any_of(children.node, children.node + children.size,
-                                              [&](uint32_t c) { return leaf_count(nodes[c]) == 0; });
-        if (has_interior) write_first_node(w, wide.nodes.size());
+        const uint32_t first_node = uint32_t(wide.nodes.size());
         write_first_leaf(w, wide.leaf_order.size());
         const size_t first_task = tasks.size();
         for (uint32_t k = 0; k < children.size; ++k) {
@@ -180,6 +185,7 @@ WideBvh make_wide_nodes(const std::vector<gpu::BvhNode>& nodes) {
             }
         }
         std::reverse(tasks.begin() + std::ptrdiff_t(first_task), tasks.end());  // the first child's subtree next
+        if (has_interior_child(w)) write_first_node(w, first_node);
         wide.nodes[task.wide] = w;
     }
     if (wide.leaf_order.size() > size_t(gpu::WIDE_MAX_INDEX) + 1)
@@ -190,8 +196,7 @@ WideBvh make_wide_nodes(const std::vector<gpu::BvhNode>& nodes) {
 }
 
 uint32_t read_wide_kind(const gpu::BvhWideNode& node, uint32_t k) {
-    const uint32_t word = k < 2 ? node.exponents : node.first_node;
-    return (word >> kind_shift(k)) & ((1u << gpu::WIDE_COUNT_BITS) - 1u);
+    return (kind_word(node, k) >> kind_shift(k)) & KIND_MASK;
 }
 
 uint32_t read_first_node(const gpu::BvhWideNode& node) { return node.first_node & gpu::WIDE_MAX_FIRST_NODE; }
@@ -222,9 +227,7 @@ WideChild read_wide_child(const gpu::BvhWideNode& node, uint32_t k) {
 }
 
 void offset_wide_node(gpu::BvhWideNode& node, uint32_t node_offset, uint32_t leaf_offset) {
-    bool has_interior = false;
-    for (uint32_t k = 0; k < gpu::BVH_WIDTH; ++k) has_interior |= read_wide_kind(node, k) == 0;
-    if (has_interior) write_first_node(node, uint64_t(read_first_node(node)) + node_offset);
+    if (has_interior_child(node)) write_first_node(node, uint64_t(read_first_node(node)) + node_offset);
     write_first_leaf(node, uint64_t(node.first_leaf) + leaf_offset);
 }
 
