@@ -37,7 +37,8 @@ void main() {
     uint nonfinite = 0u;
     for (uint s = 0u; s < push.sample_count; ++s) {
         uint path = s * push.pixel_count + j;
-        vec3 radiance = vec3(paths[path].radiance_r, paths[path].radiance_g, paths[path].radiance_b);
+        PathState state = load_path_state(path);
+        vec3 radiance = vec3(state.radiance_r, state.radiance_g, state.radiance_b);
         bool finite = !(any(isnan(radiance)) || any(isinf(radiance)));
         uvec4 r = sum_r, g = sum_g, b = sum_b;
         bool held = finite && add_sample(r, radiance.r) && add_sample(g, radiance.g) && add_sample(b, radiance.b);

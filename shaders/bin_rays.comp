@@ -14,7 +14,8 @@ void main() {
     uint parity = push.depth & 1u;
     if (i >= counters.ray_count[parity]) return;
     uint slot = ray_slot(parity, i);
-    vec3 origin = vec3(rays[slot].origin_x, rays[slot].origin_y, rays[slot].origin_z);
-    vec3 dir = vec3(rays[slot].dir_x, rays[slot].dir_y, rays[slot].dir_z);
+    RayItem ray = load_ray_item(slot);
+    vec3 origin = vec3(ray.origin_x, ray.origin_y, ray.origin_z);
+    vec3 dir = vec3(ray.dir_x, ray.dir_y, ray.dir_z);
     bin_ray(i, origin, dir);
 }

@@ -13,14 +13,15 @@ layout(local_size_x = WORKGROUP_SIZE) in;
 void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= counters.shadow_count_active) return;
-    ShadowRayItem s = shadow_rays[i];
+    ShadowRayItem s = load_shadow_ray(i);
     // A key other than extend's for the same path state: the shadow ray's alpha decisions are its own.
-    uint alpha_seed = effect_on(EFFECT_ALPHA) ? pcg_hash(paths[s.path].rng ^ 0x5ad0e11fu) : 0u;
+    uint alpha_seed = effect_on(EFFECT_ALPHA) ? pcg_hash(load_path_state(s.path).rng ^ 0x5ad0e11fu) : 0u;
     TraceHit hit = trace_ray(vec3(s.origin_x, s.origin_y, s.origin_z), vec3(s.dir_x, s.dir_y, s.dir_z), s.t_max, true,
                              s.origin_triangle, alpha_seed, load_path_time(s.path));
     COUNT_IN_SUBGROUP(counters.traced_shadow_rays, 1u);
     if (hit.triangle != INVALID_INDEX) return;
-    paths[s.path].radiance_r += s.contrib_r;
-    paths[s.path].radiance_g += s.contrib_g;
-    paths[s.path].radiance_b += s.contrib_b;
+    PathState state = load_path_state(s.path);
+    paths[s.path].radiance_r = state.radiance_r + s.contrib_r;
+    paths[s.path].radiance_g = state.radiance_g + s.contrib_g;
+    paths[s.path].radiance_b = state.radiance_b + s.contrib_b;
 }

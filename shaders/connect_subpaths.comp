@@ -21,9 +21,9 @@ void main() {
     uint i = gl_GlobalInvocationID.x;
     uint parity = push.depth & 1u;
     if (i >= counters.ray_count[parity]) return;
-    HitItem hit = hits[i];
+    HitItem hit = load_hit_item(i);
     if (hit.triangle == INVALID_INDEX) return;
-    RayItem ray = rays[ray_slot(parity, i)];
+    RayItem ray = load_ray_item(ray_slot(parity, i));
     uint path = ray.path;
     PathMis camera_mis = path_mis[path];
     uint segments = push.depth + 1u;  // camera segments up to this vertex
@@ -31,7 +31,7 @@ void main() {
     uint last = min(min(camera_mis.light_vertices, params.light_vertex_slots), params.max_depth - segments - 1u);
     if (params.max_depth < segments + 2u || last == 0u) return;
 
-    PathState state = paths[path];
+    PathState state = load_path_state(path);
     vec3 beta = vec3(state.throughput_r, state.throughput_g, state.throughput_b);
     vec3 wo = -vec3(ray.dir_x, ray.dir_y, ray.dir_z);
     ShadingPoint y = load_shading_point(hit.triangle, hit.b1, hit.b2, hit.instance);

@@ -17,9 +17,9 @@ void main() {
     uint parity = push.depth & 1u;
     if (gl_GlobalInvocationID.x >= counters.ray_count[parity]) return;
     uint i = select_ray_index(gl_GlobalInvocationID.x);  // the queue index of the ray this invocation traces
-    RayItem ray = rays[ray_slot(parity, i)];
+    RayItem ray = load_ray_item(ray_slot(parity, i));
     // Stochastic alpha keys on the path's RNG state, which differs for every path, sample and depth.
-    uint alpha_seed = effect_on(EFFECT_ALPHA) ? pcg_hash(paths[ray.path].rng ^ 0x0a1fa0e5u) : 0u;
+    uint alpha_seed = effect_on(EFFECT_ALPHA) ? pcg_hash(load_path_state(ray.path).rng ^ 0x0a1fa0e5u) : 0u;
     TraceHit hit = trace_ray(vec3(ray.origin_x, ray.origin_y, ray.origin_z), vec3(ray.dir_x, ray.dir_y, ray.dir_z),
                              uintBitsToFloat(0x7f800000u), false, ray.origin_triangle, alpha_seed,
                              load_path_time(ray.path));

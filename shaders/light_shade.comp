@@ -29,10 +29,10 @@ void main() {
     uint i = gl_GlobalInvocationID.x;
     uint parity = push.depth & 1u;
     if (i >= counters.ray_count[parity]) return;
-    RayItem ray = rays[ray_slot(parity, i)];
-    HitItem hit = hits[i];
+    RayItem ray = load_ray_item(ray_slot(parity, i));
+    HitItem hit = load_hit_item(i);
     uint path = ray.path;
-    PathState state = paths[path];
+    PathState state = load_path_state(path);
     vec3 beta = vec3(state.throughput_r, state.throughput_g, state.throughput_b);
     uint rng = state.rng;
     uint segments = push.depth + 1u;  // segments of the light subpath up to this vertex

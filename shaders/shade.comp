@@ -34,10 +34,10 @@ void main() {
     uint i = gl_GlobalInvocationID.x;
     uint parity = push.depth & 1u;
     if (i >= counters.ray_count[parity]) return;
-    RayItem ray = rays[ray_slot(parity, i)];
-    HitItem hit = hits[i];
+    RayItem ray = load_ray_item(ray_slot(parity, i));
+    HitItem hit = load_hit_item(i);
     uint path = ray.path;
-    PathState state = paths[path];
+    PathState state = load_path_state(path);
     vec4 beta = vec4(state.throughput_r, state.throughput_g, state.throughput_b, 0.0f);
     vec3 radiance = vec3(state.radiance_r, state.radiance_g, state.radiance_b);
     uint rng = state.rng;

@@ -34,7 +34,7 @@ layout(local_size_x = WORKGROUP_SIZE) in;
 void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= counters.shadow_count_active) return;
-    ShadowRayItem s = shadow_rays[i];
+    ShadowRayItem s = load_shadow_ray(i);
     vec3 contrib = vec3(s.contrib_r, s.contrib_g, s.contrib_b);
     if (all(equal(contrib, vec3(0.0f)))) return;  // an empty slot (light_generate)
     uvec4 r, g, b;

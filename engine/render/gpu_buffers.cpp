@@ -99,10 +99,12 @@ GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& sce
     const size_t capacity = frame.wave_capacity;
     b.counters = make_state_buffer(context, sizeof(gpu::QueueCounters), VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT);
     b.counters_readback = vk::Buffer(context, sizeof(gpu::QueueCounters), STORAGE, vk::MemoryUse::host);
-    b.paths = make_state_buffer(context, capacity * sizeof(gpu::PathState));
-    b.rays = make_state_buffer(context, 2 * capacity * sizeof(gpu::RayItem));
-    b.hits = make_state_buffer(context, capacity * sizeof(gpu::HitItem));
-    b.shadow_rays = make_state_buffer(context, capacity * sizeof(gpu::ShadowRayItem));
+    // Also read as texels by the stage after the one that writes them (layout.h BINDING_PATH_TEXELS ...).
+    constexpr VkBufferUsageFlags TEXELS = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
+    b.paths = make_state_buffer(context, capacity * sizeof(gpu::PathState), TEXELS);
+    b.rays = make_state_buffer(context, 2 * capacity * sizeof(gpu::RayItem), TEXELS);
+    b.hits = make_state_buffer(context, capacity * sizeof(gpu::HitItem), TEXELS);
+    b.shadow_rays = make_state_buffer(context, capacity * sizeof(gpu::ShadowRayItem), TEXELS);
     b.film = make_state_buffer(context, size_t(frame.film_width) * frame.film_height * sizeof(gpu::FilmPixel));
     // --force-effect of an attribute effect on a scene without attributes: the stages read defaults.
     if (scene.attributes.empty() && (effects & gpu::EFFECT_ATTRIBUTES))
@@ -152,6 +154,10 @@ void bind_gpu_buffers(vk::BindingTable& table, const GpuBuffers& b) {
     table.bind_buffer(gpu::BINDING_RAYS, b.rays);
     table.bind_buffer(gpu::BINDING_HITS, b.hits);
     table.bind_buffer(gpu::BINDING_SHADOW_RAYS, b.shadow_rays);
+    table.bind_buffer(gpu::BINDING_PATH_TEXELS, b.paths);
+    table.bind_buffer(gpu::BINDING_RAY_TEXELS, b.rays);
+    table.bind_buffer(gpu::BINDING_HIT_TEXELS, b.hits);
+    table.bind_buffer(gpu::BINDING_SHADOW_RAY_TEXELS, b.shadow_rays);
     table.bind_buffer(gpu::BINDING_FILM, b.film);
     table.bind_buffer(gpu::BINDING_GGX_ALBEDO_UNIFORM, b.ggx_albedo);
     table.bind_buffer(gpu::BINDING_PUNCTUAL_LIGHTS, b.punctual_lights);

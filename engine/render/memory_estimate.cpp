@@ -83,7 +83,8 @@ MemoryEstimate estimate_render_memory(const PackedScene& scene, uint32_t width, 
     const uint64_t capacity = wave_capacity;
     const uint64_t film = uint64_t(width) * height * sizeof(gpu::FilmPixel);
     MemoryEstimate e;
-    const BufferBinding storage = BufferBinding::storage, texels = BufferBinding::texels, other = BufferBinding::other;
+    const BufferBinding storage = BufferBinding::storage, texels = BufferBinding::texels, other = BufferBinding::other,
+                        both = BufferBinding::storage_and_texels;
     e.buffers = {
         {"params", sizeof(gpu::FrameParams), storage},
         {"nodes", array_bytes(scene.nodes), texels},
@@ -95,10 +96,10 @@ MemoryEstimate estimate_render_memory(const PackedScene& scene, uint32_t width, 
         {"albedo_tables", uint64_t(tables::GGX_ALBEDO_TABLE_SIZE + tables::SHEEN_ALBEDO_TABLE_SIZE + tables::SPECTRAL_TABLE_SIZE) * sizeof(float), other},
         {"counters", sizeof(gpu::QueueCounters), storage},
         {"counters_readback", sizeof(gpu::QueueCounters), storage},
-        {"paths", capacity * sizeof(gpu::PathState), storage},
-        {"rays", 2 * capacity * sizeof(gpu::RayItem), storage},
-        {"hits", capacity * sizeof(gpu::HitItem), storage},
-        {"shadow_rays", capacity * sizeof(gpu::ShadowRayItem), storage},
+        {"paths", capacity * sizeof(gpu::PathState), both},
+        {"rays", 2 * capacity * sizeof(gpu::RayItem), both},
+        {"hits", capacity * sizeof(gpu::HitItem), both},
+        {"shadow_rays", capacity * sizeof(gpu::ShadowRayItem), both},
         {"film", film, storage},
         {"tri_attributes", attribute_bytes(scene, effects), texels},
         {"texture_slots", array_bytes(scene.texture_slots), texels},
@@ -170,12 +171,14 @@ std::string remedy(const std::string& buffer) {
 std::string find_memory_problem(const MemoryEstimate& estimate, const DeviceMemoryLimits& limits) {
     for (const BufferEstimate& b : estimate.buffers) {
         const std::string split_note = remedy(b.name);
-        if (b.binding == BufferBinding::storage && b.bytes > limits.max_storage_buffer_range)
+        const bool storage = b.binding == BufferBinding::storage || b.binding == BufferBinding::storage_and_texels;
+        const bool texels = b.binding == BufferBinding::texels || b.binding == BufferBinding::storage_and_texels;
+        if (storage && b.bytes > limits.max_storage_buffer_range)
             return "the " + b.name + " buffer needs " + format_bytes(b.bytes) +
                    ", more than the device's maxStorageBufferRange of " +
                    format_bytes(limits.max_storage_buffer_range) + split_note;
         const uint64_t texel_limit = limits.max_texel_buffer_elements * gpu::TEXEL_BYTES;
-        if (b.binding == BufferBinding::texels && b.bytes > texel_limit)
+        if (texels && b.bytes > texel_limit)
             return "the " + b.name + " buffer needs " + format_bytes(b.bytes) +
                    ", more than the device's maxTexelBufferElements of " +
                    std::to_string(limits.max_texel_buffer_elements) + " 16-byte texels (" + format_bytes(texel_limit) +

@@ -17,6 +17,7 @@ class Context;
 enum class BufferBinding {
     storage,  // maxStorageBufferRange
     texels,   // a uniform texel buffer of 16-byte texels: maxTexelBufferElements texels
+    storage_and_texels,  // both (the wave's arrays: written as storage, read as texels): both limits
     other,    // only maxMemoryAllocationSize (the uniform albedo tables, host copies)
 };
 

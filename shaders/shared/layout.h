@@ -68,7 +68,15 @@ FH_CONST uint BINDING_PATH_MIS = 27u;         // PathMis[wave capacity]
 // offsets and RAY_SORT_BLOCKS block sums, then per queued ray its key, then its rank within the key, then the queue
 // index of the i-th ray in key order (RAY_SORT_COUNTS .. RAY_SORT_WORDS_PER_RAY below; lib/ray_order.glsl).
 FH_CONST uint BINDING_RAY_SORT = 28u;
-FH_CONST uint BINDING_COUNT = 29u;
+// The wave's arrays again, as RGBA32UI uniform texel buffers over the same memory, for the stages that read what an
+// earlier dispatch wrote (TEXELS loaders load_path_state, load_ray_item, load_hit_item, load_shadow_ray). Writes stay
+// storage-buffer stores. On lavapipe a storage-buffer load runs a loop over the 8 lanes per 32-bit word; a texel
+// fetch loads 16 bytes for all lanes without one (README "Speed": shade read 21 words per path vertex so).
+FH_CONST uint BINDING_PATH_TEXELS = 29u;        // TEXELS PathState[wave capacity] (BINDING_PATHS' memory)
+FH_CONST uint BINDING_RAY_TEXELS = 30u;         // TEXELS RayItem[2 * wave capacity] (BINDING_RAYS' memory)
+FH_CONST uint BINDING_HIT_TEXELS = 31u;         // TEXELS HitItem[wave capacity] (BINDING_HITS' memory)
+FH_CONST uint BINDING_SHADOW_RAY_TEXELS = 32u;  // TEXELS ShadowRayItem[wave capacity] (BINDING_SHADOW_RAYS' memory)
+FH_CONST uint BINDING_COUNT = 33u;
 FH_CONST uint TEXEL_BYTES = 16u;             // one RGBA32UI texel of a TEXELS binding
 
 // ---- Specialization constants (constant_id) -------------------------------------------------------------
@@ -518,11 +526,13 @@ struct RayItem {
 };
 
 // Result of the extend stage for the ray at the same queue index.
+// Whole texels (BINDING_HIT_TEXELS): shade reads the first without instances, and the compiler drops the second fetch.
 struct HitItem {
     float t;
     uint triangle;              // INVALID_INDEX: the ray escaped
     float b1, b2;               // barycentrics of p1 and p2
     uint instance;              // Instance hit (SPEC_HAS_INSTANCES), else INVALID_INDEX
+    uint pad0, pad1, pad2;
 };
 
 // A shadow ray and the contribution it carries if unoccluded (next-event estimation).

@@ -180,7 +180,7 @@ FH_SIZE(RayItem, 32);
 FH_OFFSET(RayItem, path, 12);
 FH_OFFSET(RayItem, dir_x, 16);
 
-FH_SIZE(HitItem, 20);
+FH_SIZE(HitItem, 32);  // whole texels (BINDING_HIT_TEXELS)
 FH_OFFSET(HitItem, t, 0);
 FH_OFFSET(HitItem, triangle, 4);
 FH_OFFSET(HitItem, b1, 8);
@@ -235,7 +235,7 @@ TEST(Layout, SizesMatchTheGpuStructs) {
     EXPECT_EQ(sizeof(FrameParams), 256u);
     EXPECT_EQ(sizeof(QueueCounters), 56u);
     EXPECT_EQ(sizeof(RayItem), 32u);
-    EXPECT_EQ(sizeof(HitItem), 20u);
+    EXPECT_EQ(sizeof(HitItem), 32u);
     EXPECT_EQ(sizeof(Instance), 112u);
     EXPECT_EQ(sizeof(ShadowRayItem), 48u);
     EXPECT_EQ(sizeof(PathState), 32u);
