@@ -292,7 +292,7 @@ void main() {
     state.radiance_g = radiance.y;
     state.radiance_b = radiance.z;
     state.rng = rng;
-    paths[path] = state;
+    store_path_state(path, state);
     if (effect_on(EFFECT_SPECTRAL)) {
         path_spectra[path].throughput_3 = beta.w;
         if (spectrum.flags != flags_before) path_spectra[path].flags = spectrum.flags;
@@ -305,10 +305,10 @@ void main() {
 
     uint slot;
     PUSH_TO_QUEUE(counters.ray_count[parity ^ 1u], push_ray, slot);
-    if (push_ray) rays[ray_slot(parity ^ 1u, slot)] = next;
+    if (push_ray) store_ray_item(ray_slot(parity ^ 1u, slot), next);
     // The next extend sorts its rays: each is binned here, where its origin and direction are at hand.
     if (push_ray && push.bin_pushed_rays != 0u)
         bin_ray(slot, vec3(next.origin_x, next.origin_y, next.origin_z), vec3(next.dir_x, next.dir_y, next.dir_z));
     PUSH_TO_QUEUE(counters.shadow_count, push_shadow, slot);
-    if (push_shadow) shadow_rays[slot] = shadow;
+    if (push_shadow) store_shadow_ray(slot, shadow);
 }

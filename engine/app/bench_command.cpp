@@ -77,6 +77,8 @@ void add_bench_options(CLI::App& app, BenchCommand& c) {
     add_ray_sort_option(app, c.sort_rays);
     app.add_flag("--compare-ray-order", c.compare_ray_order,
                  "also time the render with the ray sort on against off, alternating (what sorting buys or costs)");
+    app.add_flag("--compare-stores", c.compare_stores,
+                 "also time the render with shade's 64-bit stores against 32-bit ones (render --wide-stores), alternating");
 }
 
 namespace {
@@ -382,6 +384,15 @@ int run_bench(const BenchCommand& c) {
         unsorted.sort_rays = false;
         time_at_sizes(prepared, sorted, prepared, unsorted, {"rays sorted", "queue order", "the sort"}, "ray_order",
                       "queue", "sorted_seconds");
+    }
+    if (c.compare_stores) {
+        // Same image either way (the same bytes reach memory): only the time differs.
+        std::printf("\nshade's stores (%s):\n", context->has_int64() ? "the device has shaderInt64"
+                                                                      : "no shaderInt64 on this device: 32 bits both");
+        RenderSettings narrow = base;
+        narrow.wide_stores = false;
+        time_at_sizes(prepared, base, prepared, narrow, {"64-bit stores", "32-bit stores", "64-bit stores"},
+                      "wide_stores", "off", "wide_stores_seconds");
     }
     if (c.motion) {
         std::printf("\nmotion blur: shutter %s, %zu moving instance(s)%s; effects %s\n", describe_shutter(base).c_str(),

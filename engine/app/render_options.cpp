@@ -57,6 +57,10 @@ void add_sampling_options(CLI::App& app, RenderSettings& s) {
                    "halved until the wave fits the device's buffer limits and a quarter of its memory)")
         ->check(CLI::Range(1024u, 1u << 22));
     add_ray_sort_option(app, s.sort_rays);
+    app.add_option("--wide-stores", s.wide_stores,
+                   "shade stores 64 bits at a time where the device has shaderInt64 (on, the default) or 32 bits (off: "
+                   "the stage devices without it run); the image is the same")
+        ->transform(CLI::CheckedTransformer(on_off));
 }
 
 void add_ray_sort_option(CLI::App& app, std::optional<bool>& sort_rays) {

@@ -120,6 +120,7 @@ StageOptions make_stage_options(const PackedScene& scene, const RenderSettings& 
     o.sampler = s.sampler == Sampler::sobol ? gpu::SAMPLER_SOBOL : gpu::SAMPLER_INDEPENDENT;
     o.integrator = s.integrator;
     o.sort_rays = s.sort_rays.value_or(false);  // resolved (with_device_defaults) but for check_render_settings
+    o.wide_stores = s.wide_stores;
     check_light_tracing(scene.source.empty() ? std::string("scene") : scene.source, scene, s, camera, o.effects);
     return o;
 }

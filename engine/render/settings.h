@@ -54,6 +54,9 @@ struct RenderSettings {
     // --sort-rays: extend takes each bounce's rays sorted by direction and origin (render/ray_sort.h). Unset (auto):
     // chosen for the device and scene by with_device_defaults (render/device_defaults.h; README "Ray order").
     std::optional<bool> sort_rays;
+    // --wide-stores: shade stores 64 bits at a time where the device has shaderInt64; off: 32 bits (the fallback
+    // for devices without it). The image is the same.
+    bool wide_stores = true;
     uint32_t disabled_techniques = 0;  // layout.h TECHNIQUE_* bits switched off (cost measurements only)
     uint32_t bvh_max_leaf_size = 4;    // triangles per BVH leaf at most
     uint32_t disabled_effects = 0;     // --disable-effect: layout.h EFFECT_* bits compiled out (measurement only)

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the GLSL that reads structs from uniform texel buffers, from their definitions in layout.h.
+"""Writes the GLSL that reads structs from uniform texel buffers, and stores the wave's structs, from layout.h.
 
 usage: make_texel_loaders.py LAYOUT_H OUT_GLSL
 
@@ -7,7 +7,7 @@ The scene's read-only arrays, and the wave's arrays for the stages that read wha
 bound as RGBA32UI uniform texel buffers (layout.h, "Descriptor bindings"): on lavapipe a texel fetch is one gather
 for all lanes, where a storage-buffer load loops over the lanes with a bounds check per word. A struct of 4n words is n texels; its fields (vec4s first, then 32-bit scalars: layout.h's rules) are
 the texels' words in order. This script turns each struct listed in TEXEL_STRUCTS into a sampler declaration and a
-load function, so layout.h stays the one definition (a change there rebuilds the shaders through this file).
+load function (and each struct in STORE_STRUCTS into a store function), so layout.h stays the one definition (a change there rebuilds the shaders through this file).
 Standard library only.
 """
 import re
@@ -31,6 +31,16 @@ TEXEL_STRUCTS = [
     ("RayItem", "load_ray_item", "slot", "BINDING_RAY_TEXELS", "ray_texels"),
     ("HitItem", "load_hit_item", "index", "BINDING_HIT_TEXELS", "hit_texels"),
     ("ShadowRayItem", "load_shadow_ray", "index", "BINDING_SHADOW_RAY_TEXELS", "shadow_ray_texels"),
+]
+
+# Whole-struct stores of the wave's arrays: struct, store function, its index parameter, binding constant, the
+# storage-buffer array lib/bindings.glsl declares. With FH_WIDE_STORES (a stage compiled for devices with shaderInt64)
+# each pair of 32-bit words is one 64-bit store: on lavapipe every store runs a loop over the 8 lanes, so this halves
+# the loops (README "Speed"). Without it the struct is stored as it is. Either way the memory holds the same bytes.
+STORE_STRUCTS = [
+    ("PathState", "store_path_state", "path", "BINDING_PATHS", "paths"),
+    ("RayItem", "store_ray_item", "slot", "BINDING_RAYS", "rays"),
+    ("ShadowRayItem", "store_shadow_ray", "index", "BINDING_SHADOW_RAYS", "shadow_rays"),
 ]
 
 
@@ -76,6 +86,30 @@ def loader(source, struct, function, parameter, binding, sampler):
     return f"// {struct}: {texels} texels.\n" + "\n".join(lines) + "\n"
 
 
+def word_bits(kind, value):
+    return {"float": f"floatBitsToUint({value})", "uint": value, "int": f"uint({value})"}[kind]
+
+
+def storer(source, struct, function, parameter, binding, array):
+    fields = struct_fields(source, struct)
+    if any(kind == "vec4" for kind, _ in fields):
+        raise SystemExit(f"make_texel_loaders: {struct}: stores take 32-bit fields only")
+    if len(fields) % 2:
+        raise SystemExit(f"make_texel_loaders: {struct} is {len(fields)} words, not whole 64-bit pairs")
+    pairs = len(fields) // 2
+    words64 = f"{array}_words64"
+    lines = ["#ifdef FH_WIDE_STORES",
+             f"layout(std430, binding = {binding}) writeonly buffer {struct}Words64 {{ uint64_t {words64}[]; }};",
+             f"void {function}(uint {parameter}, {struct} v) {{",
+             f"    uint first = {pairs}u * {parameter};"]
+    for k in range(pairs):
+        (kind_a, a), (kind_b, b) = fields[2 * k], fields[2 * k + 1]
+        lines.append(f"    {words64}[first + {k}u] = packUint2x32(uvec2({word_bits(kind_a, 'v.' + a)}, "
+                     f"{word_bits(kind_b, 'v.' + b)}));")
+    lines += ["}", "#else", f"void {function}(uint {parameter}, {struct} v) {{ {array}[{parameter}] = v; }}", "#endif"]
+    return f"// {struct}: {pairs} 64-bit stores (FH_WIDE_STORES) or one struct store.\n" + "\n".join(lines) + "\n"
+
+
 def main():
     if len(sys.argv) != 3:
         raise SystemExit("usage: make_texel_loaders.py LAYOUT_H OUT_GLSL")
@@ -84,6 +118,8 @@ def main():
              "// The scene's read-only structs and the wave's arrays from RGBA32UI uniform texel buffers (see the script).\n"
              "#ifndef FH_SCENE_TEXELS_GLSL\n#define FH_SCENE_TEXELS_GLSL\n"]
     parts += [loader(source, *entry) for entry in TEXEL_STRUCTS]
+    parts.append("#ifdef FH_WIDE_STORES\n#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require\n#endif\n")
+    parts += [storer(source, *entry) for entry in STORE_STRUCTS]
     parts.append("#endif\n")
     text = "\n".join(parts)
     with open(sys.argv[2], "w") as out:
