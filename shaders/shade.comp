@@ -307,7 +307,7 @@ void main() {
     PUSH_TO_QUEUE(counters.ray_count[parity ^ 1u], push_ray, slot);
     if (push_ray) store_ray_item(ray_slot(parity ^ 1u, slot), next);
     // The next extend sorts its rays: each is binned here, where its origin and direction are at hand.
-    if (push_ray && push.bin_pushed_rays != 0u)
+    if (ray_sort_built && push_ray && push.bin_pushed_rays != 0u)
         bin_ray(slot, vec3(next.origin_x, next.origin_y, next.origin_z), vec3(next.dir_x, next.dir_y, next.dir_z));
     PUSH_TO_QUEUE(counters.shadow_count, push_shadow, slot);
     if (push_shadow) store_shadow_ray(slot, shadow);

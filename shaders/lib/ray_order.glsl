@@ -5,6 +5,10 @@
 #ifndef FH_RAY_ORDER_GLSL
 #define FH_RAY_ORDER_GLSL
 
+// Set where the ray sort's stages are built (StageOptions::sort_rays): without it shade compiles no binning, which
+// lavapipe would otherwise run (masked) at every path vertex.
+layout(constant_id = SPEC_SORT_RAYS) const bool ray_sort_built = false;
+
 // Queued ray i's words in the per-ray arrays of the ray-sort buffer (layout.h RAY_SORT_FIXED_WORDS on).
 uint ray_sort_key_word(uint i) { return RAY_SORT_FIXED_WORDS + i; }
 uint ray_sort_rank_word(uint i) { return RAY_SORT_FIXED_WORDS + params.wave_capacity + i; }

@@ -84,7 +84,8 @@ FH_CONST uint SPEC_DISABLED_TECHNIQUES = 0u;       // TECHNIQUE_* bits switched 
 FH_CONST uint SPEC_EFFECTS = 1u;                   // EFFECT_* bits: what the scene calls for (scene/effects.h)
 FH_CONST uint SPEC_HAS_INSTANCES = 2u;             // bool: two-level BVH (meshes drawn by several nodes)
 FH_CONST uint SPEC_SAMPLER = 3u;                   // SAMPLER_*: where a path's random numbers come from
-FH_CONST uint SPEC_CONSTANT_COUNT = 4u;
+FH_CONST uint SPEC_SORT_RAYS = 4u;                 // bool: the ray sort's stages are built (shade bins what it pushes)
+FH_CONST uint SPEC_CONSTANT_COUNT = 5u;
 
 // ---- Effects (engine/scene/effects.h decides them by value; a stage compiles only the code of those set) ----
 FH_CONST uint EFFECT_BASE_COLOR_TEXTURE = 1u;      // some visible material has a baseColorTexture
