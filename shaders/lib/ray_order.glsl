@@ -5,8 +5,8 @@
 #ifndef FH_RAY_ORDER_GLSL
 #define FH_RAY_ORDER_GLSL
 
-// Set where the ray sort's stages are built (StageOptions::sort_rays): without it shade compiles no binning, which
-// lavapipe would otherwise run (masked) at every path vertex.
+// Set where the ray sort's stages are built (StageOptions::sort_rays): without it shade compiles no binning and extend
+// no look-up of the sorted order, which lavapipe would otherwise run (masked) for every ray.
 layout(constant_id = SPEC_SORT_RAYS) const bool ray_sort_built = false;
 
 // Queued ray i's words in the per-ray arrays of the ray-sort buffer (layout.h RAY_SORT_FIXED_WORDS on).
@@ -51,7 +51,7 @@ void bin_ray(uint i, vec3 origin, vec3 dir) {
 
 // The queue index of the i-th ray extend traces.
 uint select_ray_index(uint i) {
-    return push.ray_order == RAY_ORDER_SORTED ? ray_sort_words[ray_sort_order_word(i)] : i;
+    return ray_sort_built && push.ray_order == RAY_ORDER_SORTED ? ray_sort_words[ray_sort_order_word(i)] : i;
 }
 
 #endif
