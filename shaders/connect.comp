@@ -1,7 +1,8 @@
 // Stage "connect": visibility of every shadow ray pushed by shade; unoccluded ones add their light
 // contribution to their path. Reads: shadow_rays, counters.shadow_count_active, BVH (with EFFECT_MOTION_BLUR the
 // path's time: a shadow ray is traced at its path's time). Writes: paths[].radiance.
-// A path pushes at most one shadow ray per depth, so the read-modify-write needs no atomics.
+// A path pushes at most one shadow ray per depth, so the read-modify-write needs no atomics, and its read can go
+// through the texel view (the radiance was written by earlier dispatches; this one writes it only after reading).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "lib/bindings.glsl"
