@@ -1,6 +1,7 @@
 // Camera basis vectors in world space, computed in double precision from the node transform.
 #include "render/camera_setup.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -34,12 +35,27 @@ void set_frame_camera(gpu::FrameParams& frame, const SceneCamera& camera, uint32
     }
 }
 
+namespace {
+
+// The GPU's box tests hold only within MAX_RENDER_COORDINATE (layout.h, intersect.glsl make_safe_inverse_dir).
+SceneCamera check_camera_range(const Scene& scene, const SceneCamera& camera) {
+    const glm::dvec3 p = glm::dvec3(camera.world_from_camera[3]) - scene.origin;
+    const double reach = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+    if (!(reach <= double(gpu::MAX_RENDER_COORDINATE)))
+        throw SceneError(scene.source.string() + ": the camera is " + std::to_string(reach) +
+                         " units from the scene's centre along an axis, beyond the " +
+                         std::to_string(double(gpu::MAX_RENDER_COORDINATE)) + " the renderer supports");
+    return camera;
+}
+
+}  // namespace
+
 SceneCamera choose_camera(const Scene& scene, int index) {
-    if (index < 0) return scene.cameras.empty() ? make_default_camera(scene) : scene.cameras.front();
+    if (index < 0) return check_camera_range(scene, scene.cameras.empty() ? make_default_camera(scene) : scene.cameras.front());
     if (size_t(index) >= scene.cameras.size())
         throw SceneError(scene.source.string() + ": camera " + std::to_string(index) + " requested, but the scene has " +
                          std::to_string(scene.cameras.size()) + " camera(s)");
-    return scene.cameras[size_t(index)];
+    return check_camera_range(scene, scene.cameras[size_t(index)]);
 }
 
 }  // namespace fh

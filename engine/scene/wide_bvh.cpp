@@ -21,29 +21,44 @@ float surface_area(const gpu::BvhNode& n) {
 // 2^(biased - 127) for a biased exponent in 1 .. 254.
 float step_of(uint32_t biased) { return std::bit_cast<float>(biased << 23); }
 
-// What the shader computes for q steps above origin: the product is exact (q < 256 times a power of two), so the one
-// rounding is the sum's, on the host as on the device.
+// The plane q steps above origin as a float sum (the product is exact: q < 256 times a power of two). The shader
+// never forms it (intersect.glsl takes each plane's distance as one fma), but the tests read boxes through it.
 float dequantise(float origin, uint32_t q, float step) { return origin + float(q) * step; }
 
-// The smallest step exponent whose 255 steps reach from lo to hi as the shader sums them.
+}  // namespace
+
+int compare_dequantised(float origin, uint32_t q, float step, float bound) {
+    // The exact sum is s + e (Knuth's TwoSum in double: q * step is exact there too). s and bound are doubles, so
+    // s < bound means bound >= the next double above s, which s + e (|e| at most half a spacing) cannot reach.
+    const double x = origin, y = double(q) * double(step);
+    const double s = x + y, y_part = s - x, e = (x - (s - y_part)) + (y - y_part);
+    const double b = bound;
+    if (s != b) return s < b ? -1 : 1;
+    return e < 0.0 ? -1 : (e > 0.0 ? 1 : 0);
+}
+
+namespace {
+
+// The smallest step exponent whose 255 steps reach from lo to hi exactly.
 uint32_t choose_exponent(float lo, float hi) {
     const double extent = double(hi) - double(lo);
     int e = extent > 0.0 ? int(std::ceil(std::log2(extent / 255.0))) : -126;
     uint32_t biased = uint32_t(std::clamp(e, -126, 127) + 127);
-    while (biased < 254 && !(dequantise(lo, 255, step_of(biased)) >= hi)) ++biased;
+    while (biased < 254 && compare_dequantised(lo, 255, step_of(biased), hi) < 0) ++biased;
     return biased;
 }
 
-// Child boxes rounded outwards to whole steps: the dequantised low corner is at or below lo, the high one at or above hi.
+// Child boxes rounded outwards to whole steps, in exact arithmetic (what intersect.glsl's padding assumes): the low
+// plane origin + q * step at or below lo, the high one at or above hi. Their float sums then are too.
 uint32_t quantise_down(float origin, float step, float lo) {
     uint32_t q = uint32_t(std::clamp(std::floor((double(lo) - double(origin)) / double(step)), 0.0, 255.0));
-    while (q > 0 && dequantise(origin, q, step) > lo) --q;
+    while (q > 0 && compare_dequantised(origin, q, step, lo) > 0) --q;
     return q;
 }
 
 uint32_t quantise_up(float origin, float step, float hi) {
     uint32_t q = uint32_t(std::clamp(std::ceil((double(hi) - double(origin)) / double(step)), 0.0, 255.0));
-    while (q < 255 && dequantise(origin, q, step) < hi) ++q;
+    while (q < 255 && compare_dequantised(origin, q, step, hi) < 0) ++q;
     return q;
 }
 
@@ -220,8 +235,12 @@ WideChild read_wide_child(const gpu::BvhWideNode& node, uint32_t k) {
     const uint32_t lo[3] = {node.lo_x, node.lo_y, node.lo_z}, hi[3] = {node.hi_x, node.hi_y, node.hi_z};
     for (int axis = 0; axis < 3; ++axis) {
         const float step = step_of((node.exponents >> (8 * axis)) & 0xffu);
-        c.lo[axis] = dequantise(origin[axis], (lo[axis] >> (8 * k)) & 0xffu, step);
-        c.hi[axis] = dequantise(origin[axis], (hi[axis] >> (8 * k)) & 0xffu, step);
+        c.node_origin[axis] = origin[axis];
+        c.step[axis] = step;
+        c.lo_q[axis] = (lo[axis] >> (8 * k)) & 0xffu;
+        c.hi_q[axis] = (hi[axis] >> (8 * k)) & 0xffu;
+        c.lo[axis] = dequantise(origin[axis], c.lo_q[axis], step);
+        c.hi[axis] = dequantise(origin[axis], c.hi_q[axis], step);
     }
     return c;
 }

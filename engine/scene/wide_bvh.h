@@ -12,7 +12,9 @@ namespace fh {
 
 // One child slot of a wide node as traversal reads it.
 struct WideChild {
-    glm::vec3 lo{0.0f}, hi{0.0f};  // the box the GPU tests: the float sums origin + q * step, as the shader forms them
+    glm::vec3 node_origin{0.0f}, step{0.0f};  // the node's frame: plane q of an axis lies at node_origin + q * step
+    glm::uvec3 lo_q{0u}, hi_q{0u};            // this child's planes, in steps
+    glm::vec3 lo{0.0f}, hi{0.0f};             // the same planes as float sums (the exact ones are at or outside them)
     uint32_t index = gpu::INVALID_INDEX;  // wide node, first triangle or Instance; INVALID_INDEX: no child
     uint32_t count = 0;                   // 0: a wide node; gpu::WIDE_INSTANCE_COUNT: an instance; else triangles
 };
@@ -40,6 +42,10 @@ uint32_t read_wide_kind(const gpu::BvhWideNode& node, uint32_t k);
 uint32_t read_first_node(const gpu::BvhWideNode& node);
 
 WideChild read_wide_child(const gpu::BvhWideNode& node, uint32_t k);
+
+// The sign of (origin + q * step) - bound in exact arithmetic (step a power of two, q < 256): how the quantised boxes
+// are rounded outwards, and how tests check that they hold their triangles.
+int compare_dequantised(float origin, uint32_t q, float step, float bound);
 
 // Moves a node's children (a mesh's tree placed after others in one array): its interior children by node_offset (a
 // node without any keeps first_node as it is), its leaves by leaf_offset. Throws std::invalid_argument for a first

@@ -23,4 +23,6 @@ inline int floatBitsToInt(float f) { int i; std::memcpy(&i, &f, 4); return i; }
 inline float intBitsToFloat(int i) { float f; std::memcpy(&f, &i, 4); return f; }
 inline bool isnan(float x) { return std::isnan(x); }
 inline bool isinf(float x) { return std::isinf(x); }
+// GLSL's fma on vectors (GLM has the scalar one only); fused, as the GPU may do it.
+inline vec3 fma(vec3 a, vec3 b, vec3 c) { return vec3(std::fma(a.x, b.x, c.x), std::fma(a.y, b.y, c.y), std::fma(a.z, b.z, c.z)); }
 }  // namespace fh::glsl

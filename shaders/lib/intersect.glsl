@@ -167,17 +167,40 @@ TriangleHit intersect_triangle(RayPrecomp r, vec3 p0, vec3 p1, vec3 p2, float t_
     return h;
 }
 
-// Ray/box slab test that never culls a triangle intersect_triangle would report. The triangle test is
-// conservative, not exact: it tests the sheared ray, which may pass a few ulps beside the real one, so
-// "we must dynamically enlarge bounds during BVH traversal" (Woop et al. 2013, sec. 5). The box grows by `pad`,
-// 2^-20 of the largest origin-to-box distance or more (the shear's error is ~8 ulp of it; box_padding), and the far
-// distance by 1 + 2 gamma(3) for the slab arithmetic (Ize 2013, "Robust BVH Ray Traversal", JCGT 2(2)).
-// inv_dir: 1 / dir with each component clamped to +-1e30, so a zero component never makes 0 * inf.
-// Returns (enter, leave): the box is hit when enter <= leave; enter orders the children of a node.
-vec2 box_entry_exit(vec3 origin, vec3 inv_dir, vec3 lo, vec3 hi, float t_max, float pad) {
+// The slab tests of a wide node's children (traverse.glsl), which never cull a triangle intersect_triangle would report.
+// The triangle test is conservative, not exact: it tests the sheared ray, which may pass a few ulps beside the real
+// one, so "we must dynamically enlarge bounds during BVH traversal" (Woop et al. 2013, sec. 5). Every box grows by
+// `pad` (box_padding), and the far distance by 1 + 2 gamma(3) for the slab arithmetic (Ize 2013, "Robust BVH Ray
+// Traversal", JCGT 2(2)).
+//
+// A child's box planes lie at node_origin + q step, q a byte and step a power of two (layout.h BvhWideNode), and the
+// host quantises so that the exact value of that sum is outside the child's triangles (wide_bvh.cpp). So the distance
+// to the plane q along an axis is q (step / dir) + (node_origin - origin) / dir: the node's frame (make_node_frame)
+// takes the second term and the scale once per node, and each plane is then one fma (Ylitie et al. 2017, "Efficient
+// Incoherent Ray Traversal on GPUs Through Compressed Wide BVHs", sec. 3.2), where forming the plane and then its
+// distance took five operations. The roundings this adds (the difference, the products, the fma: at most about 6
+// ulps of the reach) and those of the triangle test (about 8) stay inside the padding of 32 (box_padding).
+struct NodeFrame {
+    vec3 scale;      // step * inv_dir
+    vec3 lo_offset;  // (node_origin - pad - origin) * inv_dir: where the plane q = 0 of a low side is entered
+    vec3 hi_offset;  // (node_origin + pad - origin) * inv_dir
+};
+
+NodeFrame make_node_frame(vec3 node_origin, vec3 step, vec3 origin, vec3 inv_dir, float pad) {
+    vec3 to_node = node_origin - origin;
+    NodeFrame f;
+    f.scale = step * inv_dir;
+    f.lo_offset = (to_node - vec3(pad)) * inv_dir;
+    f.hi_offset = (to_node + vec3(pad)) * inv_dir;
+    return f;
+}
+
+// (enter, leave) of the child whose box spans q = lo_q .. hi_q steps of the node frame `f` (the steps as floats,
+// exact below 256); the box is hit when enter <= leave, and enter orders the children of a node.
+vec2 child_entry_exit(NodeFrame f, vec3 lo_q, vec3 hi_q, float t_max) {
     bool conservative = FH_TECHNIQUE_ON(TECHNIQUE_CONSERVATIVE_BOX);
-    vec3 t0 = (lo - vec3(pad) - origin) * inv_dir;
-    vec3 t1 = (hi + vec3(pad) - origin) * inv_dir;
+    vec3 t0 = fma(lo_q, f.scale, f.lo_offset);
+    vec3 t1 = fma(hi_q, f.scale, f.hi_offset);
     vec3 t_near = min(t0, t1);
     vec3 t_far = max(t0, t1);
     float enter = max(max(t_near.x, t_near.y), max(t_near.z, 0.0f));
@@ -189,26 +212,27 @@ vec2 box_entry_exit(vec3 origin, vec3 inv_dir, vec3 lo, vec3 hi, float t_max, fl
     return range;
 }
 
-// The padding box_entry_exit needs for every box inside [lo, hi] (a node's, or the whole scene's: traversal
-// computes it once per ray from the scene's bounds): 2^-20 of the largest distance from the origin to that box
-// along an axis; 0 without TECHNIQUE_CONSERVATIVE_BOX.
+// The padding the node frames need for every box inside [lo, hi] (the whole scene's: traversal computes it once per
+// ray from the scene's bounds): 2^-19 of the largest distance from the origin to that box along an axis (the reach);
+// 0 without TECHNIQUE_CONSERVATIVE_BOX.
 float box_padding(vec3 origin, vec3 lo, vec3 hi) {
     if (!FH_TECHNIQUE_ON(TECHNIQUE_CONSERVATIVE_BOX)) return 0.0f;
     vec3 reach = max(abs(lo - origin), abs(hi - origin));
-    return max(max(reach.x, reach.y), reach.z) * 9.5367431640625e-7f;  // 2^-20
+    return max(max(reach.x, reach.y), reach.z) * 1.9073486328125e-6f;  // 2^-19
 }
 
-uint intersect_box(vec3 origin, vec3 inv_dir, vec3 lo, vec3 hi, float t_max) {
-    vec2 range = box_entry_exit(origin, inv_dir, lo, hi, t_max, box_padding(origin, lo, hi));
-    return range.x <= range.y ? 1u : 0u;
-}
-
-// 1 / dir, clamped so that intersect_box needs no special case for zero components.
-// Without TECHNIQUE_CONSERVATIVE_BOX it is the plain 1 / dir: an origin on a slab plane of an axis-parallel
-// ray then computes 0 x inf = NaN, and min/max drop or keep the box depending on argument order.
-vec3 make_safe_inverse_dir(vec3 dir) {
+// 1 / dir, each component clamped to +-min(1e30, 2^104 / pad), that is 2^123 / reach (box_padding: reach = 2^19 pad):
+// the node frame's terms stay finite (no 0 x inf, and no inf - inf between its two terms), as each is at most about
+// 10 reaches (node extents and distances inside the scene, through an instance's map too) times the clamp, below
+// 2^127. A clamped component tilts the ray by at most 1 / clamp, which moves it less than 8 ulps of the reach while
+// it is inside the scene, as long as the reach is below 1.4e30: every coordinate the GPU sees stays within
+// MAX_RENDER_COORDINATE (layout.h), which keeps the reach below 2.1e29. pad: box_padding's, for the ray's space.
+// Without TECHNIQUE_CONSERVATIVE_BOX it is the plain 1 / dir: an axis-parallel ray then computes 0 x inf = NaN, and
+// min/max drop or keep the box depending on argument order.
+vec3 make_safe_inverse_dir(vec3 dir, float pad) {
     if (!FH_TECHNIQUE_ON(TECHNIQUE_CONSERVATIVE_BOX)) return vec3(1.0f) / dir;
-    return clamp(vec3(1.0f) / dir, vec3(-1e30f), vec3(1e30f));
+    float limit = min(1e30f, 2.028240960365167e31f / pad);  // 2^104 / pad; 1e30 for pad 0
+    return clamp(vec3(1.0f) / dir, vec3(-limit), vec3(limit));
 }
 
 #undef FH_PRECISE

@@ -85,13 +85,9 @@ vec3 byte_to_float(uvec3 q) {
     return uintBitsToFloat(q | 0x4b000000u) - 8388608.0f;
 }
 
-// Child slot `shift / 8` of a wide node: its box dequantised exactly as the host rounded it (wide_bvh.cpp: the
-// product is exact, the sum rounds once), then the padded slab test.
-ChildEntry test_child(uint child, uint shift, vec3 node_origin, vec3 step, uvec3 lo_q, uvec3 hi_q, vec3 origin,
-                      vec3 inv_dir, float t_max, float pad) {
-    vec3 lo = node_origin + byte_to_float(lo_q >> shift & 0xffu) * step;
-    vec3 hi = node_origin + byte_to_float(hi_q >> shift & 0xffu) * step;
-    vec2 range = box_entry_exit(origin, inv_dir, lo, hi, t_max, pad);
+// Child slot `shift / 8` of a wide node, tested in the node's frame (intersect.glsl make_node_frame).
+ChildEntry test_child(uint child, uint shift, NodeFrame frame, uvec3 lo_q, uvec3 hi_q, float t_max) {
+    vec2 range = child_entry_exit(frame, byte_to_float(lo_q >> shift & 0xffu), byte_to_float(hi_q >> shift & 0xffu), t_max);
     ChildEntry e;
     e.entry = range.x <= range.y && child != INVALID_INDEX ? range.x : MISSED_CHILD;
     e.word = child;
@@ -125,8 +121,8 @@ uint child_count(uint word) { return word & ((1u << WIDE_COUNT_BITS) - 1u); }
         origin = world_origin;                                                                 \
         dir = world_dir;                                                                       \
         pre = make_ray_precomp(origin, dir);                                                   \
-        inv_dir = make_safe_inverse_dir(dir);                                                  \
         pad = world_pad;                                                                       \
+        inv_dir = make_safe_inverse_dir(dir, pad);                                             \
     }
 
 #define POP_ENTRY()                                                                            \
@@ -151,11 +147,11 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin
     uint instance = INVALID_INDEX;  // the instance whose mesh BVH this lane is in
     uint instance_base = 0u;        // stack size when it was entered
     RayPrecomp pre = make_ray_precomp(origin, dir);
-    vec3 inv_dir = make_safe_inverse_dir(dir);
     // Boxes are padded by the bound of the whole scene's (intersect.glsl box_padding), once per ray rather than per
     // box; in an instance's object space by that bound times the most its map stretches a distance.
     float world_pad = box_padding(origin, params.scene_min.xyz, params.scene_max.xyz);
     float pad = world_pad;
+    vec3 inv_dir = make_safe_inverse_dir(dir, pad);
     uint stack[TRAVERSAL_STACK_SIZE + 1u];  // child words (take_child_word); the last takes unpushed stores
     uint stack_size = 0u;
     uint index = 0u;  // the root node
@@ -183,10 +179,11 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin
                 uint word_1 = take_child_word(kinds, next_node, next_leaf);
                 uint word_2 = take_child_word(kinds, next_node, next_leaf);
                 uint word_3 = take_child_word(kinds, next_node, next_leaf);
-                ChildEntry c0 = test_child(word_0, 0u, node_origin, step, lo_q, hi_q, origin, inv_dir, best.t, pad);
-                ChildEntry c1 = test_child(word_1, 8u, node_origin, step, lo_q, hi_q, origin, inv_dir, best.t, pad);
-                ChildEntry c2 = test_child(word_2, 16u, node_origin, step, lo_q, hi_q, origin, inv_dir, best.t, pad);
-                ChildEntry c3 = test_child(word_3, 24u, node_origin, step, lo_q, hi_q, origin, inv_dir, best.t, pad);
+                NodeFrame frame = make_node_frame(node_origin, step, origin, inv_dir, pad);
+                ChildEntry c0 = test_child(word_0, 0u, frame, lo_q, hi_q, best.t);
+                ChildEntry c1 = test_child(word_1, 8u, frame, lo_q, hi_q, best.t);
+                ChildEntry c2 = test_child(word_2, 16u, frame, lo_q, hi_q, best.t);
+                ChildEntry c3 = test_child(word_3, 24u, frame, lo_q, hi_q, best.t);
                 // Nearest first: a sorting network of five compare-exchanges (missed children sort last).
                 order_entries(c0, c1);
                 order_entries(c2, c3);
@@ -220,9 +217,9 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin
                 dir = map_vector(inst.object_from_render_0, inst.object_from_render_1, inst.object_from_render_2,
                                  world_dir);
                 pre = make_ray_precomp(origin, dir);
-                inv_dir = make_safe_inverse_dir(dir);
                 pad = world_pad * max_axis_stretch(inst.object_from_render_0, inst.object_from_render_1,
                                                    inst.object_from_render_2);
+                inv_dir = make_safe_inverse_dir(dir, pad);
                 index = inst.root_node;
                 count = 0u;
                 continue;

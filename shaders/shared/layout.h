@@ -175,6 +175,9 @@ FH_CONST uint RENDER_MIS = 2u;             // combine NEE and BSDF sampling by M
 FH_CONST uint RENDER_RR = 4u;              // Russian roulette
 FH_CONST uint BVH_LEAF_COUNT_BITS = 16u;   // BvhNode.count_and_axis: low bits count, high bits axis
 FH_CONST uint BVH_WIDTH = 4u;              // children per BvhWideNode
+// The largest coordinate (render space: the scene's triangles and bounds, cameras, lights) the GPU's box tests are
+// exact for (intersect.glsl make_safe_inverse_dir); the host refuses a scene or camera beyond it.
+FH_CONST float MAX_RENDER_COORDINATE = 1e29f;
 FH_CONST uint WIDE_COUNT_BITS = 4u;        // a BvhWideNode slot's kind, and a traversal stack entry: index << 4 | kind
 FH_CONST uint WIDE_MAX_LEAF = 13u;         // kinds 1 .. 13: a leaf of that many triangles (0: a wide node)
 FH_CONST uint WIDE_INSTANCE_COUNT = 14u;   // the kind of a top-level leaf (index = Instance)

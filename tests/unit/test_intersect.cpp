@@ -38,19 +38,23 @@ struct Accel {
     std::vector<vec3> positions;  // leaf order, 3 per triangle
     fh::Bvh bvh;
     std::vector<fh::gpu::BvhWideNode> wide;
+    vec3 scene_min{0.0f}, scene_max{0.0f};  // the bounds the padding is taken from, grown as renderer.cpp grows them
     explicit Accel(const std::vector<vec3>& p) : bvh(fh::build_bvh(p)) {
         fh::SceneBvh level = fh::make_single_level(bvh);
         wide = std::move(level.nodes);
+        const vec3 grow = (level.bounds_hi - level.bounds_lo) * (1.0f / 64.0f);
+        scene_min = level.bounds_lo - grow;
+        scene_max = level.bounds_hi + grow;
         for (uint32_t t : level.triangle_order) positions.insert(positions.end(), {p[3 * t], p[3 * t + 1], p[3 * t + 2]});
     }
     size_t triangle_count() const { return positions.size() / 3; }
 };
 
-// Every child whose dequantised box the padded slab test enters (each box padded for itself, less than the GPU's
-// scene-wide padding), in slot order.
+// Every child whose box the GPU's slab test enters (the node frame, padded for the whole scene), in slot order.
 Hit trace_bvh(const Accel& a, vec3 o, vec3 d) {
     const auto pre = make_ray_precomp(o, d);
-    const vec3 inv_dir = fh::glsl::make_safe_inverse_dir(d);
+    const float pad = fh::glsl::box_padding(o, a.scene_min, a.scene_max);
+    const vec3 inv_dir = fh::glsl::make_safe_inverse_dir(d, pad);
     Hit best;
     std::vector<uint32_t> stack = {0};
     while (!stack.empty()) {
@@ -58,7 +62,10 @@ Hit trace_bvh(const Accel& a, vec3 o, vec3 d) {
         stack.pop_back();
         for (uint32_t k = 0; k < fh::gpu::BVH_WIDTH; ++k) {
             const fh::WideChild c = fh::read_wide_child(n, k);
-            if (c.index == fh::gpu::INVALID_INDEX || !fh::glsl::intersect_box(o, inv_dir, c.lo, c.hi, best.t)) continue;
+            if (c.index == fh::gpu::INVALID_INDEX) continue;
+            const auto frame = fh::glsl::make_node_frame(c.node_origin, c.step, o, inv_dir, pad);
+            const glm::vec2 range = fh::glsl::child_entry_exit(frame, vec3(c.lo_q), vec3(c.hi_q), best.t);
+            if (!(range.x <= range.y)) continue;
             if (c.count == 0) {
                 stack.push_back(c.index);
                 continue;

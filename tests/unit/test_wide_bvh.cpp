@@ -59,6 +59,11 @@ Box check_node(const std::vector<BvhWideNode>& wide, const std::vector<uint32_t>
         for (int a = 0; a < 3; ++a) {
             EXPECT_LE(c.lo[a], exact.lo[a]) << "node " << index << " axis " << a;
             EXPECT_GE(c.hi[a], exact.hi[a]) << "node " << index << " axis " << a;
+            // And in exact arithmetic, which intersect.glsl's node frame assumes.
+            EXPECT_LE(fh::compare_dequantised(c.node_origin[a], c.lo_q[a], c.step[a], exact.lo[a]), 0)
+                << "node " << index << " axis " << a;
+            EXPECT_GE(fh::compare_dequantised(c.node_origin[a], c.hi_q[a], c.step[a], exact.hi[a]), 0)
+                << "node " << index << " axis " << a;
             // Rounded outwards by at most two of the node's 255 steps, plus the sum's rounding.
             const float slack = 2.0f * (all.hi[a] - all.lo[a]) / 255.0f +
                                 4.0f * std::max(std::abs(all.lo[a]), std::abs(all.hi[a])) * 1.2e-7f;
