@@ -1,7 +1,6 @@
 // Camera basis vectors in world space, computed in double precision from the node transform.
 #include "render/camera_setup.h"
 
-#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -37,14 +36,9 @@ void set_frame_camera(gpu::FrameParams& frame, const SceneCamera& camera, uint32
 
 namespace {
 
-// The GPU's box tests hold only within MAX_RENDER_COORDINATE (layout.h, intersect.glsl make_safe_inverse_dir).
 SceneCamera check_camera_range(const Scene& scene, const SceneCamera& camera) {
-    const glm::dvec3 p = glm::dvec3(camera.world_from_camera[3]) - scene.origin;
-    const double reach = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
-    if (!(reach <= double(gpu::MAX_RENDER_COORDINATE)))
-        throw SceneError(scene.source.string() + ": the camera is " + std::to_string(reach) +
-                         " units from the scene's centre along an axis, beyond the " +
-                         std::to_string(double(gpu::MAX_RENDER_COORDINATE)) + " the renderer supports");
+    const glm::dvec3 at = glm::dvec3(camera.world_from_camera[3]) - scene.origin;
+    check_render_range(scene, at, at, "the camera");
     return camera;
 }
 

@@ -191,20 +191,6 @@ PackedScene pack_scene(const Scene& scene, const Bvh& bvh, EnvironmentMap enviro
     return pack_scene(scene, make_single_level(bvh), std::move(environment));
 }
 
-namespace {
-
-// The GPU's box tests hold only within MAX_RENDER_COORDINATE (layout.h, intersect.glsl make_safe_inverse_dir).
-void check_render_range(const Scene& scene, glm::vec3 lo, glm::vec3 hi, const std::string& what) {
-    const float reach = std::max({std::abs(lo.x), std::abs(lo.y), std::abs(lo.z), std::abs(hi.x), std::abs(hi.y),
-                                  std::abs(hi.z)});
-    if (!(reach <= gpu::MAX_RENDER_COORDINATE))
-        throw SceneError(scene.source.string() + ": " + what + " reaches " + std::to_string(reach) +
-                         " units from the scene's centre, beyond the " + std::to_string(gpu::MAX_RENDER_COORDINATE) +
-                         " the renderer supports");
-}
-
-}  // namespace
-
 PackedScene pack_scene(const Scene& scene, const SceneBvh& bvh, EnvironmentMap environment) {
     const size_t n = scene.triangle_count();
     if (bvh.triangle_order.size() != n || scene.normals.size() != scene.positions.size() ||
@@ -219,7 +205,7 @@ PackedScene pack_scene(const Scene& scene, const SceneBvh& bvh, EnvironmentMap e
     packed.nodes = bvh.nodes;
     packed.bounds_lo = bvh.bounds_lo;
     packed.bounds_hi = bvh.bounds_hi;
-    check_render_range(scene, bvh.bounds_lo, bvh.bounds_hi, "the geometry");
+    check_render_range(scene, glm::dvec3(bvh.bounds_lo), glm::dvec3(bvh.bounds_hi), "the geometry");
     packed.instances = bvh.instances;
     packed.materials = scene.materials;
     packed.material_layers = material_layers_of(scene);
@@ -281,7 +267,7 @@ PackedScene pack_scene(const Scene& scene, const SceneBvh& bvh, EnvironmentMap e
         if (!(w > 0.0)) continue;  // black lights are never picked
         emissive.push_back(gpu::PUNCTUAL_LIGHT_BIT | uint32_t(packed.punctual_lights.size()));
         packed.punctual_lights.push_back(pack_punctual_light(scene.lights[l]));
-        const glm::vec3 at(packed.punctual_lights.back().position);
+        const glm::dvec3 at(glm::vec3(packed.punctual_lights.back().position));
         if (scene.lights[l].type != gpu::LIGHT_DIRECTIONAL) check_render_range(scene, at, at, "light " + std::to_string(l));
         power.push_back(w);
     }

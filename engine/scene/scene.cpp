@@ -3,10 +3,21 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include <glm/gtc/matrix_transform.hpp>
 
 namespace fh {
+
+void check_render_range(const Scene& scene, const glm::dvec3& lo, const glm::dvec3& hi, const std::string& what) {
+    const double reach = std::max({std::abs(lo.x), std::abs(lo.y), std::abs(lo.z), std::abs(hi.x), std::abs(hi.y),
+                                   std::abs(hi.z)});
+    if (reach <= double(gpu::MAX_RENDER_COORDINATE)) return;
+    char text[160];
+    std::snprintf(text, sizeof(text), ": %s reaches %.3g units from the scene's centre, beyond the %.3g the renderer supports",
+                  what.c_str(), reach, double(gpu::MAX_RENDER_COORDINATE));
+    throw SceneError(scene.source.string() + text);
+}
 
 SceneCamera make_default_camera(const Scene& scene) {
     SceneCamera camera;

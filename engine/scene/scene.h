@@ -155,4 +155,9 @@ Scene load_gltf(const std::filesystem::path& file, const LoadOptions& options = 
 // A perspective camera (yfov 45 degrees) that frames the scene bounds, looking down -Z from the +Z side.
 SceneCamera make_default_camera(const Scene& scene);
 
+// Throws SceneError (naming the scene's file) when the render-space box [lo, hi] of `what` ("the geometry", "the
+// camera") reaches beyond gpu::MAX_RENDER_COORDINATE along an axis: the GPU's box tests hold only within it
+// (intersect.glsl make_safe_inverse_dir).
+void check_render_range(const Scene& scene, const glm::dvec3& lo, const glm::dvec3& hi, const std::string& what);
+
 }  // namespace fh

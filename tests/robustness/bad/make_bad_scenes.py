@@ -167,6 +167,19 @@ def main():
     write("infinite_translation.gltf", json.dumps(d).replace('"translation": [0, 0, 0]', '"translation": [0, -1e999, 0]'))
     d, _ = triangle_scene(points=[(float("nan"), 0, 0), (1, 0, 0), (0, 1, 0)])
     write("nan_positions_only.gltf", json.dumps(d))
+    # Finite, but beyond the coordinates the GPU's box tests hold for (layout.h MAX_RENDER_COORDINATE = 1e29): the
+    # triangle drawn twice, 1e31 apart (render space is centred between them, so each is 5e30 from its origin; the
+    # test stores the mesh once, with --instancing on), and a camera 1e30 from the triangle.
+    d = copy.deepcopy(doc)
+    d["scenes"] = [{"nodes": [0, 1]}]
+    d["nodes"].append({"mesh": 0, "translation": [1e31, 0, 0]})
+    write("geometry_too_far.gltf", d)
+    d = copy.deepcopy(doc)
+    d["scene"] = 0
+    d["scenes"] = [{"nodes": [0, 1]}]
+    d["nodes"].append({"camera": 0, "translation": [0, 0, 1e30]})
+    d["cameras"] = [{"type": "perspective", "perspective": {"yfov": 0.5, "znear": 0.01}}]
+    write("camera_too_far.gltf", d)
 
     d = copy.deepcopy(doc)
     d["extensionsUsed"] = ["EXT_fredholm_never_supported"]
