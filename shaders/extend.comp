@@ -3,7 +3,7 @@
 // scatter_rays.
 // Reads: rays[queue depth & 1], counters.ray_count, the sorted order, BVH nodes, triangle positions (with EFFECT_ALPHA also
 // paths[].rng, materials and textures; with EFFECT_MOTION_BLUR the path's time and the instances' motion).
-// Writes: hits[i] for ray i; counters.escaped_rays.
+// Writes: hits[i] for ray i; counters.escaped_rays (advance counts the traced rays).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "lib/bindings.glsl"
@@ -29,5 +29,4 @@ void main() {
     hits[i].b2 = hit.b2;
     if (scene_has_instances) hits[i].instance = hit.instance;  // read by shade only then: no store otherwise
     COUNT_IN_SUBGROUP(counters.escaped_rays, hit.triangle == INVALID_INDEX ? 1u : 0u);
-    COUNT_IN_SUBGROUP(counters.traced_rays, 1u);
 }

@@ -285,6 +285,8 @@ void Renderer::record_bounce(uint32_t depth, const Wave& wave, Subpaths side) {
     if (sort && (depth > 0 || light)) push.ray_order = gpu::RAY_ORDER_SORTED;
     // Only where a next extend follows (shade pushes nothing at the last depth; scan_ray_bins clears the counts).
     if (sort && !light && (settings_.max_depth == 0 || depth + 1 < settings_.max_depth)) push.bin_pushed_rays = 1u;
+    const bool connect = !light && has_lights_ && settings_.nee;  // after advance, traces the shadow queue it hands on
+    if (connect) push.count_handed_shadow_rays = 1u;
     recorder_.push_constants(&push, sizeof(push));
     if (push.ray_order == gpu::RAY_ORDER_SORTED) record_ray_sort(recorder_, stages_, buffers_, !light);
     recorder_.barrier_compute();
@@ -303,7 +305,7 @@ void Renderer::record_bounce(uint32_t depth, const Wave& wave, Subpaths side) {
     if (light) {
         recorder_.barrier_compute();
         recorder_.dispatch_indirect(stages_[Stage::splat], buffers_.counters, offsetof(gpu::QueueCounters, connect_args));
-    } else if (has_lights_ && settings_.nee) {
+    } else if (connect) {
         recorder_.barrier_compute();
         recorder_.dispatch_indirect(stages_[Stage::connect], buffers_.counters,
                                     offsetof(gpu::QueueCounters, connect_args));
