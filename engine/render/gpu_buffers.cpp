@@ -88,7 +88,7 @@ gpu::TriangleAttributes make_default_attributes() {
 GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& scene, const gpu::FrameParams& frame,
                               uint32_t effects, const PathStore& store) {
     GpuBuffers b;
-    b.params = make_filled_buffer(context, std::vector<gpu::FrameParams>{frame});
+    b.params = make_buffer(context, std::vector<gpu::FrameParams>{frame}, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
     b.nodes = make_texel_buffer(context, scene.nodes);
     b.tri_positions = make_texel_buffer(context, scene.positions);
     b.tri_shading = make_texel_buffer(context, scene.shading);

@@ -43,6 +43,7 @@ const char* stage_name(Stage stage) {
 std::array<VkDescriptorType, gpu::BINDING_COUNT> binding_types() {
     std::array<VkDescriptorType, gpu::BINDING_COUNT> types;
     types.fill(VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+    types[gpu::BINDING_PARAMS] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     types[gpu::BINDING_GGX_ALBEDO_UNIFORM] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     for (uint32_t texels : {gpu::BINDING_BVH_NODES, gpu::BINDING_TRI_POSITIONS, gpu::BINDING_TRI_SHADING,
                             gpu::BINDING_MATERIALS, gpu::BINDING_EMITTERS, gpu::BINDING_PUNCTUAL_LIGHTS,

@@ -3,7 +3,9 @@
 #define FH_BINDINGS_GLSL
 #include "../shared/layout.h"
 
-layout(std430, binding = BINDING_PARAMS) readonly buffer ParamsBuffer { FrameParams params; };
+// A uniform buffer: on lavapipe a storage-buffer word is loaded lane by lane even where every lane reads the same
+// address, a uniform one once for all (README "Speed"). FrameParams has no arrays, so std140 lays it out as std430.
+layout(std140, binding = BINDING_PARAMS) uniform ParamsBuffer { FrameParams params; };
 layout(std430, binding = BINDING_COUNTERS) coherent buffer CounterBuffer { QueueCounters counters; };
 layout(std430, binding = BINDING_PATHS) buffer PathBuffer { PathState paths[]; };
 layout(std430, binding = BINDING_RAYS) buffer RayBuffer { RayItem rays[]; };
