@@ -86,7 +86,7 @@ MemoryEstimate estimate_render_memory(const PackedScene& scene, uint32_t width, 
     const BufferBinding storage = BufferBinding::storage, texels = BufferBinding::texels, other = BufferBinding::other,
                         both = BufferBinding::storage_and_texels;
     e.buffers = {
-        {"params", sizeof(gpu::FrameParams), storage},
+        {"params", sizeof(gpu::FrameParams), other},  // a uniform buffer of a few hundred bytes
         {"nodes", array_bytes(scene.nodes), texels},
         {"tri_positions", array_bytes(scene.positions), texels},
         {"tri_shading", array_bytes(scene.shading), texels},

@@ -18,7 +18,7 @@ enum class BufferBinding {
     storage,  // maxStorageBufferRange
     texels,   // a uniform texel buffer of 16-byte texels: maxTexelBufferElements texels
     storage_and_texels,  // both (the wave's arrays: written as storage, read as texels): both limits
-    other,    // only maxMemoryAllocationSize (the uniform albedo tables, host copies)
+    other,    // only maxMemoryAllocationSize (the uniform buffers: FrameParams, the albedo tables; host copies)
 };
 
 struct BufferEstimate {
