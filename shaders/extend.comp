@@ -28,5 +28,5 @@ void main() {
     hits[i].b1 = hit.b1;
     hits[i].b2 = hit.b2;
     if (scene_has_instances) hits[i].instance = hit.instance;  // read by shade only then: no store otherwise
-    COUNT_IN_SUBGROUP(counters.escaped_rays, hit.triangle == INVALID_INDEX ? 1u : 0u);
+    COUNT_TRUE_IN_SUBGROUP(counters.escaped_rays, hit.triangle == INVALID_INDEX);
 }

@@ -39,14 +39,14 @@ void main() {
     if (all(equal(contrib, vec3(0.0f)))) return;  // an empty slot (light_generate)
     uvec4 r, g, b;
     bool held = encode_fixed(contrib.r, r) && encode_fixed(contrib.g, g) && encode_fixed(contrib.b, b);
-    COUNT_IN_SUBGROUP(counters.nonfinite_samples, held ? 0u : 1u);
+    COUNT_TRUE_IN_SUBGROUP(counters.nonfinite_samples, !held);
     if (!held) return;
     // Stochastic alpha keys on the connection itself (its pixel and origin): the same decisions every run.
     uint alpha_seed = effect_on(EFFECT_ALPHA) ? pcg_hash(s.path ^ pcg_hash(floatBitsToUint(s.origin_x) ^ 0x5b1a7e5u))
                                               : 0u;
     TraceHit hit = trace_ray(vec3(s.origin_x, s.origin_y, s.origin_z), vec3(s.dir_x, s.dir_y, s.dir_z), s.t_max, true,
                              s.origin_triangle, alpha_seed, 0.5f);
-    COUNT_IN_SUBGROUP(counters.traced_shadow_rays, 1u);
+    COUNT_TRUE_IN_SUBGROUP(counters.traced_shadow_rays, true);
     if (hit.triangle != INVALID_INDEX) return;
     ATOMIC_ADD_FIXED(film[s.path].sum_r, r);
     ATOMIC_ADD_FIXED(film[s.path].sum_g, g);

@@ -24,4 +24,12 @@
         uint sum_ = subgroupAdd(value);                                        \
         if (subgroupElect() && sum_ > 0u) atomicAdd(counter, sum_);            \
     }
+
+// Adds the number of active invocations with `condition` true to `counter`, with one atomic per subgroup: a ballot's
+// bit count, where subgroupAdd of 0 or 1 is a loop over the lanes on lavapipe.
+#define COUNT_TRUE_IN_SUBGROUP(counter, condition)                             \
+    {                                                                          \
+        uint true_ = subgroupBallotBitCount(subgroupBallot(condition));        \
+        if (subgroupElect() && true_ > 0u) atomicAdd(counter, true_);          \
+    }
 #endif
