@@ -53,7 +53,7 @@ void add_sampling_options(CLI::App& app, RenderSettings& s) {
     app.add_option("--rr-start-depth", s.rr_start_depth, "Russian roulette from this many segments on")
         ->check(CLI::Range(1u, 1000u));
     app.add_option("--wave-paths", s.wave_paths,
-                   "paths in flight per wave (default: 262144 on a CPU device such as lavapipe, 4194304 on a GPU, "
+                   "paths in flight per wave (default: 524288 on a CPU device such as lavapipe, 4194304 on a GPU, "
                    "halved until the wave fits the device's buffer limits and a quarter of its memory)")
         ->check(CLI::Range(1024u, 1u << 22));
     add_ray_sort_option(app, s.sort_rays);

@@ -13,10 +13,11 @@ namespace vk {
 class Context;
 }
 
-// On a CPU device (lavapipe) 2^18 paths: larger waves were no faster there (Cornell 256 x 256, 64 spp: 4.2 s at
-// 2^18 and 2^20). On a GPU 2^22: an H100 rendered the Cornell box at 1024 x 1024, 64 spp in 0.25 s with 2^18 and
-// 0.094 s with 2^22 (the wave must fill the GPU and amortise each dispatch).
-constexpr uint32_t CPU_WAVE_PATHS = 1u << 18;
+// On a CPU device (lavapipe) 2^19 paths: with the stages 10% faster than when 2^18 was chosen, 2^19 rendered the
+// Cornell box (256 x 256, 32 spp) in 0.971 of the time of 2^18 (8 paired runs; fewer dispatches, each a wake-up of
+// lavapipe's threads), 2^20 no faster than 2^19. On a GPU 2^22: an H100 rendered the Cornell box at 1024 x 1024,
+// 64 spp in 0.25 s with 2^18 and 0.094 s with 2^22 (the wave must fill the GPU and amortise each dispatch).
+constexpr uint32_t CPU_WAVE_PATHS = 1u << 19;
 constexpr uint32_t GPU_WAVE_PATHS = 1u << 22;
 constexpr uint32_t MIN_AUTO_WAVE_PATHS = 1u << 16;
 // Below MIN_AUTO_WAVE_PATHS a wave shrinks only to fit a buffer limit (BDPT's light vertices at a deep --max-depth).

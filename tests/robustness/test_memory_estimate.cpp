@@ -87,7 +87,7 @@ TEST(MemoryEstimate, ChecksAllocationSizeAndTheHeap) {
 
 }  // namespace
 
-// Without --wave-paths the wave is sized for the device: 2^18 paths on a CPU device, 2^22 on a GPU, halved until the
+// Without --wave-paths the wave is sized for the device: 2^19 paths on a CPU device, 2^22 on a GPU, halved until the
 // wave's buffers keep to the device's limits and to a quarter of its memory.
 TEST(WaveSize, ChosenByDeviceKindAndHalvedToFitTheLimits) {
     const fh::PackedScene scene;
