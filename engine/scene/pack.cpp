@@ -267,8 +267,8 @@ PackedScene pack_scene(const Scene& scene, const SceneBvh& bvh, EnvironmentMap e
         if (!(w > 0.0)) continue;  // black lights are never picked
         emissive.push_back(gpu::PUNCTUAL_LIGHT_BIT | uint32_t(packed.punctual_lights.size()));
         packed.punctual_lights.push_back(pack_punctual_light(scene.lights[l]));
-        const glm::dvec3 at(glm::vec3(packed.punctual_lights.back().position));
-        if (scene.lights[l].type != gpu::LIGHT_DIRECTIONAL) check_render_range(scene, at, at, "light " + std::to_string(l));
+        const SceneLight& light = scene.lights[l];  // render space (the loader rebases lights)
+        if (light.type != gpu::LIGHT_DIRECTIONAL) check_render_range(scene, light.position, light.position, "light " + std::to_string(l));
         power.push_back(w);
     }
     decide_light_effects(packed.effects, emitting_materials, triangle_lights + moving_emitting_triangles,
