@@ -30,6 +30,19 @@ bool has_layer(const char* name) {
     return false;
 }
 
+// The stages' queues append with ballots and subgroup sums (shaders/lib/queue.glsl) and traversal votes
+// (traverse.glsl); Vulkan 1.1 only guarantees basic subgroup operations.
+bool has_stage_subgroup_operations(VkPhysicalDevice device) {
+    VkPhysicalDeviceSubgroupProperties subgroup{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
+    VkPhysicalDeviceProperties2 props{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+    props.pNext = &subgroup;
+    vkGetPhysicalDeviceProperties2(device, &props);
+    const VkSubgroupFeatureFlags needed = VK_SUBGROUP_FEATURE_BASIC_BIT | VK_SUBGROUP_FEATURE_VOTE_BIT |
+                                          VK_SUBGROUP_FEATURE_BALLOT_BIT | VK_SUBGROUP_FEATURE_ARITHMETIC_BIT;
+    return (subgroup.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) != 0 &&
+           (subgroup.supportedOperations & needed) == needed;
+}
+
 }  // namespace
 
 Context::Context(const ContextOptions& options) {
@@ -115,6 +128,7 @@ void Context::pick_physical_device(const ContextOptions& options) {
         vkGetPhysicalDeviceQueueFamilyProperties(device, &family_count, nullptr);
         std::vector<VkQueueFamilyProperties> families(family_count);
         vkGetPhysicalDeviceQueueFamilyProperties(device, &family_count, families.data());
+        if (!has_stage_subgroup_operations(device)) continue;
         for (uint32_t i = 0; i < family_count; ++i) {
             if (!(families[i].queueFlags & VK_QUEUE_COMPUTE_BIT)) continue;
             int score = props.deviceType == VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU     ? 3
@@ -132,7 +146,8 @@ void Context::pick_physical_device(const ContextOptions& options) {
     }
     if (!physical_device_)
         throw std::runtime_error(options.device_filter.empty()
-                                     ? "no Vulkan device with a compute queue"
+                                     ? "no Vulkan device with a compute queue and the subgroup operations the stages "
+                                       "use in compute shaders (basic, vote, ballot, arithmetic)"
                                      : "no Vulkan device whose name contains '" + options.device_filter + "'");
     device_name_ = properties_.deviceName;
 }

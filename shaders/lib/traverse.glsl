@@ -4,6 +4,7 @@
 // (Ize 2013, "Robust BVH Ray Traversal", JCGT 2(2)).
 #ifndef FH_TRAVERSE_GLSL
 #define FH_TRAVERSE_GLSL
+#extension GL_KHR_shader_subgroup_vote : require
 #include "intersect.glsl"
 #include "ray_offset.glsl"
 #include "material.glsl"
@@ -111,8 +112,8 @@ uint child_count(uint word) { return word & ((1u << WIDE_COUNT_BITS) - 1u); }
 // hit, above the top where it was not (the array's last entry takes a store at a full stack), and only the size
 // depends on the hit: on lavapipe a store under a per-lane condition cost more than the store itself.
 #define PUSH_ENTRY(e)                                                                       \
-    stack[min(stack_size, TRAVERSAL_STACK_SIZE)] = (e).word;                                 \
-    stack_size += (e).entry < MISSED_CHILD && stack_size < TRAVERSAL_STACK_SIZE ? 1u : 0u;
+    stack[min(stack_size, TRAVERSAL_STACK_SIZE + 1u)] = (e).word;                            \
+    stack_size += (e).entry < MISSED_CHILD && stack_size < TRAVERSAL_STACK_SIZE + 1u ? 1u : 0u;
 
 // Takes the top stack entry; one pushed at the top level (below instance_base) returns the ray to world space.
 #define LEAVE_INSTANCE_BELOW_BASE()                                                            \
@@ -152,7 +153,10 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin
     float world_pad = box_padding(origin, params.scene_min.xyz, params.scene_max.xyz);
     float pad = world_pad;
     vec3 inv_dir = make_safe_inverse_dir(dir, pad);
-    uint stack[TRAVERSAL_STACK_SIZE + 1u];  // child words (take_child_word); the last takes unpushed stores
+    // Child words (take_child_word): the tree's measured bound (wide_bvh.h measure_stack_bound), one more for the
+    // speculative descent's entry pushed back (below), and a last one that takes unpushed stores.
+    uint stack[TRAVERSAL_STACK_SIZE + 2u];
+    uint leaf_word = INVALID_INDEX;  // a leaf kept aside by the speculative descent
     uint stack_size = 0u;
     uint index = 0u;  // the root node
     uint count = 0u;
@@ -197,14 +201,38 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin
                 // A lane that missed every child takes its next entry here rather than idle (masked) until every
                 // lane of the SIMD group holds a leaf. The top entry is loaded whether or not it is taken.
                 bool hit_any = c0.entry < MISSED_CHILD;
-                bool pop = !hit_any && stack_size > 0u;
-                uint next = hit_any ? c0.word : stack[max(stack_size, 1u) - 1u];
+                uint top = stack[max(stack_size, 1u) - 1u];
+                // Speculative descent (Aila & Laine 2009, sec. 4): a lane that reaches its first leaf of triangles
+                // keeps it aside and descends on from its next stack entry while other lanes still look for theirs,
+                // instead of idling (masked: on lavapipe an idle lane costs as much as a working one). Inside an
+                // instance it goes no lower in the stack than where the instance was entered: the leaf kept aside
+                // is tested with the instance's ray. Closest hits do not depend on the order of the visits
+                // (ties go by source index), so the hits keep their bits.
+                uint floor_size = scene_has_instances && instance != INVALID_INDEX ? instance_base : 0u;
+                bool postpone = hit_any && leaf_word == INVALID_INDEX && child_count(c0.word) != 0u &&
+                                child_count(c0.word) != WIDE_INSTANCE_COUNT && stack_size > floor_size;
+                leaf_word = postpone ? c0.word : leaf_word;
+                bool below_floor_ok = leaf_word == INVALID_INDEX || stack_size > floor_size;
+                bool pop = (!hit_any || postpone) && stack_size > 0u && below_floor_ok;
+                uint next = hit_any && !postpone ? c0.word : top;
                 stack_size -= pop ? 1u : 0u;
-                index = hit_any || pop ? child_index(next) : INVALID_INDEX;
-                count = hit_any || pop ? child_count(next) : 0u;
+                index = (hit_any && !postpone) || pop ? child_index(next) : INVALID_INDEX;
+                count = (hit_any && !postpone) || pop ? child_count(next) : 0u;
                 if (pop) {
                     LEAVE_INSTANCE_BELOW_BASE()
                 }
+                // Every lane still descending has a leaf aside: test the leaves.
+                if (subgroupAll(leaf_word != INVALID_INDEX)) break;
+            }
+            // A leaf kept aside comes first; where its lane got to since waits on the stack.
+            if (leaf_word != INVALID_INDEX) {
+                if (index != INVALID_INDEX) {
+                    stack[min(stack_size, TRAVERSAL_STACK_SIZE + 1u)] = index << WIDE_COUNT_BITS | count;
+                    stack_size += stack_size < TRAVERSAL_STACK_SIZE + 1u ? 1u : 0u;
+                }
+                index = child_index(leaf_word);
+                count = child_count(leaf_word);
+                leaf_word = INVALID_INDEX;
             }
             // Entering an instance maps the ray into its mesh's space and descends on from the mesh's root. Here rather
             // than in the descent loop, where (masked, on lavapipe) it ran at every node step.
