@@ -224,9 +224,14 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin
                 // Every lane still descending has a leaf aside: test the leaves.
                 if (subgroupAll(leaf_word != INVALID_INDEX)) break;
             }
-            // A leaf kept aside comes first; where its lane got to since waits on the stack.
+            // A leaf kept aside comes first; where its lane got to since waits on the stack, or, if that is a leaf of
+            // triangles too, is tested in the same loop.
+            uint second_index = 0u, second_count = 0u;
             if (leaf_word != INVALID_INDEX) {
-                if (index != INVALID_INDEX) {
+                bool second_leaf = count != 0u && count != WIDE_INSTANCE_COUNT && !effect_on(EFFECT_ALPHA);
+                second_index = second_leaf ? index : 0u;
+                second_count = second_leaf ? count : 0u;
+                if (index != INVALID_INDEX && !second_leaf) {
                     stack[min(stack_size, TRAVERSAL_STACK_SIZE + 1u)] = index << WIDE_COUNT_BITS | count;
                     stack_size += stack_size < TRAVERSAL_STACK_SIZE + 1u ? 1u : 0u;
                 }
@@ -253,8 +258,8 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin
                 continue;
             }
             bool tie_break = !any_hit && FH_TECHNIQUE_ON(TECHNIQUE_TIE_BREAK);
-            for (uint k = 0u; k < count; ++k) {
-                uint tri = index + k;
+            for (uint k = 0u; k < count + second_count; ++k) {
+                uint tri = k < count ? index + k : second_index + (k - count);
                 TrianglePositions tp = load_triangle_positions(tri);
                 bool have_hit = best.triangle != INVALID_INDEX;
                 float limit = tie_break && have_hit ? next_float_up(best.t) : best.t;
