@@ -180,29 +180,42 @@ TriangleHit intersect_triangle(RayPrecomp r, vec3 p0, vec3 p1, vec3 p2, float t_
 // Incoherent Ray Traversal on GPUs Through Compressed Wide BVHs", sec. 3.2), where forming the plane and then its
 // distance took five operations. The roundings this adds (the difference, the products, the fma: at most about 6
 // ulps of the reach) and those of the triangle test (about 8) stay inside the padding of 32 (box_padding).
+//
+// Which plane of a slab a ray crosses first follows from its direction's sign, so the frame picks the sides once per
+// node (the low planes along an axis the ray travels up, the high ones along an axis it travels down) and a child
+// needs no min and max to order its two distances per axis: on lavapipe each min or max of two variables is three
+// instructions (NaN handling), a pick of a node's packed plane words one, for all four children. The picked
+// distances are the ones min and max would return (padded low planes never lie beyond padded high ones), so the same
+// children are hit.
 struct NodeFrame {
-    vec3 scale;      // step * inv_dir
-    vec3 lo_offset;  // (node_origin - pad - origin) * inv_dir: where the plane q = 0 of a low side is entered
-    vec3 hi_offset;  // (node_origin + pad - origin) * inv_dir
+    vec3 scale;        // step * inv_dir
+    vec3 near_offset;  // (node_origin -+ pad - origin) * inv_dir: where the plane q = 0 of the side entered is crossed
+    vec3 far_offset;   // (node_origin +- pad - origin) * inv_dir: the same for the side left
+    bvec3 down;        // the ray travels down the axis (inv_dir < 0): it enters through the high planes
 };
 
 NodeFrame make_node_frame(vec3 node_origin, vec3 step, vec3 origin, vec3 inv_dir, float pad) {
     vec3 to_node = node_origin - origin;
     NodeFrame f;
+    f.down = lessThan(inv_dir, vec3(0.0f));
+    vec3 near_pad = mix(vec3(pad), vec3(-pad), f.down);
     f.scale = step * inv_dir;
-    f.lo_offset = (to_node - vec3(pad)) * inv_dir;
-    f.hi_offset = (to_node + vec3(pad)) * inv_dir;
+    f.near_offset = (to_node - near_pad) * inv_dir;
+    f.far_offset = (to_node + near_pad) * inv_dir;
     return f;
 }
 
-// (enter, leave) of the child whose box spans q = lo_q .. hi_q steps of the node frame `f` (the steps as floats,
-// exact below 256); the box is hit when enter <= leave, and enter orders the children of a node.
-vec2 child_entry_exit(NodeFrame f, vec3 lo_q, vec3 hi_q, float t_max) {
+// Of a node's (or a child's) low and high plane words, those of the side entered and of the side left per axis.
+uvec3 near_planes(NodeFrame f, uvec3 lo_q, uvec3 hi_q) { return mix(lo_q, hi_q, f.down); }
+uvec3 far_planes(NodeFrame f, uvec3 lo_q, uvec3 hi_q) { return mix(hi_q, lo_q, f.down); }
+
+// (enter, leave) of the child whose box spans the planes near_q (the side entered, near_planes) to far_q steps of the
+// node frame `f` (the steps as floats, exact below 256); the box is hit when enter <= leave, and enter orders the
+// children of a node.
+vec2 child_entry_exit(NodeFrame f, vec3 near_q, vec3 far_q, float t_max) {
     bool conservative = FH_TECHNIQUE_ON(TECHNIQUE_CONSERVATIVE_BOX);
-    vec3 t0 = fma(lo_q, f.scale, f.lo_offset);
-    vec3 t1 = fma(hi_q, f.scale, f.hi_offset);
-    vec3 t_near = min(t0, t1);
-    vec3 t_far = max(t0, t1);
+    vec3 t_near = fma(near_q, f.scale, f.near_offset);
+    vec3 t_far = fma(far_q, f.scale, f.far_offset);
     float enter = max(max(t_near.x, t_near.y), max(t_near.z, 0.0f));
     float leave = min(min(t_far.x, t_far.y), min(t_far.z, t_max)) *
                   (conservative ? 1.0000004768371582f : 1.0f);  // 1 + 2^-21 >= 1 + 2 gamma(3)

@@ -87,8 +87,10 @@ vec3 byte_to_float(uvec3 q) {
 }
 
 // Child slot `shift / 8` of a wide node, tested in the node's frame (intersect.glsl make_node_frame).
-ChildEntry test_child(uint child, uint shift, NodeFrame frame, uvec3 lo_q, uvec3 hi_q, float t_max) {
-    vec2 range = child_entry_exit(frame, byte_to_float(lo_q >> shift & 0xffu), byte_to_float(hi_q >> shift & 0xffu), t_max);
+// near_q, far_q: the node's plane words of the sides entered and left (intersect.glsl near_planes).
+ChildEntry test_child(uint child, uint shift, NodeFrame frame, uvec3 near_q, uvec3 far_q, float t_max) {
+    vec2 range = child_entry_exit(frame, byte_to_float(near_q >> shift & 0xffu), byte_to_float(far_q >> shift & 0xffu),
+                                  t_max);
     ChildEntry e;
     e.entry = range.x <= range.y && child != INVALID_INDEX ? range.x : MISSED_CHILD;
     e.word = child;
@@ -184,10 +186,11 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin
                 uint word_2 = take_child_word(kinds, next_node, next_leaf);
                 uint word_3 = take_child_word(kinds, next_node, next_leaf);
                 NodeFrame frame = make_node_frame(node_origin, step, origin, inv_dir, pad);
-                ChildEntry c0 = test_child(word_0, 0u, frame, lo_q, hi_q, best.t);
-                ChildEntry c1 = test_child(word_1, 8u, frame, lo_q, hi_q, best.t);
-                ChildEntry c2 = test_child(word_2, 16u, frame, lo_q, hi_q, best.t);
-                ChildEntry c3 = test_child(word_3, 24u, frame, lo_q, hi_q, best.t);
+                uvec3 near_q = near_planes(frame, lo_q, hi_q), far_q = far_planes(frame, lo_q, hi_q);
+                ChildEntry c0 = test_child(word_0, 0u, frame, near_q, far_q, best.t);
+                ChildEntry c1 = test_child(word_1, 8u, frame, near_q, far_q, best.t);
+                ChildEntry c2 = test_child(word_2, 16u, frame, near_q, far_q, best.t);
+                ChildEntry c3 = test_child(word_3, 24u, frame, near_q, far_q, best.t);
                 // Nearest first: a sorting network of five compare-exchanges (missed children sort last).
                 order_entries(c0, c1);
                 order_entries(c2, c3);

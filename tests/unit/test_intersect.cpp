@@ -64,7 +64,8 @@ Hit trace_bvh(const Accel& a, vec3 o, vec3 d) {
             const fh::WideChild c = fh::read_wide_child(n, k);
             if (c.index == fh::gpu::INVALID_INDEX) continue;
             const auto frame = fh::glsl::make_node_frame(c.node_origin, c.step, o, inv_dir, pad);
-            const glm::vec2 range = fh::glsl::child_entry_exit(frame, vec3(c.lo_q), vec3(c.hi_q), best.t);
+            const glm::vec2 range = fh::glsl::child_entry_exit(frame, vec3(fh::glsl::near_planes(frame, c.lo_q, c.hi_q)),
+                                                               vec3(fh::glsl::far_planes(frame, c.lo_q, c.hi_q)), best.t);
             if (!(range.x <= range.y)) continue;
             if (c.count == 0) {
                 stack.push_back(c.index);
