@@ -92,6 +92,12 @@ TriangleHit intersect_triangle_unsafe(RayPrecomp r, vec3 p0, vec3 p1, vec3 p2, f
     return h;
 }
 
+// max(|a|, |b|, |c|) as an integer max of the magnitudes' bits, which order as the floats do (a float max of two
+// variables is three instructions on lavapipe, for NaN, which a lane whose hit counts never has here).
+float max_magnitude(float a, float b, float c) {
+    return uintBitsToFloat(max(max(floatBitsToUint(abs(a)), floatBitsToUint(abs(b))), floatBitsToUint(abs(c))));
+}
+
 // Backfaces count (no culling).
 TriangleHit intersect_triangle(RayPrecomp r, vec3 p0, vec3 p1, vec3 p2, float t_max) {
     if (!FH_TECHNIQUE_ON(TECHNIQUE_WATERTIGHT)) return intersect_triangle_unsafe(r, p0, p1, p2, t_max);
@@ -144,15 +150,15 @@ TriangleHit intersect_triangle(RayPrecomp r, vec3 p0, vec3 p1, vec3 p2, float t_
     // (Triangle::Intersect, Pharr et al. 2023, sec. 6.8.7; gamma(n) = n u / (1 - n u)). pbrt rejects every
     // t <= bound, which lets rays out of closed rooms through their corners; here such a hit is reported as
     // HIT_UNCERTAIN at t >= 0 and traverse.glsl rejects it only on the surface the ray leaves.
-    float max_xt = max(abs(ax), max(abs(bx), abs(cx)));
-    float max_yt = max(abs(ay), max(abs(by), abs(cy)));
-    float max_zt = max(abs(az), max(abs(bz), abs(cz)));
+    float max_xt = max_magnitude(ax, bx, cx);
+    float max_yt = max_magnitude(ay, by, cy);
+    float max_zt = max_magnitude(az, bz, cz);
     const float gamma2 = 1.1920930376163766e-7f, gamma3 = 1.788139663006007e-7f, gamma5 = 2.9802331269482156e-7f;
     float delta_z = gamma3 * max_zt;
     float delta_x = gamma5 * (max_xt + max_zt);
     float delta_y = gamma5 * (max_yt + max_zt);
     float delta_e = 2.0f * (gamma2 * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
-    float max_e = max(abs(u), max(abs(v), abs(w)));
+    float max_e = max_magnitude(u, v, w);
     float delta_t = 3.0f * (gamma3 * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * abs(inv_det);
     if (!(t > -delta_t)) {
         return miss;
@@ -216,9 +222,16 @@ vec2 child_entry_exit(NodeFrame f, vec3 near_q, vec3 far_q, float t_max) {
     bool conservative = FH_TECHNIQUE_ON(TECHNIQUE_CONSERVATIVE_BOX);
     vec3 t_near = fma(near_q, f.scale, f.near_offset);
     vec3 t_far = fma(far_q, f.scale, f.far_offset);
-    float enter = max(max(t_near.x, t_near.y), max(t_near.z, 0.0f));
-    float leave = min(min(t_far.x, t_far.y), min(t_far.z, t_max)) *
-                  (conservative ? 1.0000004768371582f : 1.0f);  // 1 + 2^-21 >= 1 + 2 gamma(3)
+    // max(0, t_near) and min(t_far, t_max) as integer max and min of the floats' bits (one instruction each on
+    // lavapipe, where a float min or max of two variables is three: it handles NaN, which the frame never makes).
+    // Signed integers order non-negative floats as floats do, so `enter` is exact; `leave` is exact when no far
+    // distance is negative, and negative (a miss, as before) when one is: a negative float is a negative integer.
+    int enter_bits = max(max(floatBitsToInt(max(t_near.x, 0.0f)), floatBitsToInt(max(t_near.y, 0.0f))),
+                         floatBitsToInt(max(t_near.z, 0.0f)));
+    int leave_bits = min(min(floatBitsToInt(t_far.x), floatBitsToInt(t_far.y)),
+                         min(floatBitsToInt(t_far.z), floatBitsToInt(t_max)));
+    float enter = intBitsToFloat(enter_bits);
+    float leave = intBitsToFloat(leave_bits) * (conservative ? 1.0000004768371582f : 1.0f);  // 1 + 2^-21 >= 1 + 2 gamma(3)
     vec2 range;
     range.x = enter;
     range.y = leave;
