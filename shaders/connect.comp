@@ -20,7 +20,8 @@ void main() {
                              s.origin_triangle, alpha_seed, load_path_time(s.path));
     if (hit.triangle != INVALID_INDEX) return;
     PathState state = load_path_state(s.path);
-    paths[s.path].radiance_r = state.radiance_r + s.contrib_r;
-    paths[s.path].radiance_g = state.radiance_g + s.contrib_g;
-    paths[s.path].radiance_b = state.radiance_b + s.contrib_b;
+    state.radiance_r += s.contrib_r;
+    state.radiance_g += s.contrib_g;
+    state.radiance_b += s.contrib_b;
+    store_path_radiance(s.path, state);  // one uvec4 store: the radiance and the rng as it was
 }

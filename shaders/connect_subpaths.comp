@@ -98,7 +98,8 @@ void main() {
         if (blocker.triangle == INVALID_INDEX) sum += contrib;
     }
     COUNT_IN_SUBGROUP(counters.traced_shadow_rays, traced);
-    paths[path].radiance_r = state.radiance_r + sum.x;
-    paths[path].radiance_g = state.radiance_g + sum.y;
-    paths[path].radiance_b = state.radiance_b + sum.z;
+    state.radiance_r += sum.x;
+    state.radiance_g += sum.y;
+    state.radiance_b += sum.z;
+    store_path_radiance(path, state);  // one uvec4 store: the radiance and the rng as it was
 }

@@ -23,10 +23,17 @@ void main() {
     TraceHit hit = trace_ray(vec3(ray.origin_x, ray.origin_y, ray.origin_z), vec3(ray.dir_x, ray.dir_y, ray.dir_z),
                              uintBitsToFloat(0x7f800000u), false, ray.origin_triangle, alpha_seed,
                              load_path_time(ray.path));
-    hits[i].t = hit.t;
-    hits[i].triangle = hit.triangle;
-    hits[i].b1 = hit.b1;
-    hits[i].b2 = hit.b2;
-    if (scene_has_instances) hits[i].instance = hit.instance;  // read by shade only then: no store otherwise
+    HitItem item;
+    item.t = hit.t;
+    item.triangle = hit.triangle;
+    item.b1 = hit.b1;
+    item.b2 = hit.b2;
+    item.instance = hit.instance;
+    item.pad0 = item.pad1 = item.pad2 = 0u;
+    // Shade reads the instance only where the scene has instances: otherwise the first texel alone is stored.
+    if (scene_has_instances)
+        store_hit_item(i, item);
+    else
+        store_hit_head(i, item);
     COUNT_TRUE_IN_SUBGROUP(counters.escaped_rays, hit.triangle == INVALID_INDEX);
 }

@@ -55,7 +55,7 @@ void main() {
     item.dir_y = ray.dir.y;
     item.dir_z = ray.dir.z;
     item.origin_triangle = INVALID_INDEX;
-    rays[ray_slot(0u, i)] = item;
+    store_ray_item(ray_slot(0u, i), item);
 
     PathState state;
     state.throughput_r = 1.0f;
@@ -66,7 +66,7 @@ void main() {
     state.radiance_g = 0.0f;
     state.radiance_b = 0.0f;
     state.rng = rng;
-    paths[i] = state;
+    store_path_state(i, state);
     if (bdpt) {  // the light subpath's vertex count stays for connect_subpaths
         PathMis mis = start_camera_mis(ray.dir);
         path_mis[i].dvcm = mis.dvcm;

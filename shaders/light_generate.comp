@@ -58,9 +58,9 @@ void main() {
     item.dir_y = start.dir.y;
     item.dir_z = start.dir.z;
     item.origin_triangle = start.triangle;
-    rays[ray_slot(0u, i)] = item;
+    store_ray_item(ray_slot(0u, i), item);
     // Bidirectional path tracing leaves a light seen directly to the camera subpath (s = 0 alone, lib/bdpt.glsl).
-    shadow_rays[i] = bdpt ? make_empty_splat() : start.splat;
+    store_shadow_ray(i, bdpt ? make_empty_splat() : start.splat);
     if (bdpt) path_mis[i] = start.mis;
     // Lights stand outside every volume (README "Bidirectional path tracing"); the camera subpath starts its own.
     if (tracks_media()) path_media[i] = uvec4(INVALID_INDEX);
@@ -74,5 +74,5 @@ void main() {
     state.radiance_g = 0.0f;
     state.radiance_b = 0.0f;
     state.rng = rng;
-    paths[i] = state;
+    store_path_state(i, state);
 }

@@ -150,13 +150,13 @@ void main() {
     state.throughput_g = beta.y;
     state.throughput_b = beta.z;
     state.rng = rng;
-    paths[path] = state;
+    store_path_state(path, state);
     if (bdpt) path_mis[path] = mis;
     if (tracks_media() && any(notEqual(media, media_before))) path_media[path] = media;
 
     uint slot;
     PUSH_TO_QUEUE(counters.ray_count[parity ^ 1u], push_ray, slot);
-    if (push_ray) rays[ray_slot(parity ^ 1u, slot)] = next;
+    if (push_ray) store_ray_item(ray_slot(parity ^ 1u, slot), next);
     PUSH_TO_QUEUE(counters.shadow_count, push_shadow, slot);
-    if (push_shadow) shadow_rays[slot] = shadow;
+    if (push_shadow) store_shadow_ray(slot, shadow);
 }

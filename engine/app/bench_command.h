@@ -25,7 +25,7 @@ struct BenchCommand {
     uint32_t bvh_leaf_size = 4;  // RenderSettings::bvh_max_leaf_size
     std::optional<bool> sort_rays;  // --sort-rays (also for --trace-rays); unset: auto (render/device_defaults.h)
     bool compare_ray_order = false;  // --compare-ray-order: the render with the ray sort on against off
-    bool compare_stores = false;     // --compare-stores: shade's 64-bit stores against 32-bit ones (--wide-stores)
+    bool compare_stores = false;     // --compare-stores: shade's uvec4 stores against field stores (--wide-stores)
     std::filesystem::path json;
     std::filesystem::path trace_rays;     // --trace-rays: time the extend stage alone over these rays
     std::filesystem::path hits_out;       // --hits-out: their hit distances

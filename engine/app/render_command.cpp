@@ -90,7 +90,7 @@ ImageMetadata make_metadata(const RenderCommand& c, const std::string& scene_has
 
 void write_stats(const std::filesystem::path& file, const RenderCommand& c, const PreparedScene& prepared,
                  const SceneCamera& camera, const RenderStats& stats, uint32_t first_sample, const std::string& device,
-                 bool device_has_int64, const CameraMedia& camera_media) {
+                 const CameraMedia& camera_media) {
     const RenderSettings& s = c.settings;
     double samples = double(s.film_width()) * s.film_height() * (stats.spp_done - first_sample);
     double rays = double(stats.traced_rays + stats.traced_shadow_rays);
@@ -105,7 +105,7 @@ void write_stats(const std::filesystem::path& file, const RenderCommand& c, cons
     j["seed"] = s.seed;
     j["wave_paths"] = s.wave_paths;
     j["sort_rays"] = s.sort_rays.value_or(false);
-    j["wide_stores"] = s.wide_stores && device_has_int64;  // shade's 64-bit stores (--wide-stores, shaderInt64)
+    j["wide_stores"] = s.wide_stores;  // shade's 128-bit stores (--wide-stores)
     j["max_depth"] = s.max_depth;
     j["render_seconds"] = stats.render_seconds;
     j["samples_per_second"] = stats.render_seconds > 0 ? samples / stats.render_seconds : 0.0;
@@ -406,7 +406,7 @@ int run_frame(const RenderCommand& command, vk::Context* shared_context) {
               film_channels(renderer.read_film_state()), window);
     if (!c.png.empty()) write_png(c.png, image, c.exposure_ev, c.tone_curve);
     if (!c.stats.empty()) write_stats(c.stats, c, prepared, camera, stats, saved.end_sample, context->device_name(),
-                                         context->has_int64(), renderer.camera_media());
+                                         renderer.camera_media());
 
     const uint32_t rendered = stats.spp_done - saved.end_sample;
     if (!c.quiet)

@@ -58,8 +58,8 @@ void add_sampling_options(CLI::App& app, RenderSettings& s) {
         ->check(CLI::Range(1024u, 1u << 22));
     add_ray_sort_option(app, s.sort_rays);
     app.add_option("--wide-stores", s.wide_stores,
-                   "shade stores 64 bits at a time where the device has shaderInt64 (on, the default) or 32 bits (off: "
-                   "the stage devices without it run); the image is the same")
+                   "shade stores its structs a texel (uvec4) at a time (on, the default) or field by field (off: to "
+                   "measure the difference); the image is the same")
         ->transform(CLI::CheckedTransformer(on_off));
 }
 

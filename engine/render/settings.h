@@ -54,8 +54,8 @@ struct RenderSettings {
     // --sort-rays: extend takes each bounce's rays sorted by direction and origin (render/ray_sort.h). Unset (auto):
     // chosen for the device and scene by with_device_defaults (render/device_defaults.h; README "Ray order").
     std::optional<bool> sort_rays;
-    // --wide-stores: shade stores 64 bits at a time where the device has shaderInt64; off: 32 bits (the fallback
-    // for devices without it). The image is the same.
+    // --wide-stores: shade stores its structs a texel (uvec4) at a time; off: field by field (to measure what the
+    // wide stores buy). The image is the same.
     bool wide_stores = true;
     uint32_t disabled_techniques = 0;  // layout.h TECHNIQUE_* bits switched off (cost measurements only)
     uint32_t bvh_max_leaf_size = 4;    // triangles per BVH leaf at most

@@ -24,7 +24,7 @@
 #include "shaders/scatter_rays.spv.h"
 #include "shaders/shade.spv.h"
 #include "shaders/shade_bdpt.spv.h"
-#include "shaders/shade_narrow.spv.h"
+#include "shaders/shade_struct_stores.spv.h"
 #include "shaders/splat.spv.h"
 #include "shaders/sum_ray_bins.spv.h"
 #include "shared/layout.h"
@@ -92,10 +92,11 @@ StageTable::StageTable(const vk::Context& context, const StageOptions& options)
     }
     if (options.integrator != Integrator::light) {
         make(Stage::generate, bdpt ? Spirv(spv_generate_bdpt) : Spirv(spv_generate));
-        // 64-bit stores halve the per-lane store loops of lavapipe (README "Speed"); without shaderInt64, or with
-        // --wide-stores off, the same stage stores 32 bits at a time, to the same bytes.
-        const bool wide = options.wide_stores && context.has_int64();
-        make(Stage::shade, bdpt ? Spirv(spv_shade_bdpt) : wide ? Spirv(spv_shade) : Spirv(spv_shade_narrow));
+        // A uvec4 store is one per-lane loop on lavapipe where its four words are four (README "Speed"); with
+        // --wide-stores off the same stage stores field by field, to the same bytes (kept to measure the difference).
+        make(Stage::shade, bdpt                   ? Spirv(spv_shade_bdpt)
+                           : options.wide_stores ? Spirv(spv_shade)
+                                                 : Spirv(spv_shade_struct_stores));
         make(Stage::connect, spv_connect);
     }
     if (options.integrator == Integrator::bdpt) make(Stage::connect_subpaths, spv_connect_subpaths);

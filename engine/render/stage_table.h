@@ -23,7 +23,7 @@ struct StageOptions {
     uint32_t sampler = 0;                   // layout.h SAMPLER_*
     Integrator integrator = Integrator::path;  // which stages are built, and which SPIR-V (FH_INTEGRATOR): BDPT builds both sides'
     bool sort_rays = false;                 // the ray sort's stages (bin_rays, sum_ray_bins, scan_ray_bins, scatter_rays) are built
-    bool wide_stores = true;                // shade stores 64 bits at a time where the device has shaderInt64 (FH_WIDE_STORES)
+    bool wide_stores = true;                // shade stores a uvec4 at a time; off: field by field (FH_STRUCT_STORES)
 };
 
 class StageTable {

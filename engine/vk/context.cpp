@@ -164,11 +164,7 @@ void Context::create_device(const ContextOptions& options) {
     info.pQueueCreateInfos = &queue_info;
     info.enabledExtensionCount = static_cast<uint32_t>(options.device_extensions.size());
     info.ppEnabledExtensionNames = options.device_extensions.data();
-    VkPhysicalDeviceFeatures supported{};
-    vkGetPhysicalDeviceFeatures(physical_device_, &supported);
     VkPhysicalDeviceFeatures features{};
-    features.shaderInt64 = supported.shaderInt64;
-    int64_ = supported.shaderInt64 == VK_TRUE;
     info.pEnabledFeatures = &features;
     FH_VK_CHECK(vkCreateDevice(physical_device_, &info, nullptr, &device_));
     vkGetDeviceQueue(device_, queue_family_, 0, &queue_);

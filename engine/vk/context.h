@@ -29,8 +29,6 @@ public:
     const VkPhysicalDeviceProperties& properties() const { return properties_; }
     const std::string& device_name() const { return device_name_; }
     bool has_timestamps() const { return timestamp_bits_ > 0; }
-    // shaderInt64, enabled where the device has it (stages then store 64 bits at a time: render/stage_table.cpp).
-    bool has_int64() const { return int64_; }
     // Validation messages seen so far (warnings and errors); the test suite requires zero.
     uint32_t validation_message_count() const { return validation_messages_.load(); }
 
@@ -46,7 +44,6 @@ private:
     VkQueue queue_ = VK_NULL_HANDLE;
     uint32_t queue_family_ = 0;
     uint32_t timestamp_bits_ = 0;
-    bool int64_ = false;
     VkPhysicalDeviceProperties properties_{};
     std::string device_name_;
     std::atomic<uint32_t> validation_messages_{0};

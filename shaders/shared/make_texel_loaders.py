@@ -33,14 +33,19 @@ TEXEL_STRUCTS = [
     ("ShadowRayItem", "load_shadow_ray", "index", "BINDING_SHADOW_RAY_TEXELS", "shadow_ray_texels"),
 ]
 
-# Whole-struct stores of the wave's arrays: struct, store function, its index parameter, binding constant, the
-# storage-buffer array lib/bindings.glsl declares. With FH_WIDE_STORES (a stage compiled for devices with shaderInt64)
-# each pair of 32-bit words is one 64-bit store: on lavapipe every store runs a loop over the 8 lanes, so this halves
-# the loops (README "Speed"). Without it the struct is stored as it is. Either way the memory holds the same bytes.
+# Stores of the wave's arrays: struct, store function, its index parameter, binding constant, the storage-buffer array
+# lib/bindings.glsl declares, and which of the struct's texels the function stores (None: all). Each texel is one
+# uvec4 store: on lavapipe every storage-buffer store instruction runs a loop over the 8 lanes, and one loop stores all
+# the components of a vector, so a uvec4 takes one loop where four 32-bit words take four (README "Speed"). With
+# FH_STRUCT_STORES (the stage `shade_struct_stores`, `--wide-stores off`, kept to measure this) the fields are stored
+# one by one. Either way the memory holds the same bytes.
 STORE_STRUCTS = [
-    ("PathState", "store_path_state", "path", "BINDING_PATHS", "paths"),
-    ("RayItem", "store_ray_item", "slot", "BINDING_RAYS", "rays"),
-    ("ShadowRayItem", "store_shadow_ray", "index", "BINDING_SHADOW_RAYS", "shadow_rays"),
+    ("PathState", "store_path_state", "path", "BINDING_PATHS", "paths", None),
+    ("PathState", "store_path_radiance", "path", "BINDING_PATHS", "paths", (1, 1)),  # radiance_r, _g, _b, rng
+    ("RayItem", "store_ray_item", "slot", "BINDING_RAYS", "rays", None),
+    ("ShadowRayItem", "store_shadow_ray", "index", "BINDING_SHADOW_RAYS", "shadow_rays", None),
+    ("HitItem", "store_hit_item", "index", "BINDING_HITS", "hits", None),
+    ("HitItem", "store_hit_head", "index", "BINDING_HITS", "hits", (0, 1)),  # t, triangle, b1, b2
 ]
 
 
@@ -90,24 +95,46 @@ def word_bits(kind, value):
     return {"float": f"floatBitsToUint({value})", "uint": value, "int": f"uint({value})"}[kind]
 
 
-def storer(source, struct, function, parameter, binding, array):
+def storer(source, struct, function, parameter, binding, array, texel_range):
     fields = struct_fields(source, struct)
     if any(kind == "vec4" for kind, _ in fields):
         raise SystemExit(f"make_texel_loaders: {struct}: stores take 32-bit fields only")
-    if len(fields) % 2:
-        raise SystemExit(f"make_texel_loaders: {struct} is {len(fields)} words, not whole 64-bit pairs")
-    pairs = len(fields) // 2
-    words64 = f"{array}_words64"
-    lines = ["#ifdef FH_WIDE_STORES",
-             f"layout(std430, binding = {binding}) writeonly buffer {struct}Words64 {{ uint64_t {words64}[]; }};",
+    if len(fields) % 4:
+        raise SystemExit(f"make_texel_loaders: {struct} is {len(fields)} words, not whole texels")
+    texels = len(fields) // 4
+    first, count = texel_range if texel_range else (0, texels)
+    if first + count > texels:
+        raise SystemExit(f"make_texel_loaders: {function}: texels {first} + {count} past {struct}'s {texels}")
+    lines = ["#ifndef FH_STRUCT_STORES",
              f"void {function}(uint {parameter}, {struct} v) {{",
-             f"    uint first = {pairs}u * {parameter};"]
-    for k in range(pairs):
-        (kind_a, a), (kind_b, b) = fields[2 * k], fields[2 * k + 1]
-        lines.append(f"    {words64}[first + {k}u] = packUint2x32(uvec2({word_bits(kind_a, 'v.' + a)}, "
-                     f"{word_bits(kind_b, 'v.' + b)}));")
-    lines += ["}", "#else", f"void {function}(uint {parameter}, {struct} v) {{ {array}[{parameter}] = v; }}", "#endif"]
-    return f"// {struct}: {pairs} 64-bit stores (FH_WIDE_STORES) or one struct store.\n" + "\n".join(lines) + "\n"
+             f"    uint first = {texels}u * {parameter};"]
+    for k in range(first, first + count):
+        words = ", ".join(word_bits(kind, "v." + name) for kind, name in fields[4 * k:4 * k + 4])
+        lines.append(f"    {array}_texels_out[first + {k}u] = uvec4({words});")
+    lines += ["}", "#else"]
+    if count == texels:
+        lines.append(f"void {function}(uint {parameter}, {struct} v) {{ {array}[{parameter}] = v; }}")
+    else:
+        lines.append(f"void {function}(uint {parameter}, {struct} v) {{")
+        lines += [f"    {array}[{parameter}].{name} = v.{name};" for _, name in fields[4 * first:4 * (first + count)]]
+        lines.append("}")
+    lines.append("#endif")
+    what = "all" if count == texels else f"texel {first}" if count == 1 else f"texels {first} to {first + count - 1}"
+    return (f"// {struct}, {what} of its {texels} texels: one uvec4 store each (or field by field, FH_STRUCT_STORES).\n"
+            + "\n".join(lines) + "\n")
+
+
+def store_views(source):
+    """One writeonly uvec4 view per storage buffer the store functions write (the struct arrays alias it)."""
+    lines = ["#ifndef FH_STRUCT_STORES"]
+    seen = set()
+    for struct, _, _, binding, array, _ in STORE_STRUCTS:
+        if binding not in seen:
+            seen.add(binding)
+            lines.append(f"layout(std430, binding = {binding}) writeonly buffer {struct}Texels {{ "
+                         f"uvec4 {array}_texels_out[]; }};")
+    lines.append("#endif")
+    return "\n".join(lines) + "\n"
 
 
 def main():
@@ -118,7 +145,7 @@ def main():
              "// The scene's read-only structs and the wave's arrays from RGBA32UI uniform texel buffers (see the script).\n"
              "#ifndef FH_SCENE_TEXELS_GLSL\n#define FH_SCENE_TEXELS_GLSL\n"]
     parts += [loader(source, *entry) for entry in TEXEL_STRUCTS]
-    parts.append("#ifdef FH_WIDE_STORES\n#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require\n#endif\n")
+    parts.append(store_views(source))
     parts += [storer(source, *entry) for entry in STORE_STRUCTS]
     parts.append("#endif\n")
     text = "\n".join(parts)
