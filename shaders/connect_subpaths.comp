@@ -25,7 +25,7 @@ void main() {
     if (hit.triangle == INVALID_INDEX) return;
     RayItem ray = load_ray_item(ray_slot(parity, i));
     uint path = ray.path;
-    PathMis camera_mis = path_mis[path];
+    PathMis camera_mis = load_path_mis(path);
     uint segments = push.depth + 1u;  // camera segments up to this vertex
     // Light vertex k has k + 1 segments; the joint adds one.
     uint last = min(min(camera_mis.light_vertices, params.light_vertex_slots), params.max_depth - segments - 1u);
@@ -49,7 +49,7 @@ void main() {
     vec3 sum = vec3(0.0f);
     uint traced = 0u;
     for (uint k = 0u; k < last; ++k) {
-        LightVertex v = light_vertices[path * params.light_vertex_slots + k];
+        LightVertex v = load_light_vertex(path * params.light_vertex_slots + k);
         vec3 wl = vec3(v.to_light_x, v.to_light_y, v.to_light_z);
         ShadingPoint z = load_shading_point(v.triangle, v.b1, v.b2, v.instance);
         z.eta_front = v.eta_front;

@@ -61,7 +61,7 @@ void main() {
     store_ray_item(ray_slot(0u, i), item);
     // Bidirectional path tracing leaves a light seen directly to the camera subpath (s = 0 alone, lib/bdpt.glsl).
     store_shadow_ray(i, bdpt ? make_empty_splat() : start.splat);
-    if (bdpt) path_mis[i] = start.mis;
+    if (bdpt) store_path_mis(i, start.mis);
     // Lights stand outside every volume (README "Bidirectional path tracing"); the camera subpath starts its own.
     if (tracks_media()) path_media[i] = uvec4(INVALID_INDEX);
 

@@ -37,7 +37,7 @@ void main() {
     uint rng = state.rng;
     uint segments = push.depth + 1u;  // segments of the light subpath up to this vertex
     PathMis mis;
-    if (bdpt) mis = path_mis[path];
+    if (bdpt) mis = load_path_mis(path);
 
     bool push_shadow = false;
     bool push_ray = false;
@@ -83,7 +83,8 @@ void main() {
                 v.b2 = hit.b2;
                 v.instance = hit.instance;
                 v.eta_front = sp.eta_front;
-                light_vertices[path * params.light_vertex_slots + push.depth] = v;
+                v.pad0 = v.pad1 = v.pad2 = 0u;
+                store_light_vertex(path * params.light_vertex_slots + push.depth, v);
                 mis.light_vertices = segments;
             }
         }
@@ -151,7 +152,7 @@ void main() {
     state.throughput_b = beta.z;
     state.rng = rng;
     store_path_state(path, state);
-    if (bdpt) path_mis[path] = mis;
+    if (bdpt) store_path_mis(path, mis);
     if (tracks_media() && any(notEqual(media, media_before))) path_media[path] = media;
 
     uint slot;

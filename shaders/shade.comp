@@ -52,7 +52,7 @@ void main() {
     uint flags_before = effect_on(EFFECT_SPECTRAL) ? spectrum.flags : 0u;
     uint segments = push.depth + 1u;  // segments of this path including the ray just traced
     PathMis mis;
-    if (bdpt) mis = path_mis[path];
+    if (bdpt) mis = load_path_mis(path);
     // Beer-Lambert along the segment just traced when the path is inside an absorbing volume.
     uvec4 media = tracks_media() ? path_media[path] : uvec4(INVALID_INDEX);  // innermost first
     uvec4 media_before = media;
@@ -299,8 +299,7 @@ void main() {
     }
     if (tracks_media() && any(notEqual(media, media_before))) path_media[path] = media;
     if (bdpt) {
-        path_mis[path].dvcm = mis.dvcm;
-        path_mis[path].dvc = mis.dvc;
+        store_path_mis(path, mis);  // one uvec4 store: dvcm and dvc, the rest as loaded
     }
 
     uint slot;

@@ -519,6 +519,7 @@ struct LightVertex {
     float b1, b2;
     uint instance;              // the Instance hit, or INVALID_INDEX
     float eta_front;            // a volume's n behind the front face / n in front, by the subpath's volumes; else 1
+    uint pad0, pad1, pad2;      // whole texels: 4 uvec4 loads and stores (make_texel_loaders.py), not 13 words
 };
 
 // A ray waiting for its closest hit.

@@ -46,6 +46,15 @@ STORE_STRUCTS = [
     ("ShadowRayItem", "store_shadow_ray", "index", "BINDING_SHADOW_RAYS", "shadow_rays", None),
     ("HitItem", "store_hit_item", "index", "BINDING_HITS", "hits", None),
     ("HitItem", "store_hit_head", "index", "BINDING_HITS", "hits", (0, 1)),  # t, triangle, b1, b2
+    ("PathMis", "store_path_mis", "path", "BINDING_PATH_MIS", "path_mis", None),
+    ("LightVertex", "store_light_vertex", "slot", "BINDING_LIGHT_VERTICES", "light_vertices", None),
+]
+
+# Loads from storage buffers a dispatch may also write (no texel view): struct, load function, its parameter, binding
+# constant, the storage-buffer array. One uvec4 load per texel, one per-lane loop each on lavapipe (as for stores).
+STORAGE_LOAD_STRUCTS = [
+    ("PathMis", "load_path_mis", "path", "BINDING_PATH_MIS", "path_mis"),
+    ("LightVertex", "load_light_vertex", "slot", "BINDING_LIGHT_VERTICES", "light_vertices"),
 ]
 
 
@@ -124,6 +133,23 @@ def storer(source, struct, function, parameter, binding, array, texel_range):
             + "\n".join(lines) + "\n")
 
 
+def storage_loader(source, struct, function, parameter, binding, array):
+    fields = struct_fields(source, struct)
+    if len(fields) % 4 or any(kind == "vec4" for kind, _ in fields):
+        raise SystemExit(f"make_texel_loaders: {struct}: storage loads take whole texels of 32-bit fields")
+    texels = len(fields) // 4
+    lines = [f"layout(std430, binding = {binding}) readonly buffer {struct}TexelsIn {{ uvec4 {array}_texels_in[]; }};",
+             f"{struct} {function}(uint {parameter}) {{",
+             f"    uint first = {texels}u * {parameter};"]
+    lines += [f"    uvec4 t{k} = {array}_texels_in[first + {k}u];" for k in range(texels)]
+    lines.append(f"    {struct} v;")
+    for word, (kind, name) in enumerate(fields):
+        value = f"t{word // 4}.{'xyzw'[word % 4]}"
+        lines.append(f"    v.{name} = " + {"float": f"uintBitsToFloat({value})", "uint": value, "int": f"int({value})"}[kind] + ";")
+    lines += ["    return v;", "}"]
+    return f"// {struct}: {texels} uvec4 loads from its storage buffer.\n" + "\n".join(lines) + "\n"
+
+
 def store_views(source):
     """One writeonly uvec4 view per storage buffer the store functions write (the struct arrays alias it)."""
     lines = ["#ifndef FH_STRUCT_STORES"]
@@ -147,6 +173,7 @@ def main():
     parts += [loader(source, *entry) for entry in TEXEL_STRUCTS]
     parts.append(store_views(source))
     parts += [storer(source, *entry) for entry in STORE_STRUCTS]
+    parts += [storage_loader(source, *entry) for entry in STORAGE_LOAD_STRUCTS]
     parts.append("#endif\n")
     text = "\n".join(parts)
     with open(sys.argv[2], "w") as out:

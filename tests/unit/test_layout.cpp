@@ -165,7 +165,7 @@ FH_OFFSET(PathMis, dvc, 4);
 FH_OFFSET(PathMis, light_vertices, 8);
 FH_OFFSET(PathMis, flags, 12);
 
-FH_SIZE(LightVertex, 52);
+FH_SIZE(LightVertex, 64);
 FH_OFFSET(LightVertex, dvcm, 12);
 FH_OFFSET(LightVertex, dvc, 28);
 FH_OFFSET(LightVertex, triangle, 32);
@@ -241,7 +241,7 @@ TEST(Layout, SizesMatchTheGpuStructs) {
     EXPECT_EQ(sizeof(PathState), 32u);
     EXPECT_EQ(sizeof(PathSpectrum), 16u);
     EXPECT_EQ(sizeof(PathMis), 16u);
-    EXPECT_EQ(sizeof(LightVertex), 52u);
+    EXPECT_EQ(sizeof(LightVertex), 64u);
     EXPECT_EQ(sizeof(FilmPixel), 52u);
     EXPECT_EQ(sizeof(StagePush), 32u);
     EXPECT_EQ(BVH_LEAF_COUNT_BITS, 16u);
