@@ -6,11 +6,11 @@ name. This script starts a command (normally a long `fredholm render` or `bench`
 compiled, samples it with `perf record`, copies the anonymous executable mappings out of the live process with
 `gdb` and disassembles them with `objdump`. It prints:
 - per mapping and per function in it (split at `push %rbp` prologues): the share of all samples, how many calls
-  (texel fetches call a per-binding function) and how many per-lane loops (`cmp $0x8`: a storage-buffer word, a
+  (texel fetches call a per-binding function) and how many per-lane loops (`cmp $0x8`: a storage-buffer load or store, a
   scratch array entry, an atomic or a subgroup operation is a loop over the 8 lanes of a 256-bit llvmpipe) it holds;
 - the hottest instructions, each with the instructions before it (--context).
 With --out DIR it keeps the annotated disassembly (DIR/jit_*.asm, each instruction prefixed by its sample share).
-README "Speed" ("The wave's arrays as texels, and 64-bit stores") says what this found.
+README "Speed" ("The wave's arrays as texels, and stores a texel at a time") says what this found.
 
   python3 tests/bench/profile_jit.py [--wait 5] [--seconds 4] [--top 12] [--out DIR] -- \\
       build/fredholm render scenes/cornell.gltf -o /tmp/p.exr --width 256 --height 256 --spp 512 --quiet
