@@ -5,9 +5,10 @@ usage: make_texel_loaders.py LAYOUT_H OUT_GLSL
 
 The scene's read-only arrays, and the wave's arrays for the stages that read what an earlier dispatch wrote, are
 bound as RGBA32UI uniform texel buffers (layout.h, "Descriptor bindings"): on lavapipe a texel fetch is one gather
-for all lanes, where a storage-buffer load loops over the lanes with a bounds check per word. A struct of 4n words is n texels; its fields (vec4s first, then 32-bit scalars: layout.h's rules) are
+for all lanes, where a storage-buffer load instruction loops over the lanes with a bounds check. A struct of 4n words is n texels; its fields (vec4s first, then 32-bit scalars: layout.h's rules) are
 the texels' words in order. This script turns each struct listed in TEXEL_STRUCTS into a sampler declaration and a
-load function (and each struct in STORE_STRUCTS into a store function), so layout.h stays the one definition (a change there rebuilds the shaders through this file).
+load function (each struct in STORE_STRUCTS into a uvec4 store function, each in STORAGE_LOAD_STRUCTS into a uvec4
+load function from its storage buffer), so layout.h stays the one definition (a change there rebuilds the shaders through this file).
 Standard library only.
 """
 import re
@@ -93,11 +94,16 @@ def loader(source, struct, function, parameter, binding, sampler):
             lines.append(f"    v.{field} = uintBitsToFloat(t{word // 4});")
             word += 4
             continue
-        value = f"t{word // 4}.{'xyzw'[word % 4]}"
-        lines.append(f"    v.{field} = " + {"float": f"uintBitsToFloat({value})", "uint": value, "int": f"int({value})"}[kind] + ";")
+        lines.append(f"    v.{field} = {word_value(kind, word)};")
         word += 1
     lines += ["    return v;", "}"]
     return f"// {struct}: {texels} texels.\n" + "\n".join(lines) + "\n"
+
+
+def word_value(kind, word):
+    """A 32-bit field from word `word` of the texels t0, t1, ... a load function has read."""
+    value = f"t{word // 4}.{'xyzw'[word % 4]}"
+    return {"float": f"uintBitsToFloat({value})", "uint": value, "int": f"int({value})"}[kind]
 
 
 def word_bits(kind, value):
@@ -143,9 +149,7 @@ def storage_loader(source, struct, function, parameter, binding, array):
              f"    uint first = {texels}u * {parameter};"]
     lines += [f"    uvec4 t{k} = {array}_texels_in[first + {k}u];" for k in range(texels)]
     lines.append(f"    {struct} v;")
-    for word, (kind, name) in enumerate(fields):
-        value = f"t{word // 4}.{'xyzw'[word % 4]}"
-        lines.append(f"    v.{name} = " + {"float": f"uintBitsToFloat({value})", "uint": value, "int": f"int({value})"}[kind] + ";")
+    lines += [f"    v.{name} = {word_value(kind, word)};" for word, (kind, name) in enumerate(fields)]
     lines += ["    return v;", "}"]
     return f"// {struct}: {texels} uvec4 loads from its storage buffer.\n" + "\n".join(lines) + "\n"
 
