@@ -6,6 +6,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "lib/bindings.glsl"
+#include "lib/queue.glsl"
 #include "lib/rng.glsl"
 #include "lib/sampling.glsl"
 #include "lib/camera.glsl"
@@ -18,20 +19,7 @@ layout(local_size_x = WORKGROUP_SIZE) in;
 void main() {
     uint i = gl_GlobalInvocationID.x;
     uint total = push.pixel_count * push.sample_count;
-    if (i == 0u) {
-        counters.ray_count[0] = total;
-        counters.ray_count[1] = 0u;
-        counters.shadow_count = 0u;
-        counters.nonfinite_samples = 0u;
-        counters.escaped_rays = 0u;
-        counters.traced_rays = 0u;
-        counters.traced_shadow_rays = 0u;
-        counters.extend_args.x = (total + WORKGROUP_SIZE - 1u) / WORKGROUP_SIZE;
-        counters.extend_args.y = 1u;
-        counters.extend_args.z = 1u;
-        counters.connect_args.y = 1u;
-        counters.connect_args.z = 1u;
-    }
+    if (i == 0u) reset_counters(total, 0u);
     if (i >= total) return;
 
     // Sample-major order inside the wave: path i is sample i / pixel_count of pixel i % pixel_count.

@@ -9,6 +9,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "lib/bindings.glsl"
+#include "lib/queue.glsl"
 #include "lib/rng.glsl"
 #include "lib/sampling.glsl"
 #include "lib/effects.glsl"
@@ -21,20 +22,7 @@ layout(local_size_x = WORKGROUP_SIZE) in;
 void main() {
     uint i = gl_GlobalInvocationID.x;
     uint total = push.pixel_count * push.sample_count;
-    if (i == 0u) {
-        counters.ray_count[0] = total;
-        counters.ray_count[1] = 0u;
-        counters.shadow_count = total;
-        counters.nonfinite_samples = 0u;
-        counters.escaped_rays = 0u;
-        counters.traced_rays = 0u;
-        counters.traced_shadow_rays = 0u;
-        counters.extend_args.x = (total + WORKGROUP_SIZE - 1u) / WORKGROUP_SIZE;
-        counters.extend_args.y = 1u;
-        counters.extend_args.z = 1u;
-        counters.connect_args.y = 1u;
-        counters.connect_args.z = 1u;
-    }
+    if (i == 0u) reset_counters(total, total);
     if (i >= total) return;
 
     // Light subpaths draw from the path's PCG stream whatever --sampler says (the Sobol' dimensions are the camera's).

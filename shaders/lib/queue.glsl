@@ -32,4 +32,19 @@
         uint true_ = subgroupBallotBitCount(subgroupBallot(condition));        \
         if (subgroupElect() && true_ > 0u) atomicAdd(counter, true_);          \
     }
+
+// The counters at the start of a wave, all 14 words of QueueCounters (layout.h; offsets checked by test_layout) in
+// four vector stores: `total` rays in queue 0 and its extend dispatch, `shadow_count` shadow rays (light tracing
+// hands every path's first splat to connect), everything else 0 and the unused dispatch sizes 1. Called by the
+// wave's first invocation only, but on lavapipe every SIMD group runs each store's loop over its lanes, masked, so
+// four store instructions cost each group far less than one per word.
+layout(std430, binding = BINDING_COUNTERS) coherent writeonly buffer CounterQuads { uvec4 counter_quads[]; };
+layout(std430, binding = BINDING_COUNTERS) coherent writeonly buffer CounterPairs { uvec2 counter_pairs[]; };
+void reset_counters(uint total, uint shadow_count) {
+    uint groups = (total + WORKGROUP_SIZE - 1u) / WORKGROUP_SIZE;
+    counter_quads[0] = uvec4(total, 0u, shadow_count, 0u);  // ray_count[0], [1], shadow_count, shadow_count_active
+    counter_quads[1] = uvec4(groups, 1u, 1u, 0u);          // extend_args, connect_args.x (advance sets it)
+    counter_quads[2] = uvec4(1u, 1u, 0u, 0u);              // connect_args.y, .z, nonfinite_samples, escaped_rays
+    counter_pairs[6] = uvec2(0u, 0u);                      // traced_rays, traced_shadow_rays
+}
 #endif
