@@ -33,7 +33,8 @@
         if (subgroupElect() && true_ > 0u) atomicAdd(counter, true_);          \
     }
 
-// The counters at the start of a wave, all 14 words of QueueCounters (layout.h; offsets checked by test_layout) in
+// The counters at the start of a wave, all 14 words of QueueCounters (layout.h; every field's offset checked by
+// test_layout, since these stores name the words by position) in
 // four vector stores: `total` rays in queue 0 and its extend dispatch, `shadow_count` shadow rays (light tracing
 // hands every path's first splat to connect), everything else 0 and the unused dispatch sizes 1. Called by the
 // wave's first invocation only, but on lavapipe every SIMD group runs each store's loop over its lanes, masked, so

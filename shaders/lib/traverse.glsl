@@ -113,9 +113,10 @@ uint child_count(uint word) { return word & ((1u << WIDE_COUNT_BITS) - 1u); }
 // per word and lane; README "Wide BVH nodes" has the A/B rounds). The word is stored whether or not the child was
 // hit, above the top where it was not (the array's last entry takes a store at a full stack), and only the size
 // depends on the hit: on lavapipe a store under a per-lane condition cost more than the store itself.
-#define PUSH_ENTRY(e)                                                                       \
-    stack[min(stack_size, TRAVERSAL_STACK_SIZE + 1u)] = (e).word;                            \
-    stack_size += (e).entry < MISSED_CHILD && stack_size < TRAVERSAL_STACK_SIZE + 1u ? 1u : 0u;
+#define PUSH_WORD(word, wanted)                                                             \
+    stack[min(stack_size, TRAVERSAL_STACK_SIZE + 1u)] = (word);                              \
+    stack_size += (wanted) && stack_size < TRAVERSAL_STACK_SIZE + 1u ? 1u : 0u;
+#define PUSH_ENTRY(e) PUSH_WORD((e).word, (e).entry < MISSED_CHILD)
 
 // Takes the top stack entry; one pushed at the top level (below instance_base) returns the ray to world space.
 #define LEAVE_INSTANCE_BELOW_BASE()                                                            \
@@ -235,8 +236,7 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin
                 second_index = second_leaf ? index : 0u;
                 second_count = second_leaf ? count : 0u;
                 if (index != INVALID_INDEX && !second_leaf) {
-                    stack[min(stack_size, TRAVERSAL_STACK_SIZE + 1u)] = index << WIDE_COUNT_BITS | count;
-                    stack_size += stack_size < TRAVERSAL_STACK_SIZE + 1u ? 1u : 0u;
+                    PUSH_WORD(index << WIDE_COUNT_BITS | count, true)
                 }
                 index = child_index(leaf_word);
                 count = child_count(leaf_word);

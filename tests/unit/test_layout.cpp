@@ -150,6 +150,8 @@ FH_OFFSET(QueueCounters, extend_args, 16);  // std430: a struct of uints aligns 
 FH_OFFSET(QueueCounters, connect_args, 28);
 FH_OFFSET(QueueCounters, nonfinite_samples, 40);
 FH_OFFSET(QueueCounters, escaped_rays, 44);
+FH_OFFSET(QueueCounters, traced_rays, 48);  // lib/queue.glsl reset_counters writes the 14 words by position
+FH_OFFSET(QueueCounters, traced_shadow_rays, 52);
 
 FH_SIZE(PathState, 32);
 FH_OFFSET(PathState, bsdf_pdf, 12);
