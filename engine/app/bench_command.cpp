@@ -278,10 +278,10 @@ int run_bench(const BenchCommand& c) {
     base = with_device_defaults(base, *context, prepared.packed);
     SceneCamera camera = choose_camera(prepared.scene, -1);
     std::printf("scene %s: %zu triangles (%zu stored, %zu instances), loaded in %.3f s, BVH %zu nodes built in %.3f s "
-                "(SAH cost %.2f)\n",
+                "(SAH cost %.2f binary, %.2f 4-wide)\n",
                 scene_file.string().c_str(), prepared.scene.rendered_triangle_count(), prepared.scene.triangle_count(),
                 prepared.scene.instances.size(), prepared.load_seconds,
-                prepared.bvh_nodes, prepared.bvh_build_seconds, prepared.sah_cost);
+                prepared.bvh_nodes, prepared.bvh_build_seconds, prepared.sah_cost, prepared.wide_sah_cost);
     print_memory_figures(prepared, base);
     if (!c.trace_rays.empty()) return trace_ray_file(*context, prepared, base, c);
     std::printf("device %s; integrator %s, %u spp, max depth %u, waves of %u paths, rays %s, median of %u\n",

@@ -119,6 +119,7 @@ void write_stats(const std::filesystem::path& file, const RenderCommand& c, cons
     j["bvh_nodes"] = prepared.bvh_nodes;
     j["bvh_depth"] = prepared.bvh_depth;
     j["bvh_sah_cost"] = prepared.sah_cost;
+    j["bvh_wide_sah_cost"] = prepared.wide_sah_cost;
     j["triangles"] = prepared.scene.rendered_triangle_count();  // rendered (every instance)
     j["triangles_stored"] = prepared.scene.triangle_count();    // in device memory (instanced meshes once)
     j["instances"] = prepared.scene.instances.size();

@@ -48,6 +48,7 @@ PreparedScene prepare_scene(const std::filesystem::path& file, const RenderSetti
                          " exceeds the traversal stack (" + std::to_string(MAX_TRAVERSAL_DEPTH) + ")");
     prepared.bvh_build_seconds = bvh.build_seconds;
     prepared.sah_cost = bvh.sah_cost;
+    prepared.wide_sah_cost = bvh.wide_sah_cost;
     prepared.bvh_nodes = bvh.node_count;
     prepared.bvh_depth = bvh.max_depth;
     prepared.packed = pack_scene(prepared.scene, bvh, load_environment(settings));

@@ -18,6 +18,7 @@ struct PreparedScene {
     double load_seconds = 0;
     double bvh_build_seconds = 0;
     double sah_cost = 0;
+    double wide_sah_cost = 0;
     size_t bvh_nodes = 0;
     uint32_t bvh_depth = 0;
 };

@@ -17,11 +17,6 @@
 namespace fh {
 namespace {
 
-// Surface area heuristic costs (Goldsmith & Salmon 1987; MacDonald & Booth 1990): visiting an interior
-// node costs TRAVERSAL_COST, testing one triangle INTERSECTION_COST; a node is reached by a random ray with
-// probability area(node) / area(root).
-constexpr double TRAVERSAL_COST = 1.0;
-constexpr double INTERSECTION_COST = 1.0;
 constexpr uint32_t MAX_BINS = 256;
 
 // x, y, z and a spare lane in one SIMD register (a GCC/Clang vector type): growing a box is two instructions where
@@ -256,8 +251,8 @@ NodeSplit split_node(std::vector<PrimRef>& refs, const Task& task, const BvhOpti
         for (int a = 0; a < 3; ++a)
             binner.scale[a] = extent[a] > 0.0f ? float(options.bin_count) * (1.0f - 1e-6f) / extent[a] : 0.0f;
         const Split split = find_split(refs, task, centroids, binner, bins);
-        const double leaf_cost = INTERSECTION_COST * count;
-        const double split_cost = TRAVERSAL_COST + INTERSECTION_COST * split.cost / out.area;
+        const double leaf_cost = SAH_TRIANGLE_COST * count;
+        const double split_cost = SAH_NODE_COST + SAH_TRIANGLE_COST * split.cost / out.area;
         const bool prefer_leaf = split.axis < 0 || leaf_cost <= split_cost;
         if (split.axis >= 0 && !(prefer_leaf && count <= options.max_leaf_size)) {
             axis = split.axis;
@@ -318,12 +313,12 @@ Subtree build_serially(std::vector<PrimRef>& refs, const Task& root, const BvhOp
             const uint32_t count = task.end - task.begin;
             node.child_or_first = task.begin;
             node.count_and_axis = count;
-            out.weighted_cost += split.area * INTERSECTION_COST * count;
+            out.weighted_cost += split.area * SAH_TRIANGLE_COST * count;
             ++out.leaf_count;
             out.max_depth = std::max(out.max_depth, task.depth);
         } else {
             node.count_and_axis = uint32_t(split.axis) << gpu::BVH_LEAF_COUNT_BITS;
-            out.weighted_cost += split.area * TRAVERSAL_COST;
+            out.weighted_cost += split.area * SAH_NODE_COST;
             // The first child is visited next, so it lands at node_index + 1 (depth-first layout).
             stack.push_back({split.mid, task.end, node_index, task.depth + 1, split.second});
             stack.push_back({task.begin, split.mid, gpu::INVALID_INDEX, task.depth + 1, split.first});
@@ -393,7 +388,7 @@ Subtree join_subtrees(const NodeSplit& split, const Subtree& left, const Subtree
             out.nodes.push_back(node);
         }
     }
-    out.weighted_cost = split.area * TRAVERSAL_COST + left.weighted_cost + right.weighted_cost;
+    out.weighted_cost = split.area * SAH_NODE_COST + left.weighted_cost + right.weighted_cost;
     out.leaf_count = left.leaf_count + right.leaf_count;
     out.max_depth = std::max(left.max_depth, right.max_depth);
     return out;
@@ -408,6 +403,7 @@ Bvh build_from_refs(std::vector<PrimRef> refs, const BvhOptions& options,
     bvh.nodes = std::move(tree.nodes);
     bvh.leaf_count = tree.leaf_count;
     bvh.max_depth = tree.max_depth;
+    bvh.max_leaf_size = options.max_leaf_size;
     bvh.triangle_order.resize(triangle_count);
     for (uint32_t i = 0; i < triangle_count; ++i) bvh.triangle_order[i] = refs[i].triangle();
     // A scene whose root box has no area (all triangles on one line or point) reports unnormalized cost.

@@ -10,6 +10,12 @@
 
 namespace fh {
 
+// Surface area heuristic costs (Goldsmith & Salmon 1987; MacDonald & Booth 1990): visiting a node costs SAH_NODE_COST,
+// testing one triangle SAH_TRIANGLE_COST; a node is reached by a random ray with probability area(node) / area(root).
+// The binary build and the collapse into wide nodes (wide_bvh.h) weigh by the same two.
+constexpr double SAH_NODE_COST = 1.0;
+constexpr double SAH_TRIANGLE_COST = 1.0;
+
 struct BvhOptions {
     uint32_t max_leaf_size = 4;  // 1 .. 2^BVH_LEAF_COUNT_BITS - 1; larger nodes are always split
     uint32_t bin_count = 16;     // SAH bins per axis, 2 .. 256 (Wald 2007 uses 16 or 32)
@@ -24,7 +30,8 @@ struct Bvh {
     // child_or_first; a leaf's triangles are triangle_order[child_or_first .. + count).
     std::vector<gpu::BvhNode> nodes;
     std::vector<uint32_t> triangle_order;  // leaf order index -> original triangle index
-    double sah_cost = 0.0;     // expected cost of a random ray (traversal 1, intersection 1) / root area
+    double sah_cost = 0.0;     // expected cost of a random ray (SAH_NODE_COST, SAH_TRIANGLE_COST) / root area
+    uint32_t max_leaf_size = 0;  // the options': no leaf holds more, nor may a wide leaf (wide_bvh.h)
     uint32_t leaf_count = 0;
     uint32_t max_depth = 0;    // depth of the deepest leaf, root at depth 0 (a traversal stack needs this many)
     double build_seconds = 0.0;

@@ -68,13 +68,14 @@ void check_stack_bound(SceneBvh& s) {
 SceneBvh make_single_level(const Bvh& bvh) {
     const auto start = std::chrono::steady_clock::now();
     SceneBvh s;
-    WideBvh wide = make_wide_nodes(bvh.nodes);
+    WideBvh wide = make_wide_nodes(bvh.nodes, bvh.max_leaf_size);
     s.nodes = std::move(wide.nodes);
     set_bounds(bvh.nodes, s);
     check_stack_bound(s);
     s.triangle_order.reserve(wide.leaf_order.size());
     for (uint32_t leaf : wide.leaf_order) s.triangle_order.push_back(bvh.triangle_order[leaf]);
     s.sah_cost = bvh.sah_cost;
+    s.wide_sah_cost = wide.sah_cost;
     s.node_count = bvh.nodes.size();
     s.max_depth = bvh.max_depth;
     // The binary build and the collapse into wide nodes.
@@ -109,7 +110,7 @@ SceneBvh build_scene_bvh(const Scene& scene, const BvhOptions& options) {
         roots[m] = bvh.nodes[0];
         s.node_count += bvh.nodes.size();
         deepest_mesh = std::max(deepest_mesh, bvh.max_depth);
-        const WideBvh wide = make_wide_nodes(bvh.nodes);
+        const WideBvh wide = make_wide_nodes(bvh.nodes, bvh.max_leaf_size);
         leaf_offset[m] = uint32_t(s.triangle_order.size());
         for (uint32_t leaf : wide.leaf_order)
             s.triangle_order.push_back(uint32_t(meshes[m].first_triangle) + bvh.triangle_order[leaf]);
@@ -129,7 +130,8 @@ SceneBvh build_scene_bvh(const Scene& scene, const BvhOptions& options) {
     s.node_count += tlas.nodes.size();
     s.sah_cost = tlas.sah_cost;
     s.max_depth = tlas.max_depth + 1 + deepest_mesh;
-    WideBvh top_wide = make_wide_nodes(tlas.nodes);
+    WideBvh top_wide = make_wide_nodes(tlas.nodes, tlas.max_leaf_size);
+    s.wide_sah_cost = top_wide.sah_cost;
     s.nodes = std::move(top_wide.nodes);
     set_bounds(tlas.nodes, s);
     for (gpu::BvhWideNode& w : s.nodes) mark_instance_leaves(w);

@@ -15,6 +15,7 @@ struct SceneBvh {
     std::vector<uint32_t> triangle_order;      // leaf order -> scene triangle
     std::vector<gpu::Instance> instances;      // empty: one level
     double sah_cost = 0.0;                     // of the one level, or of the top level
+    double wide_sah_cost = 0.0;                // the same of the wide nodes (wide_bvh.h)
     size_t node_count = 0;                     // BvhNodes built, over every level
     uint32_t max_depth = 0;                    // deepest binary leaf, top level and mesh level together
     uint32_t stack_bound = 0;                  // traversal stack entries the wide tree can need (wide_bvh.h)

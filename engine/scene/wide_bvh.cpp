@@ -4,6 +4,7 @@
 #include "scene/bvh.h"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstddef>
@@ -68,34 +69,97 @@ struct Children {
     uint32_t size = 0;
 };
 
-// The binary nodes a wide node over binary node `root` gets as children: root's two, then the interior child of
-// largest surface area opened into its two, until four (kept in tree order, first child first).
-Children collect_children(const std::vector<gpu::BvhNode>& nodes, uint32_t root) {
+// The SAH-optimal collapse (Ylitie et al. 2017, sec. 3.1, with four slots): cost[n][i - 1] is the least expected cost
+// (SAH_NODE_COST per wide node, SAH_TRIANGLE_COST per triangle, each weighted by its box's area) of binary node n's
+// subtree held in at most i slots of a wide node. One slot holds n as a leaf (at most max_leaf triangles) or as a wide
+// node over n; i > 1 slots are shared between n's two children, or i - 1 do as well.
+struct CollapsePlan {
+    std::vector<std::array<float, gpu::BVH_WIDTH>> cost;
+    // Per node: bit 0, one slot holds n as a leaf; for i = 2 .. 4, bits 2 (i - 2) + 1 and 2 (i - 2) + 2, the left
+    // child's share k of i slots (0: i - 1 slots); bits 7 and 8, the left child's share of the four slots of the
+    // wide node over n.
+    std::vector<uint16_t> choice;
+    std::vector<uint32_t> count, first;  // the subtree's triangles: how many, the first in leaf order
+};
+
+constexpr uint32_t NODE_SHARE_SHIFT = 7;
+uint32_t share_shift(uint32_t slots) { return 2 * (slots - 2) + 1; }
+
+CollapsePlan plan_collapse(const std::vector<gpu::BvhNode>& nodes, uint32_t max_leaf) {
+    CollapsePlan p;
+    const size_t size = nodes.size();
+    p.cost.resize(size);
+    p.choice.assign(size, 0);
+    p.count.resize(size);
+    p.first.resize(size);
+    // Children come after their parents (depth-first layout), so one pass from the back sees them first.
+    for (size_t n = size; n-- > 0;) {
+        const gpu::BvhNode& b = nodes[n];
+        const double area = surface_area(b);
+        if (const uint32_t count = leaf_count(b)) {
+            p.count[n] = count;
+            p.first[n] = b.child_or_first;
+            p.cost[n].fill(float(area * SAH_TRIANGLE_COST * count));
+            p.choice[n] = 1;
+            continue;
+        }
+        const size_t l = n + 1, r = b.child_or_first;
+        if (r <= l || r >= size || p.first[r] != p.first[l] + p.count[l])
+            throw std::invalid_argument("wide_bvh.cpp: binary node " + std::to_string(n) +
+                                        " is not laid out depth-first with its subtree's triangles consecutive");
+        p.count[n] = p.count[l] + p.count[r];
+        p.first[n] = p.first[l];
+        // The cheapest share of `slots` between the two children (the left one's share in `left`).
+        auto share = [&](uint32_t slots, uint32_t& left) {
+            double best = INFINITY;
+            for (uint32_t k = 1; k < slots; ++k) {
+                const double c = double(p.cost[l][k - 1]) + double(p.cost[r][slots - k - 1]);
+                if (c < best) best = c, left = k;
+            }
+            return best;
+        };
+        uint32_t node_share = 1;
+        const double as_node = area * SAH_NODE_COST + share(gpu::BVH_WIDTH, node_share);
+        const double as_leaf = p.count[n] <= max_leaf ? area * SAH_TRIANGLE_COST * p.count[n] : INFINITY;
+        uint32_t choice = node_share << NODE_SHARE_SHIFT | (as_leaf <= as_node ? 1u : 0u);
+        p.cost[n][0] = float(std::min(as_leaf, as_node));
+        for (uint32_t slots = 2; slots <= gpu::BVH_WIDTH; ++slots) {
+            uint32_t left = 1;
+            const double shared = share(slots, left);
+            const bool fewer = !(shared < double(p.cost[n][slots - 2]));
+            p.cost[n][slots - 1] = fewer ? p.cost[n][slots - 2] : float(shared);
+            choice |= (fewer ? 0u : left) << share_shift(slots);
+        }
+        p.choice[n] = uint16_t(choice);
+    }
+    return p;
+}
+
+bool is_planned_leaf(const CollapsePlan& p, uint32_t n) { return (p.choice[n] & 1u) != 0; }
+
+// Appends the slots of n's subtree in at most `slots` slots, in tree order (first child first).
+void gather_slots(const std::vector<gpu::BvhNode>& nodes, const CollapsePlan& p, uint32_t n, uint32_t slots,
+                  Children& c) {
+    for (; slots > 1 && !leaf_count(nodes[n]); --slots) {
+        const uint32_t left = (p.choice[n] >> share_shift(slots)) & 3u;
+        if (left == 0) continue;
+        gather_slots(nodes, p, n + 1, left, c);
+        gather_slots(nodes, p, nodes[n].child_or_first, slots - left, c);
+        return;
+    }
+    c.node[c.size++] = n;
+}
+
+// The children of the wide node over binary node n (n itself for a BVH that is one leaf).
+Children collect_children(const std::vector<gpu::BvhNode>& nodes, const CollapsePlan& p, uint32_t n) {
     Children c;
-    if (leaf_count(nodes[root])) {  // a BVH that is one leaf
-        c.node[c.size++] = root;
+    if (leaf_count(nodes[n])) {
+        c.node[c.size++] = n;
         return c;
     }
-    c.node[c.size++] = root + 1;
-    c.node[c.size++] = nodes[root].child_or_first;
-    while (c.size < gpu::BVH_WIDTH) {
-        int open = -1;
-        float open_area = 0.0f;
-        for (uint32_t k = 0; k < c.size; ++k) {
-            if (leaf_count(nodes[c.node[k]])) continue;
-            const float area = surface_area(nodes[c.node[k]]);
-            if (open < 0 || area > open_area) {
-                open = int(k);
-                open_area = area;
-            }
-        }
-        if (open < 0) break;
-        const uint32_t opened = c.node[open];
-        for (uint32_t k = c.size; k > uint32_t(open) + 1; --k) c.node[k] = c.node[k - 1];
-        c.node[open] = opened + 1;
-        c.node[open + 1] = nodes[opened].child_or_first;
-        ++c.size;
-    }
+    const uint32_t left = (p.choice[n] >> NODE_SHARE_SHIFT) & 3u;
+    gather_slots(nodes, p, n + 1, left, c);
+    gather_slots(nodes, p, nodes[n].child_or_first, gpu::BVH_WIDTH - left, c);
     return c;
 }
 
@@ -166,9 +230,10 @@ gpu::BvhWideNode make_empty_node() {
 
 }  // namespace
 
-WideBvh make_wide_nodes(const std::vector<gpu::BvhNode>& nodes) {
+WideBvh make_wide_nodes(const std::vector<gpu::BvhNode>& nodes, uint32_t max_leaf) {
     WideBvh wide;
     if (nodes.empty()) return wide;
+    const CollapsePlan plan = plan_collapse(nodes, std::min(max_leaf, gpu::WIDE_MAX_LEAF));
     // Depth-first over (binary interior node, the wide node made for it); a node's interior children are allocated
     // together, so they are consecutive, and after it.
     struct Task {
@@ -176,26 +241,29 @@ WideBvh make_wide_nodes(const std::vector<gpu::BvhNode>& nodes) {
     };
     std::vector<Task> tasks = {{0, 0}};
     wide.nodes.push_back(make_empty_node());
+    double weighted_cost = 0.0;
     while (!tasks.empty()) {
         const Task task = tasks.back();
         tasks.pop_back();
-        const Children children = collect_children(nodes, task.binary);
+        const Children children = collect_children(nodes, plan, task.binary);
+        weighted_cost += SAH_NODE_COST * surface_area(nodes[task.binary]);
         gpu::BvhWideNode w = make_empty_node();
         quantise_boxes(nodes, children, w);
         const uint32_t first_node = uint32_t(wide.nodes.size());
         write_first_leaf(w, wide.leaf_order.size());
         const size_t first_task = tasks.size();
         for (uint32_t k = 0; k < children.size; ++k) {
-            const gpu::BvhNode& n = nodes[children.node[k]];
-            const uint32_t count = leaf_count(n);
+            const uint32_t child = children.node[k];
+            const uint32_t count = is_planned_leaf(plan, child) ? plan.count[child] : 0;
             if (count > gpu::WIDE_MAX_LEAF)
                 throw std::invalid_argument("wide_bvh.cpp: a BVH leaf of " + std::to_string(count) +
                                             " triangles; wide nodes hold at most " + std::to_string(gpu::WIDE_MAX_LEAF));
             write_wide_kind(w, k, count);
             if (count) {
-                for (uint32_t t = 0; t < count; ++t) wide.leaf_order.push_back(n.child_or_first + t);
+                weighted_cost += SAH_TRIANGLE_COST * count * surface_area(nodes[child]);
+                for (uint32_t t = 0; t < count; ++t) wide.leaf_order.push_back(plan.first[child] + t);
             } else {
-                tasks.push_back({children.node[k], uint32_t(wide.nodes.size())});
+                tasks.push_back({child, uint32_t(wide.nodes.size())});
                 wide.nodes.push_back(make_empty_node());
             }
         }
@@ -207,6 +275,8 @@ WideBvh make_wide_nodes(const std::vector<gpu::BvhNode>& nodes) {
         throw std::invalid_argument("wide_bvh.cpp: " + std::to_string(wide.leaf_order.size()) +
                                     " BVH leaf triangles; wide nodes name at most " +
                                     std::to_string(uint64_t(gpu::WIDE_MAX_INDEX) + 1));
+    const double root_area = surface_area(nodes[0]);
+    wide.sah_cost = root_area > 0.0 ? weighted_cost / root_area : weighted_cost;
     return wide;
 }
 

@@ -25,14 +25,16 @@ struct WideBvh {
     // Leaf position as the wide nodes name it -> leaf position of the binary BVH: a node's leaf children's
     // triangles are consecutive, so the triangles are reordered once more (compose with Bvh::triangle_order).
     std::vector<uint32_t> leaf_order;
+    double sah_cost = 0.0;  // of the wide tree (wide nodes and leaves, weighted as in make_wide_nodes) / the root's area
 };
 
-// The wide nodes of a depth-first binary BVH (layout.h BvhNode). Each wide node takes the children of a binary
-// interior node and opens the child of largest surface area until it has four (or only leaves are left). A BVH that
-// is one leaf gives one node with that leaf as its only child. Each quantised box contains its binary node's box.
-// Throws std::invalid_argument for a leaf of more than gpu::WIDE_MAX_LEAF triangles, or more nodes or leaves than a
-// wide node can name.
-WideBvh make_wide_nodes(const std::vector<gpu::BvhNode>& nodes);
+// The wide nodes of a depth-first binary BVH (layout.h BvhNode), collapsed at least SAH cost (SAH_NODE_COST per wide
+// node, SAH_TRIANGLE_COST per triangle; Ylitie et al. 2017): each wide node takes up to four of the nodes below a binary
+// interior node, and a subtree of at most max_leaf triangles may become one leaf. A BVH that is one leaf gives one node
+// with that leaf as its only child. Each quantised box contains its binary node's box. Throws std::invalid_argument
+// for a leaf of more than gpu::WIDE_MAX_LEAF triangles, a binary tree not laid out depth-first, or more nodes or leaves
+// than a wide node can name.
+WideBvh make_wide_nodes(const std::vector<gpu::BvhNode>& nodes, uint32_t max_leaf);
 
 // Slot k's kind (layout.h BvhWideNode): 0 a wide node, 1 .. WIDE_MAX_LEAF triangles, WIDE_INSTANCE_COUNT an instance,
 // WIDE_NO_CHILD none.

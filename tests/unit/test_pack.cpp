@@ -81,7 +81,7 @@ TEST(Pack, StoresTrianglesInLeafOrder) {
     const fh::PackedScene packed = fh::pack_scene(s, bvh);
     ASSERT_EQ(packed.positions.size(), 500u);
     ASSERT_EQ(packed.shading.size(), 500u);
-    const fh::WideBvh wide = fh::make_wide_nodes(bvh.nodes);
+    const fh::WideBvh wide = fh::make_wide_nodes(bvh.nodes, bvh.max_leaf_size);
     EXPECT_EQ(packed.nodes.size(), wide.nodes.size());
     EXPECT_EQ(packed.materials.size(), 3u);
     for (size_t i = 0; i < 500; ++i) {

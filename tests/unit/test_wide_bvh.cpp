@@ -1,5 +1,6 @@
 // make_wide_nodes: every quantised box holds its subtree's triangles exactly as the GPU dequantises it, every triangle
-// is in one leaf, children follow their parents, and the traversal stack bound is what a walk of the tree gives.
+// is in one leaf, children follow their parents, the collapse is the least SAH cost an exhaustive search finds, and the
+// traversal stack bound is what a walk of the tree gives.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -30,6 +31,7 @@ struct Box {
 struct Walk {
     std::vector<int> seen;  // per leaf-order triangle
     uint32_t nodes = 0, children = 0;
+    uint32_t largest_leaf = 0;
 };
 
 // The exact box of the triangles under wide node `index`, checking every child's quantised box holds its part.
@@ -47,6 +49,7 @@ Box check_node(const std::vector<BvhWideNode>& wide, const std::vector<uint32_t>
             EXPECT_GT(c.index, index) << "children come after their parent";
             exact = check_node(wide, order, p, c.index, walk);
         } else {
+            walk.largest_leaf = std::max(walk.largest_leaf, c.count);
             for (uint32_t t = c.index; t < c.index + c.count; ++t) {
                 ++walk.seen.at(t);
                 for (int v = 0; v < 3; ++v) exact.grow(p[3 * size_t(order.at(t)) + v]);
@@ -77,7 +80,7 @@ Box check_node(const std::vector<BvhWideNode>& wide, const std::vector<uint32_t>
 
 std::vector<BvhWideNode> check_wide(std::span<const glm::vec3> p, const fh::BvhOptions& options = {}) {
     const fh::Bvh bvh = fh::build_bvh(p, options);
-    const fh::WideBvh collapsed = fh::make_wide_nodes(bvh.nodes);
+    const fh::WideBvh collapsed = fh::make_wide_nodes(bvh.nodes, bvh.max_leaf_size);
     const std::vector<BvhWideNode>& wide = collapsed.nodes;
     std::vector<uint32_t> order;  // what make_single_level gives
     for (uint32_t leaf : collapsed.leaf_order) order.push_back(bvh.triangle_order.at(leaf));
@@ -88,6 +91,7 @@ std::vector<BvhWideNode> check_wide(std::span<const glm::vec3> p, const fh::BvhO
     EXPECT_EQ(walk.nodes, wide.size()) << "every node is reached once";
     EXPECT_EQ(std::count(walk.seen.begin(), walk.seen.end(), 1), std::ptrdiff_t(p.size() / 3))
         << "every triangle in exactly one leaf";
+    EXPECT_LE(walk.largest_leaf, options.max_leaf_size) << "leaves merge only up to the leaf size asked for";
     // Each wide node replaces one to three binary interior nodes.
     const size_t interior = (bvh.nodes.size() - 1) / 2;
     EXPECT_LE(wide.size(), std::max<size_t>(interior, 1));
@@ -113,6 +117,76 @@ TEST(WideBvh, FarFromTheOriginAndTinyBoxesStayConservative) {
     check_wide(huge);
 }
 
+// The least SAH cost of a collapse, by exhaustive search rather than make_wide_nodes' table: a binary node in one slot
+// is a leaf (at most max_leaf triangles) or a wide node whose children are any set of at most four nodes below it
+// that opening interior nodes one at a time reaches.
+struct ExhaustiveCollapse {
+    const std::vector<fh::gpu::BvhNode>& nodes;
+    uint32_t max_leaf;
+
+    static double area(const fh::gpu::BvhNode& n) {  // as wide_bvh.cpp weighs a box
+        const glm::vec3 d = glm::max(glm::vec3(n.max_x - n.min_x, n.max_y - n.min_y, n.max_z - n.min_z), glm::vec3(0.0f));
+        return d.x * d.y + d.y * d.z + d.z * d.x;
+    }
+    uint32_t count(uint32_t n) const {
+        const uint32_t c = fh::leaf_count(nodes[n]);
+        return c ? c : count(n + 1) + count(nodes[n].child_or_first);
+    }
+    double as_node(uint32_t n) const {
+        return area(nodes[n]) * fh::SAH_NODE_COST + fill({n + 1, nodes[n].child_or_first});
+    }
+    double slot(uint32_t n) const {
+        const uint32_t c = count(n);
+        double best = c <= max_leaf ? area(nodes[n]) * fh::SAH_TRIANGLE_COST * c : INFINITY;
+        if (!fh::leaf_count(nodes[n])) best = std::min(best, as_node(n));
+        return best;
+    }
+    double fill(const std::vector<uint32_t>& frontier) const {
+        double best = 0.0;
+        for (uint32_t n : frontier) best += slot(n);
+        if (frontier.size() == fh::gpu::BVH_WIDTH) return best;
+        for (size_t i = 0; i < frontier.size(); ++i) {
+            const uint32_t n = frontier[i];
+            if (fh::leaf_count(nodes[n])) continue;
+            std::vector<uint32_t> opened = frontier;
+            opened[i] = n + 1;
+            opened.insert(opened.begin() + std::ptrdiff_t(i) + 1, nodes[n].child_or_first);
+            best = std::min(best, fill(opened));
+        }
+        return best;
+    }
+};
+
+TEST(WideBvh, CollapseIsTheLeastSahCost) {
+    // Small soups (the search is exponential), leaves of one to four triangles; leaves of one merged into wide leaves of
+    // up to four or thirteen.
+    struct Sizes {
+        uint32_t build, collapse;
+    };
+    int checked = 0, merged = 0;
+    for (const Sizes leaf : {Sizes{1, 1}, Sizes{2, 2}, Sizes{4, 4}, Sizes{1, 4}, Sizes{1, 13}})
+        for (uint32_t seed = 1; seed <= 6; ++seed) {
+            const size_t triangles = 6 + 5 * seed;
+            const auto p = fh::test::make_random_soup(triangles, seed * 7 + leaf.build, 10.0f, 0.5f + float(seed));
+            const fh::Bvh bvh = fh::build_bvh(p, {leaf.build, 16, 64});
+            if (fh::leaf_count(bvh.nodes[0])) continue;
+            const fh::WideBvh wide = fh::make_wide_nodes(bvh.nodes, leaf.collapse);
+            const ExhaustiveCollapse search{bvh.nodes, leaf.collapse};
+            const double least = search.as_node(0) / ExhaustiveCollapse::area(bvh.nodes[0]);
+            EXPECT_NEAR(wide.sah_cost, least, 1e-5 * least) << triangles << " triangles, leaves of " << leaf.build
+                                                             << " merged up to " << leaf.collapse;
+            ++checked;
+            for (const BvhWideNode& n : wide.nodes)
+                for (uint32_t k = 0; k < fh::gpu::BVH_WIDTH; ++k) {
+                    const uint32_t kind = fh::read_wide_kind(n, k);
+                    EXPECT_TRUE(kind == fh::gpu::WIDE_NO_CHILD || kind <= leaf.collapse);
+                    merged += kind != fh::gpu::WIDE_NO_CHILD && kind > leaf.build ? 1 : 0;
+                }
+        }
+    EXPECT_GE(checked, 25);
+    EXPECT_GT(merged, 0) << "some subtrees are cheapest as one leaf";
+}
+
 TEST(WideBvh, OneLeafIsOneNodeWithOneChild) {
     const std::vector<glm::vec3> one = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
     const std::vector<BvhWideNode> wide = check_wide(one);
@@ -122,15 +196,22 @@ TEST(WideBvh, OneLeafIsOneNodeWithOneChild) {
     EXPECT_EQ(fh::measure_stack_bound(wide, {}), 0u);
 }
 
+// Eight unit triangles in four far-apart pairs: with leaves of one triangle, the cheapest collapse is a root over four
+// nodes of two leaves each (a node over two pairs would span two gaps).
+std::vector<glm::vec3> make_four_pairs() {
+    std::vector<glm::vec3> eight;
+    for (int i = 0; i < 8; ++i) {
+        const float x = 100.0f * float(i / 2) + 2.0f * float(i % 2);
+        eight.insert(eight.end(), {{x, 0, 0}, {x + 1, 0, 0}, {x, 1, 0}});
+    }
+    return eight;
+}
+
 TEST(WideBvh, StackBoundIsTheWorstPathsPushes) {
-    // Two leaves: one push. Eight leaves of one triangle in a balanced tree: the root takes four subtrees of two
-    // leaves each, so three pushes at the root and one below.
+    // Two leaves: one push. Four pairs (make_four_pairs): three pushes at the root and one below.
     const std::vector<glm::vec3> two = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {10, 0, 0}, {11, 0, 0}, {10, 1, 0}};
     EXPECT_EQ(fh::measure_stack_bound(check_wide(two, {1, 16, 64}), {}), 1u);
-    std::vector<glm::vec3> eight;
-    for (int i = 0; i < 8; ++i)
-        eight.insert(eight.end(), {{10.0f * i, 0, 0}, {10.0f * i + 1, 0, 0}, {10.0f * i, 1, 0}});
-    const auto wide = check_wide(eight, {1, 16, 64});
+    const auto wide = check_wide(make_four_pairs(), {1, 16, 64});
     EXPECT_EQ(wide.size(), 5u);
     EXPECT_EQ(fh::measure_stack_bound(wide, {}), 4u);
     // A deep, list-like tree (RespectsMaxDepth's nested triangles) stays within the GPU's stack.
@@ -145,9 +226,9 @@ TEST(WideBvh, StackBoundIsTheWorstPathsPushes) {
 
 TEST(WideBvh, RefusesLeavesItCannotCount) {
     fh::gpu::BvhNode leaf{0, 0, 0, 0, 1, 1, 1, fh::gpu::WIDE_MAX_LEAF + 1u};
-    EXPECT_THROW(fh::make_wide_nodes({leaf}), std::invalid_argument);
+    EXPECT_THROW(fh::make_wide_nodes({leaf}, fh::gpu::WIDE_MAX_LEAF), std::invalid_argument);
     leaf.count_and_axis = fh::gpu::WIDE_MAX_LEAF;
-    const fh::WideBvh one = fh::make_wide_nodes({leaf});
+    const fh::WideBvh one = fh::make_wide_nodes({leaf}, fh::gpu::WIDE_MAX_LEAF);
     ASSERT_EQ(one.nodes.size(), 1u);
     EXPECT_EQ(fh::read_wide_child(one.nodes[0], 0).count, fh::gpu::WIDE_MAX_LEAF);
     EXPECT_EQ(one.leaf_order.size(), size_t(fh::gpu::WIDE_MAX_LEAF));
@@ -156,11 +237,8 @@ TEST(WideBvh, RefusesLeavesItCannotCount) {
 // Indices are implicit: interior children are consecutive nodes from first_node, leaves consecutive triangles (an
 // instance one) from first_leaf, in slot order; kinds share words with the exponents and first_node.
 TEST(WideBvh, ReadsImplicitChildIndices) {
-    // Eight one-triangle leaves in a balanced tree: a root of four two-leaf subtrees, each a node of two leaves.
-    std::vector<glm::vec3> eight;
-    for (int i = 0; i < 8; ++i)
-        eight.insert(eight.end(), {{10.0f * i, 0, 0}, {10.0f * i + 1, 0, 0}, {10.0f * i, 1, 0}});
-    const fh::WideBvh w = fh::make_wide_nodes(fh::build_bvh(eight, {1, 16, 64}).nodes);
+    // Four pairs of one-triangle leaves (make_four_pairs): a root of four nodes of two leaves each.
+    const fh::WideBvh w = fh::make_wide_nodes(fh::build_bvh(make_four_pairs(), {1, 16, 64}).nodes, 1);
     ASSERT_EQ(w.nodes.size(), 5u);
     for (uint32_t k = 0; k < 4; ++k) {
         const fh::WideChild c = fh::read_wide_child(w.nodes[0], k);
