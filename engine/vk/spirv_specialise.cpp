@@ -16,7 +16,7 @@ namespace fh::vk {
 namespace {
 
 // Bump when the pass list changes, so that modules cached by another list are not reused.
-constexpr char PASS_LIST_VERSION[] = "fredholm-specialise-1";
+constexpr char PASS_LIST_VERSION[] = "fredholm-specialise-2";
 
 bool specialisation_enabled() {
     const char* value = std::getenv("FREDHOLM_SPECIALISE_SPIRV");
@@ -30,14 +30,18 @@ std::vector<uint32_t> run_optimiser(std::span<const uint32_t> spirv, std::span<c
     for (uint32_t id = 0; id < spec_constants.size(); ++id) values[id] = {spec_constants[id]};
     // The constants take the scene's values and stop being specialization constants; then the folds that make the
     // effect tests constant (ccp: after glslang's inlining, `scene_effects & EFFECT_X` is an instruction, not a
-    // constant), the branches they decide, and the code nothing reaches any more. Each pass keeps the semantics:
-    // nothing is reassociated or contracted, so the driver computes the same values as from the whole module.
+    // constant), the branches they decide, the selects and phis they make trivial (simplification: a one-level scene's
+    // traversal kept copies of the ray in its loops without it, test_spirv_specialise), and the code nothing reaches
+    // any more. Nothing is contracted. The simplification's folding rules may reassociate float constants, as glslang's
+    // -Os (the same rules) did at build time; specialisation makes only integers and booleans constant, and renders
+    // with it on and off (FREDHOLM_SPECIALISE_SPIRV=off) keep their bits (README "Speed").
     optimiser.RegisterPass(spvtools::CreateSetSpecConstantDefaultValuePass(values))
         .RegisterPass(spvtools::CreateFreezeSpecConstantValuePass())
         .RegisterPass(spvtools::CreateFoldSpecConstantOpAndCompositePass())
         .RegisterPass(spvtools::CreateCCPPass())
         .RegisterPass(spvtools::CreateDeadBranchElimPass())
         .RegisterPass(spvtools::CreateBlockMergePass())
+        .RegisterPass(spvtools::CreateSimplificationPass())
         .RegisterPass(spvtools::CreateAggressiveDCEPass())
         .RegisterPass(spvtools::CreateEliminateDeadFunctionsPass());
     spvtools::OptimizerOptions options;
