@@ -49,17 +49,20 @@ struct TraceHit {
 // TRIANGLE_ALPHA_TESTED suspends traversal: the loops are left with the candidate and the leaf's remaining
 // triangles kept, the coverage is asked outside them, and traversal resumes where it stopped. Candidates are taken
 // or refused in the same order as before, so the hits (and the images) keep their bits.
-vec3 triangle_unit_normal(TrianglePositions tp) {
-    return normalize(cross(vec3(tp.p1_x, tp.p1_y, tp.p1_z) - vec3(tp.p0_x, tp.p0_y, tp.p0_z),
-                           vec3(tp.p2_x, tp.p2_y, tp.p2_z) - vec3(tp.p0_x, tp.p0_y, tp.p0_z)));
+// The triangle's normal, not normalised (its length is twice the area).
+vec3 triangle_normal(TrianglePositions tp) {
+    return cross(vec3(tp.p1_x, tp.p1_y, tp.p1_z) - vec3(tp.p0_x, tp.p0_y, tp.p0_z),
+                 vec3(tp.p2_x, tp.p2_y, tp.p2_z) - vec3(tp.p0_x, tp.p0_y, tp.p0_z));
 }
 
-// origin_normal: triangle_unit_normal of the origin triangle (unused without one).
+// origin_normal: the origin triangle's unit normal (unused without one). The cosine is compared against the length of
+// the other triangle's normal rather than normalising it: on lavapipe `normalize` is a square root and three divisions,
+// which ran (masked) at every triangle test.
 bool is_same_surface(uint tri, TrianglePositions tp, uint origin_triangle, vec3 origin_normal) {
     if (origin_triangle == INVALID_INDEX) return false;
     if (tri == origin_triangle) return true;
-    float c = dot(triangle_unit_normal(tp), origin_normal);
-    return abs(c) > 0.99999f;  // parallel within ~0.26 degrees
+    vec3 n = triangle_normal(tp);
+    return abs(dot(n, origin_normal)) > 0.99999f * length(n);  // parallel within ~0.26 degrees
 }
 
 // A child of a wide node as traversal sorts it: where its box is entered (MISSED_CHILD: not hit), and what it is.
@@ -166,7 +169,7 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin
     uint stack_size = 0u;
     uint index = 0u;  // the root node
     uint count = 0u;
-    vec3 origin_normal = origin_triangle != INVALID_INDEX ? triangle_unit_normal(load_triangle_positions(origin_triangle))
+    vec3 origin_normal = origin_triangle != INVALID_INDEX ? normalize(triangle_normal(load_triangle_positions(origin_triangle)))
                                                           : vec3(0.0f);
     uint best_source = INVALID_INDEX;  // the best hit's TrianglePositions.source_index (tie-break)
     // A candidate hit waiting for its coverage (EFFECT_ALPHA): triangle INVALID_INDEX when none.
