@@ -126,7 +126,8 @@ uint child_count(uint word) { return word & ((1u << WIDE_COUNT_BITS) - 1u); }
 #define PUSH_WORD(word, wanted)                                                             \
     stack[min(stack_size, TRAVERSAL_STACK_SIZE + 1u)] = (word);                              \
     stack_size += (wanted) && stack_size < TRAVERSAL_STACK_SIZE + 1u ? 1u : 0u;
-#define PUSH_ENTRY(e) PUSH_WORD((e).word, descend && (e).entry < MISSED_CHILD)
+// live: the lane is descending (an idle lane's store lands above its top and does not count).
+#define PUSH_ENTRY(e, live) PUSH_WORD((e).word, (live) && (e).entry < MISSED_CHILD)
 
 // Takes the top stack entry; one pushed at the top level (below instance_base) returns the ray to world space.
 // [[dont_flatten]]: as selects (glslang's choice) the copies of the ray stayed in a one-level scene's loops after
@@ -212,9 +213,9 @@ TraceHit trace_ray(vec3 origin, vec3 dir, float t_max, bool any_hit, uint origin
                 order_entries(c1, c3);
                 order_entries(c1, c2);
                 // The nearest is next; the other hit ones wait on the stack, farthest deepest.
-                PUSH_ENTRY(c3)
-                PUSH_ENTRY(c2)
-                PUSH_ENTRY(c1)
+                PUSH_ENTRY(c3, descend)
+                PUSH_ENTRY(c2, descend)
+                PUSH_ENTRY(c1, descend)
                 // A lane that missed every child takes its next entry here rather than idle (masked) until every
                 // lane of the SIMD group holds a leaf. The top entry is loaded whether or not it is taken.
                 bool hit_any = descend && c0.entry < MISSED_CHILD;
