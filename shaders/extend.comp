@@ -3,7 +3,7 @@
 // scatter_rays.
 // Reads: rays[queue depth & 1], counters.ray_count, the sorted order, BVH nodes, triangle positions (with EFFECT_ALPHA also
 // paths[].rng, materials and textures; with EFFECT_MOTION_BLUR the path's time and the instances' motion).
-// Writes: hits[i] for ray i; counters.escaped_rays (advance counts the traced rays).
+// Writes: hits[i] for ray i; with StagePush.count_escaped_rays counters.escaped_rays (advance counts the traced rays).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "lib/bindings.glsl"
@@ -35,5 +35,6 @@ void main() {
         store_hit_item(i, item);
     else
         store_hit_head(i, item);
-    COUNT_TRUE_IN_SUBGROUP(counters.escaped_rays, hit.triangle == INVALID_INDEX);
+    // A render's shade and light_shade count the escaped rays with their queues' atomics (lib/queue.glsl).
+    if (push.count_escaped_rays != 0u) COUNT_TRUE_IN_SUBGROUP(counters.escaped_rays, hit.triangle == INVALID_INDEX);
 }

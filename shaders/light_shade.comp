@@ -25,12 +25,12 @@
 
 layout(local_size_x = WORKGROUP_SIZE) in;
 
-void main() {
-    uint i = gl_GlobalInvocationID.x;
-    uint parity = push.depth & 1u;
-    if (i >= counters.ray_count[parity]) return;
+// The light subpath's vertex at queued ray i: what it pushes to the next extend queue and to connect's shadow queue.
+void shade_light_vertex(uint i, uint parity, out bool push_ray, out RayItem next, out bool push_shadow,
+                        out ShadowRayItem shadow, out bool escaped) {
     RayItem ray = load_ray_item(ray_slot(parity, i));
     HitItem hit = load_hit_item(i);
+    escaped = hit.triangle == INVALID_INDEX;  // counted here for --stats: in extend it took a second atomic
     uint path = ray.path;
     PathState state = load_path_state(path);
     vec3 beta = vec3(state.throughput_r, state.throughput_g, state.throughput_b);
@@ -39,10 +39,8 @@ void main() {
     PathMis mis;
     if (bdpt) mis = load_path_mis(path);
 
-    bool push_shadow = false;
-    bool push_ray = false;
-    ShadowRayItem shadow;
-    RayItem next;
+    push_shadow = false;
+    push_ray = false;
     next.path = path;
     next.origin_triangle = hit.triangle;
 
@@ -154,10 +152,19 @@ void main() {
     store_path_state(path, state);
     if (bdpt) store_path_mis(path, mis);
     if (tracks_media() && any(notEqual(media, media_before))) path_media[path] = media;
+}
 
-    uint slot;
-    PUSH_TO_QUEUE(counters.ray_count[parity ^ 1u], push_ray, slot);
-    if (push_ray) store_ray_item(ray_slot(parity ^ 1u, slot), next);
-    PUSH_TO_QUEUE(counters.shadow_count, push_shadow, slot);
-    if (push_shadow) store_shadow_ray(slot, shadow);
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    uint parity = push.depth & 1u;
+    bool push_ray = false, push_shadow = false, escaped = false;
+    RayItem next;
+    ShadowRayItem shadow;
+    if (i < counters.ray_count[parity]) shade_light_vertex(i, parity, push_ray, next, push_shadow, shadow, escaped);
+    // Every invocation of the workgroup gets here: the queues' slots are taken with one atomic per workgroup.
+    uint ray_slot_index, shadow_slot;
+    PUSH_VERTEX_RESULTS_IN_WORKGROUP(counters.ray_count[parity ^ 1u], push_ray, ray_slot_index, counters.shadow_count,
+                                     push_shadow, shadow_slot, counters.escaped_rays, escaped);
+    if (push_ray) store_ray_item(ray_slot(parity ^ 1u, ray_slot_index), next);
+    if (push_shadow) store_shadow_ray(shadow_slot, shadow);
 }

@@ -30,12 +30,12 @@ layout(local_size_x = WORKGROUP_SIZE) in;
 
 float max_component(vec3 v) { return max(v.x, max(v.y, v.z)); }
 
-void main() {
-    uint i = gl_GlobalInvocationID.x;
-    uint parity = push.depth & 1u;
-    if (i >= counters.ray_count[parity]) return;
+// The path vertex of queued ray i: what it pushes to the next extend queue and to connect's shadow queue.
+void shade_vertex(uint i, uint parity, out bool push_ray, out RayItem next, out bool push_shadow,
+                  out ShadowRayItem shadow, out bool escaped) {
     RayItem ray = load_ray_item(ray_slot(parity, i));
     HitItem hit = load_hit_item(i);
+    escaped = hit.triangle == INVALID_INDEX;  // counted here for --stats: in extend it took a second atomic
     uint path = ray.path;
     PathState state = load_path_state(path);
     vec4 beta = vec4(state.throughput_r, state.throughput_g, state.throughput_b, 0.0f);
@@ -61,10 +61,8 @@ void main() {
         beta *= eval_path_medium_transmittance(spectral, medium,
                                                hit.triangle == INVALID_INDEX ? uintBitsToFloat(0x7f800000u) : hit.t);
 
-    bool push_shadow = false;
-    bool push_ray = false;
-    ShadowRayItem shadow;
-    RayItem next;
+    push_shadow = false;
+    push_ray = false;
     next.path = path;
     next.origin_triangle = hit.triangle;
     shadow.path = path;
@@ -301,13 +299,24 @@ void main() {
     if (bdpt) {
         store_path_mis(path, mis);  // one uvec4 store: dvcm and dvc, the rest as loaded
     }
+}
 
-    uint slot;
-    PUSH_TO_QUEUE(counters.ray_count[parity ^ 1u], push_ray, slot);
-    if (push_ray) store_ray_item(ray_slot(parity ^ 1u, slot), next);
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    uint parity = push.depth & 1u;
+    bool push_ray = false, push_shadow = false;
+    RayItem next;
+    ShadowRayItem shadow;
+    bool escaped = false;
+    if (i < counters.ray_count[parity]) shade_vertex(i, parity, push_ray, next, push_shadow, shadow, escaped);
+    // Every invocation of the workgroup gets here: the queues' slots are taken with one atomic per workgroup.
+    uint ray_slot_index, shadow_slot;
+    PUSH_VERTEX_RESULTS_IN_WORKGROUP(counters.ray_count[parity ^ 1u], push_ray, ray_slot_index, counters.shadow_count,
+                                     push_shadow, shadow_slot, counters.escaped_rays, escaped);
+    if (push_ray) store_ray_item(ray_slot(parity ^ 1u, ray_slot_index), next);
     // The next extend sorts its rays: each is binned here, where its origin and direction are at hand.
     if (ray_sort_built && push_ray && push.bin_pushed_rays != 0u)
-        bin_ray(slot, vec3(next.origin_x, next.origin_y, next.origin_z), vec3(next.dir_x, next.dir_y, next.dir_z));
-    PUSH_TO_QUEUE(counters.shadow_count, push_shadow, slot);
-    if (push_shadow) store_shadow_ray(slot, shadow);
+        bin_ray(ray_slot_index, vec3(next.origin_x, next.origin_y, next.origin_z),
+                vec3(next.dir_x, next.dir_y, next.dir_z));
+    if (push_shadow) store_shadow_ray(shadow_slot, shadow);
 }

@@ -61,6 +61,7 @@ TracedRays trace_ray_queue(const vk::Context& context, const StageTable& stages,
         recorder.bind_table(stages.bindings());
         gpu::StagePush push{};
         if (stages.options().sort_rays) push.ray_order = gpu::RAY_ORDER_SORTED;
+        push.count_escaped_rays = 1u;  // no shade runs to count them
         recorder.push_constants(&push, sizeof(push));
         if (stages.options().sort_rays) record_ray_sort(recorder, stages, buffers);
         recorder.barrier_compute();

@@ -436,6 +436,7 @@ struct StagePush {
     uint ray_order;         // RAY_ORDER_*: extend takes the queue as it is, or through the sorted order
     uint bin_pushed_rays;   // 1: shade bins the rays it pushes for the next extend's sort (lib/ray_order.glsl)
     uint count_handed_shadow_rays;  // 1: advance counts the shadow queue it hands on as traced (connect traces it all)
+    uint count_escaped_rays;  // 1: extend counts the rays that left the scene (the ray tracer); 0: shade counts them
 };
 
 // Ray order for extend (StagePush.ray_order): the queue as shade filled it, or sorted by a key of each ray's direction

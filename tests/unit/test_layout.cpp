@@ -131,7 +131,7 @@ FH_OFFSET(FrameParams, film_height, 224);
 FH_OFFSET(FrameParams, light_vertex_slots, 240);
 FH_OFFSET(FrameParams, bdpt_strategy, 244);
 
-FH_SIZE(StagePush, 32);
+FH_SIZE(StagePush, 36);
 FH_OFFSET(StagePush, depth, 0);
 FH_OFFSET(StagePush, pixel_begin, 4);
 FH_OFFSET(StagePush, pixel_count, 8);
@@ -139,6 +139,8 @@ FH_OFFSET(StagePush, sample_begin, 12);
 FH_OFFSET(StagePush, sample_count, 16);
 FH_OFFSET(StagePush, ray_order, 20);
 FH_OFFSET(StagePush, bin_pushed_rays, 24);
+FH_OFFSET(StagePush, count_handed_shadow_rays, 28);
+FH_OFFSET(StagePush, count_escaped_rays, 32);
 
 FH_SIZE(DispatchArgs, 12);
 
@@ -245,7 +247,7 @@ TEST(Layout, SizesMatchTheGpuStructs) {
     EXPECT_EQ(sizeof(PathMis), 16u);
     EXPECT_EQ(sizeof(LightVertex), 64u);
     EXPECT_EQ(sizeof(FilmPixel), 52u);
-    EXPECT_EQ(sizeof(StagePush), 32u);
+    EXPECT_EQ(sizeof(StagePush), 36u);
     EXPECT_EQ(BVH_LEAF_COUNT_BITS, 16u);
 }
 
