@@ -75,6 +75,7 @@ void add_bench_options(CLI::App& app, BenchCommand& c) {
     app.add_option("--device", c.device, "use the first Vulkan device whose name contains this");
     app.add_option("--bvh-leaf-size", c.bvh_leaf_size, "most triangles per BVH leaf")->check(CLI::Range(1u, gpu::WIDE_MAX_LEAF));
     add_ray_sort_option(app, c.sort_rays);
+    add_disable_effect_option(app, c.disabled_effects);
     app.add_flag("--compare-ray-order", c.compare_ray_order,
                  "also time the render with the ray sort on against off, alternating (what sorting buys or costs)");
     app.add_flag("--compare-stores", c.compare_stores,
@@ -206,7 +207,7 @@ int trace_ray_file(const vk::Context& context, const PreparedScene& prepared, co
                    v[3], v[4], v[5], gpu::INVALID_INDEX};
     }
     const bool sort = settings.sort_rays.value();  // resolved by with_device_defaults
-    RayTracer tracer(context, prepared.packed, uint32_t(count), sort);
+    RayTracer tracer(context, prepared.packed, uint32_t(count), sort, settings.disabled_effects);
     tracer.trace(rays, 1);  // lavapipe compiles at the first dispatch
     TracedRays traced = tracer.trace(rays, c.repeats);
     std::vector<double> seconds = traced.seconds;
@@ -264,6 +265,7 @@ int run_bench(const BenchCommand& c) {
     base.integrator = c.integrator;
     base.bvh_max_leaf_size = c.bvh_leaf_size;
     base.sort_rays = c.sort_rays;
+    base.disabled_effects = c.disabled_effects;
     base.environment_file = c.environment_file;
     base.has_background = c.has_background;
     for (int i = 0; i < 3; ++i) base.background[i] = c.background[i];

@@ -125,9 +125,13 @@ void add_effect_list_option(CLI::App& app, const std::string& flag, uint32_t& bi
 
 }  // namespace
 
-void add_effect_options(CLI::App& app, RenderSettings& s) {
-    add_effect_list_option(app, "--disable-effect", s.disabled_effects,
+void add_disable_effect_option(CLI::App& app, uint32_t& bits) {
+    add_effect_list_option(app, "--disable-effect", bits,
                            "compile an effect out although the scene uses it, to measure what it costs");
+}
+
+void add_effect_options(CLI::App& app, RenderSettings& s) {
+    add_disable_effect_option(app, s.disabled_effects);
     add_effect_list_option(app, "--force-effect", s.forced_effects,
                            "compile an effect in although the scene does not use it (same image, its cost)");
 }

@@ -29,9 +29,11 @@ TracedRays trace_ray_queue(const vk::Context& context, const StageTable& stages,
 
 class RayTracer {
 public:
-    // Buffers for up to `capacity` rays; the stages compiled for the scene's effects; `sort_rays`: each trace sorts
+    // Buffers for up to `capacity` rays; the stages compiled for the scene's effects but `disabled_effects` (alpha
+    // compiled out: every triangle opaque, as a tracer without an alpha test sees them); `sort_rays`: each trace sorts
     // the rays first (render/ray_sort.h), its time included.
-    RayTracer(const vk::Context& context, const PackedScene& scene, uint32_t capacity, bool sort_rays = false);
+    RayTracer(const vk::Context& context, const PackedScene& scene, uint32_t capacity, bool sort_rays = false,
+              uint32_t disabled_effects = 0);
 
     // Traces `rays` (RayItem::path is ignored; origin_triangle in BVH leaf order) `repeats` times.
     TracedRays trace(const std::vector<gpu::RayItem>& rays, uint32_t repeats = 1);

@@ -2,7 +2,7 @@
 """Incoherent rays per second of Fredholm's extend stage against Embree 4 (PyPI embreex) on the same mesh and rays.
 
   /opt/refbench/mitsuba-venv/bin/python tests/bench/compare_embree.py SCENE.glb [--rays 1000000] [--repeats 3]
-      [--order random|origin|direction-origin] [--sort-rays]
+      [--order random|origin|direction-origin] [--sort-rays] [--opaque]
 
 The rays are diffuse bounces: origins uniform by area over every triangle of the scene, lifted off the surface by
 1e-4 of the scene's size, directions cosine-distributed about the triangle's normal (the side its winding faces); no
@@ -12,6 +12,8 @@ device; Embree: `EmbreeScene.run` of the whole array, one call per thread, wall 
 compared ray by ray (they must agree: the same mesh, the same rays). Reads .gltf and .glb files (node transforms applied;
 not Draco, meshopt or quantised meshes), such as tests/bench/make_displaced_sphere.py's spheres and the Khronos sample
 models. Alpha-tested materials make Fredholm pass through cut-out texels, which Embree does not: those rays disagree.
+--opaque has Fredholm compile its alpha test out (`--disable-effect alpha`): both tracers then see every triangle as
+opaque, do the same work and agree on every ray.
 --order sorts the rays on the host before either tracer sees them (the sort is not timed), to measure what a coherent
 ray order would buy: by the Morton code of the origin, or by a direction cell (16 x 16 x 16 over the unit cube) and
 then the origin's Morton code. --sort-rays has Fredholm sort the rays on the device first (`--sort-rays on`, as a
@@ -137,6 +139,8 @@ def main():
                     help="ray order both tracers get (default: as generated, unrelated neighbours)")
     ap.add_argument("--sort-rays", action="store_true",
                     help="Fredholm sorts the rays on the device before tracing them, the sort timed with the trace")
+    ap.add_argument("--opaque", action="store_true",
+                    help="Fredholm without its alpha test (--disable-effect alpha), every triangle opaque as for Embree")
     ap.add_argument("--json", help="also write the figures here")
     args = ap.parse_args()
     triangles = read_triangles(args.scene)
@@ -147,7 +151,8 @@ def main():
         ray_file, hit_file, stats_file = (os.path.join(tmp, n) for n in ("rays.bin", "hits.bin", "stats.json"))
         np.concatenate([origins, directions], axis=1).astype("<f4").tofile(ray_file)
         subprocess.run([args.fredholm, "bench", args.scene, "--trace-rays", ray_file, "--hits-out", hit_file,
-                        "--repeats", str(args.repeats), "--json", stats_file, "--sort-rays", "on" if args.sort_rays else "off"],
+                        "--repeats", str(args.repeats), "--json", stats_file, "--sort-rays", "on" if args.sort_rays else "off"]
+                       + (["--disable-effect", "alpha"] if args.opaque else []),
                        check=True, stdout=subprocess.DEVNULL)
         fredholm_t = np.fromfile(hit_file, dtype="<f4")
         stats = json.load(open(stats_file))
@@ -160,7 +165,8 @@ def main():
     print(f"scene {os.path.basename(args.scene)}: {len(triangles)} triangles, {args.rays} diffuse-bounce rays, "
           f"order {args.order}")
     print(f"fredholm extend: {fredholm_rate / 1e6:.3f} Mrays/s (median of {args.repeats}"
-          f"{'; sorted on the device first, the sort timed too' if args.sort_rays else ''})")
+          f"{'; sorted on the device first, the sort timed too' if args.sort_rays else ''}"
+          f"{'; alpha test compiled out, every triangle opaque' if args.opaque else ''})")
     print(f"embree {args.threads} thread(s): {embree_rate / 1e6:.3f} Mrays/s (median of {args.repeats})")
     print(f"fredholm / embree: {fredholm_rate / embree_rate:.3f}; hit or miss agree on {100 * agree_hit:.4f}% of rays, "
           f"hit distance relative difference median {np.median(rel):.2e}, 99.9th percentile {np.quantile(rel, 0.999):.2e}")
@@ -172,7 +178,7 @@ def main():
         with open(args.json, "w") as out:
             json.dump({"triangles": len(triangles), "rays": args.rays, "fredholm_rays_per_second": fredholm_rate,
                        "embree_rays_per_second": embree_rate, "embree_threads": args.threads, "order": args.order,
-                       "fredholm_sorts_rays": args.sort_rays, "ratio": fredholm_rate / embree_rate,
+                       "fredholm_sorts_rays": args.sort_rays, "opaque": args.opaque, "ratio": fredholm_rate / embree_rate,
                        "hit_agreement": agree_hit, "relative_t_median": float(np.median(rel)),
                        "fredholm_bvh_build_seconds": fredholm_build, "embree_build_seconds": embree_build}, out, indent=1)
     return 0
