@@ -72,6 +72,9 @@ void apply_vary(const std::string& key, const std::string& v, RenderSettings& s)
         const int depth = std::stoi(v);
         if (depth < 1 || depth > 1000) throw std::invalid_argument("rr-start-depth: '" + v + "' is not in [1, 1000]");
         s.rr_start_depth = uint32_t(depth);
+    } else if (key == "light-pick") {
+        if (v != "reuse" && v != "separate") throw std::invalid_argument("light-pick: '" + v + "' is not reuse or separate");
+        s.light_pick_reuse = v == "reuse";
     } else if (key == "sampler") {
         if (v != "independent" && v != "sobol") throw std::invalid_argument("sampler: '" + v + "' is not independent or sobol");
         s.sampler = v == "sobol" ? Sampler::sobol : Sampler::independent;
@@ -96,7 +99,7 @@ void apply_vary(const std::string& key, const std::string& v, RenderSettings& s)
         s.forced_effects = on ? s.forced_effects | bit : s.forced_effects & ~bit;
         s.disabled_effects = on ? s.disabled_effects & ~bit : s.disabled_effects | bit;
     } else {
-        throw std::invalid_argument("unknown key '" + key + "' (max-depth, nee, mis, rr, rr-start-depth, sort-rays, filter, sampler, integrator, "
+        throw std::invalid_argument("unknown key '" + key + "' (max-depth, nee, mis, rr, rr-start-depth, sort-rays, filter, sampler, light-pick, integrator, "
                                     "aperture, aperture-radius, effect:NAME)");
     }
 }
@@ -104,7 +107,7 @@ void apply_vary(const std::string& key, const std::string& v, RenderSettings& s)
 bool same_settings(const RenderSettings& a, const RenderSettings& b) {
     return a.max_depth == b.max_depth && a.nee == b.nee && a.mis == b.mis &&
            a.russian_roulette == b.russian_roulette && a.rr_start_depth == b.rr_start_depth && a.filter == b.filter &&
-           a.sampler == b.sampler && a.integrator == b.integrator && a.sort_rays == b.sort_rays &&
+           a.sampler == b.sampler && a.light_pick_reuse == b.light_pick_reuse && a.integrator == b.integrator && a.sort_rays == b.sort_rays &&
            a.forced_effects == b.forced_effects &&
            a.disabled_effects == b.disabled_effects && describe_lens(a.lens) == describe_lens(b.lens);
 }
@@ -245,6 +248,7 @@ std::string describe_command(const ConvergeCommand& c) {
     if (s.sampler != Sampler::sobol) line += std::string(" --sampler ") + to_string(s.sampler);
     if (!s.nee) line += " --nee off";
     if (!s.mis) line += " --mis off";
+    if (!s.light_pick_reuse) line += " --light-pick separate";
     if (!s.russian_roulette) line += " --rr off";
     if (s.sort_rays) line += std::string(" --sort-rays ") + (*s.sort_rays ? "on" : "off");
     if (s.rr_start_depth != RenderSettings{}.rr_start_depth) line += " --rr-start-depth " + std::to_string(s.rr_start_depth);
@@ -300,7 +304,7 @@ void add_converge_options(CLI::App& app, ConvergeCommand& c) {
     two->excludes(ref_spp);
     app.add_option("--max-seconds", c.max_seconds, "render-time budget per configuration")->check(CLI::PositiveNumber);
     app.add_option("--max-spp", c.max_spp, "largest spp of the doubling sequence")->check(CLI::Range(1u, 1u << 20));
-    app.add_option("--vary", c.vary, "KEY=V1,V2,...: one curve per value (max-depth, nee, mis, rr, rr-start-depth, sort-rays, filter, sampler, integrator (path, light, bdpt), aperture (0: pinhole), aperture-radius; effect:NAME=on,off compiles "
+    app.add_option("--vary", c.vary, "KEY=V1,V2,...: one curve per value (max-depth, nee, mis, rr, rr-start-depth, sort-rays, filter, sampler, light-pick (reuse, separate), integrator (path, light, bdpt), aperture (0: pinhole), aperture-radius; effect:NAME=on,off compiles "
                    "an effect in or out (a material or light effect, or motion-blur), e.g. effect:transmission=on,off)")
         ->check(CLI::Validator(
             [](std::string& spec) {

@@ -74,6 +74,7 @@ ImageMetadata make_metadata(const RenderCommand& c, const std::string& scene_has
             {"fredholm:mis", s.mis ? "on" : "off"},
             {"fredholm:rr", s.russian_roulette ? "on" : "off"},
             {"fredholm:rr_start_depth", std::to_string(s.rr_start_depth)},
+            {"fredholm:light_pick", s.light_pick_reuse ? "reuse" : "separate"},
             {"fredholm:disabled_techniques", name_techniques(s.disabled_techniques)},
             {"fredholm:bvh_leaf_size", std::to_string(s.bvh_max_leaf_size)},
             {"fredholm:effects", describe_effects(select_effects(effects, s.forced_effects, s.disabled_effects))},
@@ -127,6 +128,7 @@ void write_stats(const std::filesystem::path& file, const RenderCommand& c, cons
     j["emitters"] = prepared.packed.emitters.size();
     j["punctual_lights"] = prepared.packed.punctual_lights.size();
     j["sampler"] = to_string(s.sampler);
+    j["light_pick"] = s.light_pick_reuse ? "reuse" : "separate";
     j["integrator"] = to_string(s.integrator);
     j["effects"] = describe_effects(select_effects(prepared.packed.effects.bits, s.forced_effects, s.disabled_effects));
     j["disabled_effects"] = describe_effects(s.disabled_effects);

@@ -52,6 +52,12 @@ void add_sampling_options(CLI::App& app, RenderSettings& s) {
     app.add_option("--rr", s.russian_roulette, "Russian roulette: on/off")->transform(CLI::CheckedTransformer(on_off));
     app.add_option("--rr-start-depth", s.rr_start_depth, "Russian roulette from this many segments on")
         ->check(CLI::Range(1u, 1000u));
+    std::map<std::string, bool> picks{{"reuse", true}, {"separate", false}};
+    app.add_option("--light-pick", s.light_pick_reuse,
+                   "how next-event estimation picks the light in scenes of up to 16 lights: reuse (default) the first "
+                   "coordinate of the light point's 2D sample, so a quad's points stay stratified over the whole quad; "
+                   "separate: a sample dimension of its own")
+        ->transform(CLI::CheckedTransformer(picks, CLI::ignore_case));
     app.add_option("--wave-paths", s.wave_paths,
                    "paths in flight per wave (default: 524288 on a CPU device such as lavapipe, 4194304 on a GPU, "
                    "halved until the wave fits the device's buffer limits and a quarter of its memory)")

@@ -61,7 +61,7 @@ gpu::FrameParams make_frame(const PackedScene& scene, const SceneCamera& camera,
     f.filter_type = s.filter == PixelFilter::gaussian ? gpu::FILTER_GAUSSIAN : gpu::FILTER_BOX;
     f.filter_radius = s.filter_radius;
     f.flags = (s.nee ? gpu::RENDER_NEE : 0u) | (s.mis ? gpu::RENDER_MIS : 0u) |
-              (s.russian_roulette ? gpu::RENDER_RR : 0u);
+              (s.russian_roulette ? gpu::RENDER_RR : 0u) | (s.light_pick_reuse ? gpu::RENDER_LIGHT_PICK_REUSE : 0u);
     f.emitter_count = uint32_t(scene.emitters.size());
     f.rr_start_depth = s.rr_start_depth;
     uint64_t pixels = uint64_t(s.film_width()) * s.film_height();

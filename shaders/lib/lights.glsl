@@ -36,6 +36,27 @@ Emitter pick_emitter(float u) {
     return (scaled - float(i) < e.alias_threshold) ? e : load_emitter(e.alias);
 }
 
+// A scene with at most this many lights picks one with the first coordinate of the light's 2D sample and reuses
+// what is left of it (below) rather than with a dimension of its own.
+const uint LIGHT_PICK_REUSE_MAX = 16u;
+
+// pick_emitter by u, which then becomes the position of u within the part of [0, 1) that picked the light: again uniform
+// in [0, 1), and stratified wherever u was (Mitsuba 3's sample_reuse). A quad light is two triangles: the light's 2D
+// samples then spread over the quad as one net instead of two random halves of it, one per triangle (README
+// "Sampling"). Each light keeps 24 - log2(lights) bits of u and fewer where its alias share is small, hence the bound
+// on the lights above.
+Emitter pick_emitter_reusing(inout float u) {
+    uint n = params.emitter_count;
+    float scaled = u * float(n);
+    uint i = min(uint(scaled), n - 1u);
+    float f = min(scaled - float(i), ONE_BELOW_ONE);
+    Emitter e = load_emitter(i);
+    float t = e.alias_threshold;
+    bool own = f < t;
+    u = min(own ? f / t : (f - t) / (1.0f - t), ONE_BELOW_ONE);
+    return own ? e : load_emitter(e.alias);
+}
+
 LightConnection make_invalid_connection() {
     LightConnection c;
     c.wi = vec3(0.0f, 0.0f, 1.0f);
@@ -137,7 +158,8 @@ LightConnection connect_environment(float pick_pdf, vec2 u) {
 }
 
 LightConnection sample_light_connection(vec3 p, float u_pick, vec2 u_point) {
-    Emitter e = pick_emitter(u_pick);
+    bool reuse = (params.flags & RENDER_LIGHT_PICK_REUSE) != 0u && params.emitter_count <= LIGHT_PICK_REUSE_MAX;
+    Emitter e = reuse ? pick_emitter_reusing(u_point.x) : pick_emitter(u_pick);
     if (effect_on(EFFECT_ENVIRONMENT) && e.light == ENVIRONMENT_LIGHT) return connect_environment(e.pick_pdf, u_point);
     if (effect_on(EFFECT_PUNCTUAL_LIGHTS) && (e.light & PUNCTUAL_LIGHT_BIT) != 0u)
         return connect_punctual_light(e.light & ~PUNCTUAL_LIGHT_BIT, e.pick_pdf, p);

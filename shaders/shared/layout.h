@@ -173,6 +173,7 @@ FH_CONST uint TRIANGLE_ALPHA_TESTED = 1u;  // TrianglePositions.flags: its mater
 FH_CONST uint RENDER_NEE = 1u;             // FrameParams.flags: next-event estimation
 FH_CONST uint RENDER_MIS = 2u;             // combine NEE and BSDF sampling by MIS (else NEE only)
 FH_CONST uint RENDER_RR = 4u;              // Russian roulette
+FH_CONST uint RENDER_LIGHT_PICK_REUSE = 8u;  // NEE picks the light with its point's 2D sample (lights.glsl)
 FH_CONST uint BVH_LEAF_COUNT_BITS = 16u;   // BvhNode.count_and_axis: low bits count, high bits axis
 FH_CONST uint BVH_WIDTH = 4u;              // children per BvhWideNode
 // The largest coordinate (render space: the scene's triangles and bounds, cameras, lights) the GPU's box tests are
@@ -392,7 +393,7 @@ struct FrameParams {
     uint camera_type;       // CAMERA_PERSPECTIVE / CAMERA_ORTHOGRAPHIC
     uint filter_type;       // FILTER_BOX / FILTER_GAUSSIAN
     float filter_radius;    // pixels (Gaussian: truncation radius; sigma = radius / 3)
-    uint flags;             // RENDER_NEE | RENDER_MIS | RENDER_RR
+    uint flags;             // RENDER_NEE | RENDER_MIS | RENDER_RR | RENDER_LIGHT_PICK_REUSE
     uint emitter_count;
     uint rr_start_depth;    // Russian roulette starts at this segment count
     uint wave_capacity;     // paths per wave = length of PathState, HitItem, ShadowRayItem; half of RayItem

@@ -51,7 +51,7 @@ def run_fredholm(args, out_dir, repeat, seed):
     exr, stats = os.path.join(out_dir, f"fredholm_{repeat}.exr"), os.path.join(out_dir, f"fredholm_{repeat}.json")
     cmd = [args.fredholm, "render", args.scene, "-o", exr, "--width", str(args.size), "--height", str(args.size),
            "--spp", str(args.spp), "--max-depth", str(args.max_depth), "--seed", str(seed), "--sampler",
-           args.fredholm_sampler, "--stats", stats, "--quiet"]
+           args.fredholm_sampler, "--stats", stats, "--quiet"] + args.fredholm_args.split()
     subprocess.run(cmd, check=True)
     with open(stats) as f:
         return exr, json.load(f)["render_seconds"], " ".join(cmd)
@@ -79,6 +79,8 @@ def main():
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--fredholm-sampler", default="sobol", choices=["sobol", "independent"])
+    ap.add_argument("--fredholm-args", default="",
+                    help="more options for fredholm render, e.g. \"--light-pick separate\" or \"--rr-start-depth 5\"")
     ap.add_argument("--mitsuba-sampler", default="multijitter",
                     help="independent, stratified, multijitter, orthogonal or ldsampler (default: its best here)")
     ap.add_argument("--mitsuba-python", default="/opt/refbench/mitsuba-venv/bin/python")

@@ -4,12 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <string>
-#include <sys/wait.h>
 
 #include "io/exr.h"
+#include "render_image.h"
 
 namespace {
 
@@ -19,16 +18,10 @@ constexpr int SIZE = 64;     // the 256 x 256 reference averaged over 4 x 4 bloc
 constexpr int SPP = 16;
 
 fh::Image render(const std::string& sampler, unsigned seed) {
-    fs::create_directories(OUT);
-    const fs::path file = OUT / (sampler + "_" + std::to_string(seed) + ".exr");
-    const std::string line = std::string(FREDHOLM_EXE) + " render " + CORNELL_SCENE + " -o " + file.string() +
-                             " --width " + std::to_string(SIZE) + " --height " + std::to_string(SIZE) + " --spp " +
-                             std::to_string(SPP) + " --max-depth 10 --seed " + std::to_string(seed) + " --sampler " +
-                             sampler + " 2>>" + (OUT / "log.txt").string();
-    std::printf("%s\n", line.c_str());
-    const int status = std::system(line.c_str());
-    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << line;
-    return fh::read_exr(file);
+    return fh::test::render_image(FREDHOLM_EXE, CORNELL_SCENE, OUT, sampler + "_" + std::to_string(seed),
+                                  "--width " + std::to_string(SIZE) + " --height " + std::to_string(SIZE) + " --spp " +
+                                      std::to_string(SPP) + " --max-depth 10 --seed " + std::to_string(seed) +
+                                      " --sampler " + sampler);
 }
 
 TEST(Sampler, SobolHasSeveralTimesLessErrorThanIndependent) {

@@ -18,6 +18,11 @@ Each scene has an analytic or comparative criterion, stated beside its test in t
                            16 texels to a pixel: each pixel converges to the cells' mean 0.5 (no mip-map, no bias).
   textured_emitter.gltf    a ceiling quad whose emissive texture is black but for one texel of 8x8, over a floor:
                            light sampling (picks by textured power) must agree with BSDF sampling alone.
+  quad_light_floor.gltf    a floor [-1, 1]^2 of albedo QUAD_FLOOR_RHO under a quad light [-QUAD_LIGHT_HALF,
+                           QUAD_LIGHT_HALF]^2 at height QUAD_LIGHT_HEIGHT facing down (radiance QUAD_LIGHT_RADIANCE,
+                           two triangles), seen from between them by an orthographic camera of half extent 1: with
+                           --max-depth 2 a point reads RHO x L x its form factor to the rectangle (analytic;
+                           tests/converge/test_light_pick_error.cpp).
 """
 import base64
 import json
@@ -168,6 +173,26 @@ def textured_emitter():
     return g
 
 
+QUAD_FLOOR_RHO = 0.5
+QUAD_LIGHT_HALF = 0.5
+QUAD_LIGHT_HEIGHT = 0.5
+QUAD_LIGHT_RADIANCE = 4.0
+
+
+def quad_light_floor():
+    g = AssetGltf()
+    floor = g.add_raw_material(diffuse((QUAD_FLOOR_RHO, QUAD_FLOOR_RHO, QUAD_FLOOR_RHO, 1.0)))
+    emitter = g.add_raw_material({"pbrMetallicRoughness": {"baseColorFactor": [0, 0, 0, 1], "metallicFactor": 0.0},
+                                  "emissiveFactor": [1.0, 1.0, 1.0],
+                                  "extensions": {"KHR_materials_emissive_strength":
+                                                 {"emissiveStrength": QUAD_LIGHT_RADIANCE}}})
+    g.add_node({"mesh": g.add_uv_mesh(quad(-1, -1, 1, 1, 0.0), quad_uv(), floor)})
+    h = QUAD_LIGHT_HALF
+    g.add_node({"mesh": g.add_uv_mesh(quad(-h, -h, h, h, QUAD_LIGHT_HEIGHT, facing_up=False), quad_uv(), emitter)})
+    g.add_orthographic_camera({"translation": [0.0, 0.0, 0.5 * QUAD_LIGHT_HEIGHT]}, 1.0)
+    return g
+
+
 def main():
     out = Path(sys.argv[1])
     out.mkdir(parents=True, exist_ok=True)
@@ -179,6 +204,7 @@ def main():
         shadow_scene(kind).write(out / ("floor_lit.gltf" if kind == "lit" else kind + "_shadow.gltf"))
     textured_emitter().write(out / "textured_emitter.gltf")
     minified_checker().write(out / "minified_checker.gltf")
+    quad_light_floor().write(out / "quad_light_floor.gltf")
 
 
 if __name__ == "__main__":

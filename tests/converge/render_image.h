@@ -1,0 +1,28 @@
+// Runs `fredholm render` for the converge tests that score images themselves, and reads the image back.
+#pragma once
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <sys/wait.h>
+
+#include "io/exr.h"
+
+namespace fh::test {
+
+// FREDHOLM_EXE render SCENE -o DIR/NAME.exr ARGS, its messages appended to DIR/log.txt; a failed render fails the test.
+inline Image render_image(const std::string& fredholm, const std::string& scene, const std::filesystem::path& dir,
+                          const std::string& name, const std::string& args) {
+    std::filesystem::create_directories(dir);
+    const std::filesystem::path file = dir / (name + ".exr");
+    const std::string line =
+        fredholm + " render " + scene + " -o " + file.string() + " " + args + " 2>>" + (dir / "log.txt").string();
+    std::printf("%s\n", line.c_str());
+    const int status = std::system(line.c_str());
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << line;
+    return read_exr(file);
+}
+
+}  // namespace fh::test
