@@ -208,8 +208,9 @@ int trace_ray_file(const vk::Context& context, const PreparedScene& prepared, co
     }
     const bool sort = settings.sort_rays.value();  // resolved by with_device_defaults
     RayTracer tracer(context, prepared.packed, uint32_t(count), sort, settings.disabled_effects);
-    tracer.trace(rays, 1);  // lavapipe compiles at the first dispatch
-    TracedRays traced = tracer.trace(rays, c.repeats);
+    tracer.trace(rays, 1, false);  // lavapipe compiles at the first dispatch
+    // Extend as a render runs it: the escaped rays counted from the hits on the host, not by an atomic in extend.
+    TracedRays traced = tracer.trace(rays, c.repeats, false);
     std::vector<double> seconds = traced.seconds;
     std::sort(seconds.begin(), seconds.end());
     const double median = seconds[seconds.size() / 2];

@@ -1,6 +1,7 @@
 // Runs the extend stage over a hand-made ray queue and reads the hits back (see ray_tracer.h).
 #include "render/ray_tracer.h"
 
+#include <algorithm>
 #include <cstddef>
 #include <stdexcept>
 
@@ -46,7 +47,7 @@ RayTracer::RayTracer(const vk::Context& context, const PackedScene& scene, uint3
 }
 
 TracedRays trace_ray_queue(const vk::Context& context, const StageTable& stages, GpuBuffers& buffers,
-                           const std::vector<gpu::RayItem>& rays, uint32_t repeats) {
+                           const std::vector<gpu::RayItem>& rays, uint32_t repeats, bool count_on_device) {
     std::vector<gpu::RayItem> items = rays;
     for (size_t i = 0; i < items.size(); ++i) items[i].path = uint32_t(i);
     vk::upload_to_buffer(context, buffers.rays, items.data(), items.size() * sizeof(gpu::RayItem));
@@ -62,7 +63,7 @@ TracedRays trace_ray_queue(const vk::Context& context, const StageTable& stages,
         recorder.bind_table(stages.bindings());
         gpu::StagePush push{};
         if (stages.options().sort_rays) push.ray_order = gpu::RAY_ORDER_SORTED;
-        push.count_escaped_rays = 1u;  // no shade runs to count them
+        push.count_escaped_rays = count_on_device ? 1u : 0u;  // no shade runs to count them
         recorder.push_constants(&push, sizeof(push));
         if (stages.options().sort_rays) record_ray_sort(recorder, stages, buffers);
         recorder.barrier_compute();
@@ -76,14 +77,18 @@ TracedRays trace_ray_queue(const vk::Context& context, const StageTable& stages,
     vk::download_from_buffer(context, buffers.hits, result.hits.data(), rays.size() * sizeof(gpu::HitItem));
     vk::download_from_buffer(context, buffers.counters, &counters, sizeof(counters));
     result.escaped_rays = counters.escaped_rays;
+    if (!count_on_device)
+        result.escaped_rays = uint32_t(std::count_if(result.hits.begin(), result.hits.end(), [](const gpu::HitItem& h) {
+            return h.triangle == gpu::INVALID_INDEX;
+        }));
     return result;
 }
 
-TracedRays RayTracer::trace(const std::vector<gpu::RayItem>& rays, uint32_t repeats) {
+TracedRays RayTracer::trace(const std::vector<gpu::RayItem>& rays, uint32_t repeats, bool count_on_device) {
     if (rays.empty() || rays.size() > capacity_)
         throw std::invalid_argument("RayTracer: " + std::to_string(rays.size()) + " rays for a capacity of " +
                                     std::to_string(capacity_));
-    return trace_ray_queue(context_, stages_, buffers_, rays, repeats);
+    return trace_ray_queue(context_, stages_, buffers_, rays, repeats, count_on_device);
 }
 
 }  // namespace fh

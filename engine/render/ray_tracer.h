@@ -17,15 +17,17 @@ class Context;
 
 struct TracedRays {
     std::vector<gpu::HitItem> hits;  // per ray, in order; triangle in BVH leaf order (INVALID_INDEX: a miss)
-    uint32_t escaped_rays = 0;       // as the device counted them
+    uint32_t escaped_rays = 0;       // as the device counted them (count_on_device), else the misses in `hits`
     std::vector<double> seconds;     // GPU time of each repeat: extend's dispatch, and the ray sort's when it sorts
 };
 
 // Traces `rays` through the extend stage of `stages`, in `buffers` (its rays, hits and counters; at most as many rays as
 // the hits buffer holds), `repeats` times, one submission each; sorted first (render/ray_sort.h) when the stages
-// were built for it. Leaves the counters as the last dispatch left them.
+// were built for it. Leaves the counters as the last dispatch left them. count_on_device: extend counts the escaped rays
+// with an atomic per SIMD group (the stability tests check that counter); else they are counted from the hits on the host,
+// and extend runs as in a render, where shade counts them (`bench --trace-rays` times it so).
 TracedRays trace_ray_queue(const vk::Context& context, const StageTable& stages, GpuBuffers& buffers,
-                           const std::vector<gpu::RayItem>& rays, uint32_t repeats);
+                           const std::vector<gpu::RayItem>& rays, uint32_t repeats, bool count_on_device = true);
 
 class RayTracer {
 public:
@@ -35,8 +37,9 @@ public:
     RayTracer(const vk::Context& context, const PackedScene& scene, uint32_t capacity, bool sort_rays = false,
               uint32_t disabled_effects = 0);
 
-    // Traces `rays` (RayItem::path is ignored; origin_triangle in BVH leaf order) `repeats` times.
-    TracedRays trace(const std::vector<gpu::RayItem>& rays, uint32_t repeats = 1);
+    // Traces `rays` (RayItem::path is ignored; origin_triangle in BVH leaf order) `repeats` times (count_on_device:
+    // trace_ray_queue).
+    TracedRays trace(const std::vector<gpu::RayItem>& rays, uint32_t repeats = 1, bool count_on_device = true);
 
 private:
     const vk::Context& context_;

@@ -160,7 +160,7 @@ void Renderer::update_camera_medium() {
         vk::upload_to_buffer(context_, buffers_.path_times, centre.data(), centre.size() * sizeof(float));
     }
     const CameraMedia media = find_camera_media(scene_, probes, [&](const std::vector<gpu::RayItem>& rays) {
-        return trace_ray_queue(context_, stages_, buffers_, rays, 1).hits;
+        return trace_ray_queue(context_, stages_, buffers_, rays, 1, false).hits;
     });
     vk::upload_to_buffer(context_, buffers_.counters, &counters, sizeof(counters));
     frame_.camera_medium = media[0];
