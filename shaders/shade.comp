@@ -261,7 +261,7 @@ void shade_vertex(uint i, uint parity, out bool push_ray, out RayItem next, out 
                 bool survive = true;
                 // Russian roulette (unbiased: survivors are divided by the survival probability).
                 if ((params.flags & RENDER_RR) != 0u && segments >= params.rr_start_depth) {
-                    float q = min(max_path_component(beta) * roulette_scale(medium), 0.95f);
+                    float q = min(max_path_component(beta) * roulette_scale(medium) * params.rr_survival_scale, 0.95f);
                     survive = u.roulette < q;
                     beta /= q;
                 }

@@ -72,6 +72,10 @@ void apply_vary(const std::string& key, const std::string& v, RenderSettings& s)
         const int depth = std::stoi(v);
         if (depth < 1 || depth > 1000) throw std::invalid_argument("rr-start-depth: '" + v + "' is not in [1, 1000]");
         s.rr_start_depth = uint32_t(depth);
+    } else if (key == "rr-survival-scale") {
+        const double k = parse_number(key, v);
+        if (!(k >= 0.01 && k <= 1000.0)) throw std::invalid_argument("rr-survival-scale: '" + v + "' is not in [0.01, 1000]");
+        s.rr_survival_scale = float(k);
     } else if (key == "light-pick") {
         if (v != "reuse" && v != "separate") throw std::invalid_argument("light-pick: '" + v + "' is not reuse or separate");
         s.light_pick_reuse = v == "reuse";
@@ -99,14 +103,16 @@ void apply_vary(const std::string& key, const std::string& v, RenderSettings& s)
         s.forced_effects = on ? s.forced_effects | bit : s.forced_effects & ~bit;
         s.disabled_effects = on ? s.disabled_effects & ~bit : s.disabled_effects | bit;
     } else {
-        throw std::invalid_argument("unknown key '" + key + "' (max-depth, nee, mis, rr, rr-start-depth, sort-rays, filter, sampler, light-pick, integrator, "
+        throw std::invalid_argument("unknown key '" + key + "' (max-depth, nee, mis, rr, rr-start-depth, rr-survival-scale, sort-rays, filter, sampler, light-pick, "
+                                    "integrator, "
                                     "aperture, aperture-radius, effect:NAME)");
     }
 }
 
 bool same_settings(const RenderSettings& a, const RenderSettings& b) {
     return a.max_depth == b.max_depth && a.nee == b.nee && a.mis == b.mis &&
-           a.russian_roulette == b.russian_roulette && a.rr_start_depth == b.rr_start_depth && a.filter == b.filter &&
+           a.russian_roulette == b.russian_roulette && a.rr_start_depth == b.rr_start_depth &&
+           a.rr_survival_scale == b.rr_survival_scale && a.filter == b.filter &&
            a.sampler == b.sampler && a.light_pick_reuse == b.light_pick_reuse && a.integrator == b.integrator && a.sort_rays == b.sort_rays &&
            a.forced_effects == b.forced_effects &&
            a.disabled_effects == b.disabled_effects && describe_lens(a.lens) == describe_lens(b.lens);
@@ -252,6 +258,11 @@ std::string describe_command(const ConvergeCommand& c) {
     if (!s.russian_roulette) line += " --rr off";
     if (s.sort_rays) line += std::string(" --sort-rays ") + (*s.sort_rays ? "on" : "off");
     if (s.rr_start_depth != RenderSettings{}.rr_start_depth) line += " --rr-start-depth " + std::to_string(s.rr_start_depth);
+    if (s.rr_survival_scale != RenderSettings{}.rr_survival_scale) {
+        char scale[32];
+        std::snprintf(scale, sizeof scale, "%g", double(s.rr_survival_scale));
+        line += std::string(" --rr-survival-scale ") + scale;
+    }
     if (s.forced_effects) line += " --force-effect " + describe_effects(s.forced_effects);
     if (s.disabled_effects) line += " --disable-effect " + describe_effects(s.disabled_effects);
     if (s.lens.on()) line += " " + format_lens_options(s.lens);
@@ -304,7 +315,7 @@ void add_converge_options(CLI::App& app, ConvergeCommand& c) {
     two->excludes(ref_spp);
     app.add_option("--max-seconds", c.max_seconds, "render-time budget per configuration")->check(CLI::PositiveNumber);
     app.add_option("--max-spp", c.max_spp, "largest spp of the doubling sequence")->check(CLI::Range(1u, 1u << 20));
-    app.add_option("--vary", c.vary, "KEY=V1,V2,...: one curve per value (max-depth, nee, mis, rr, rr-start-depth, sort-rays, filter, sampler, light-pick (reuse, separate), integrator (path, light, bdpt), aperture (0: pinhole), aperture-radius; effect:NAME=on,off compiles "
+    app.add_option("--vary", c.vary, "KEY=V1,V2,...: one curve per value (max-depth, nee, mis, rr, rr-start-depth, rr-survival-scale, sort-rays, filter, sampler, light-pick (reuse, separate), integrator (path, light, bdpt), aperture (0: pinhole), aperture-radius; effect:NAME=on,off compiles "
                    "an effect in or out (a material or light effect, or motion-blur), e.g. effect:transmission=on,off)")
         ->check(CLI::Validator(
             [](std::string& spec) {

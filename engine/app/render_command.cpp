@@ -55,6 +55,8 @@ ImageMetadata make_metadata(const RenderCommand& c, const std::string& scene_has
     const RenderSettings& s = c.settings;
     char radius[32];
     std::snprintf(radius, sizeof radius, "%.9g", double(s.filter_radius));
+    char survival[32];
+    std::snprintf(survival, sizeof survival, "%.9g", double(s.rr_survival_scale));
     return {{"fredholm:renderer", VERSION},
             {"fredholm:scene", c.scene.filename().string()},
             {"fredholm:scene_hash", scene_hash},
@@ -74,6 +76,7 @@ ImageMetadata make_metadata(const RenderCommand& c, const std::string& scene_has
             {"fredholm:mis", s.mis ? "on" : "off"},
             {"fredholm:rr", s.russian_roulette ? "on" : "off"},
             {"fredholm:rr_start_depth", std::to_string(s.rr_start_depth)},
+            {"fredholm:rr_survival_scale", survival},
             {"fredholm:light_pick", s.light_pick_reuse ? "reuse" : "separate"},
             {"fredholm:disabled_techniques", name_techniques(s.disabled_techniques)},
             {"fredholm:bvh_leaf_size", std::to_string(s.bvh_max_leaf_size)},
@@ -129,6 +132,8 @@ void write_stats(const std::filesystem::path& file, const RenderCommand& c, cons
     j["punctual_lights"] = prepared.packed.punctual_lights.size();
     j["sampler"] = to_string(s.sampler);
     j["light_pick"] = s.light_pick_reuse ? "reuse" : "separate";
+    j["rr_start_depth"] = s.rr_start_depth;
+    j["rr_survival_scale"] = s.rr_survival_scale;
     j["integrator"] = to_string(s.integrator);
     j["effects"] = describe_effects(select_effects(prepared.packed.effects.bits, s.forced_effects, s.disabled_effects));
     j["disabled_effects"] = describe_effects(s.disabled_effects);

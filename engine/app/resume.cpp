@@ -65,7 +65,7 @@ const std::vector<std::string>& matching_film_keys() {
     static const std::vector<std::string> keys = {
         "fredholm:renderer", "fredholm:scene", "fredholm:scene_hash", "fredholm:image_size", "fredholm:seed",
         "fredholm:max_depth", "fredholm:camera", "fredholm:filter", "fredholm:filter_radius", "fredholm:sampler",
-        "fredholm:integrator", "fredholm:bdpt_strategy", "fredholm:nee", "fredholm:mis", "fredholm:rr", "fredholm:rr_start_depth", "fredholm:light_pick", "fredholm:disabled_techniques",
+        "fredholm:integrator", "fredholm:bdpt_strategy", "fredholm:nee", "fredholm:mis", "fredholm:rr", "fredholm:rr_start_depth", "fredholm:rr_survival_scale", "fredholm:light_pick", "fredholm:disabled_techniques",
         "fredholm:environment", "fredholm:lens", "fredholm:animation", "fredholm:time", "fredholm:shutter",
         "fredholm:variant", "fredholm:disabled_effects", "fredholm:forced_effects"};
     return keys;

@@ -64,6 +64,7 @@ gpu::FrameParams make_frame(const PackedScene& scene, const SceneCamera& camera,
               (s.russian_roulette ? gpu::RENDER_RR : 0u) | (s.light_pick_reuse ? gpu::RENDER_LIGHT_PICK_REUSE : 0u);
     f.emitter_count = uint32_t(scene.emitters.size());
     f.rr_start_depth = s.rr_start_depth;
+    f.rr_survival_scale = s.rr_survival_scale;
     uint64_t pixels = uint64_t(s.film_width()) * s.film_height();
     f.wave_capacity = uint32_t(std::min<uint64_t>(s.wave_paths, pixels * s.spp));
     f.triangle_count = uint32_t(scene.positions.size());

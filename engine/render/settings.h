@@ -50,6 +50,9 @@ struct RenderSettings {
     bool mis = true;               // MIS between NEE and BSDF sampling
     bool russian_roulette = true;
     uint32_t rr_start_depth = 3;   // roulette from this many segments on
+    // A camera path survives roulette with probability min(0.95, this x its largest throughput component): 2, chosen
+    // by measured efficiency (README "Speed"; 1 is the textbook's and Mitsuba's).
+    float rr_survival_scale = 2.0f;
     // --light-pick reuse|separate: NEE picks the light with the first coordinate of its point's 2D sample and reuses the
     // rest (up to 16 lights; shaders/lib/lights.glsl), or with a sampler dimension of its own (README "Sampling").
     bool light_pick_reuse = true;

@@ -424,7 +424,10 @@ struct FrameParams {
     uint camera_medium_outer, camera_medium_outermost;
     uint light_vertex_slots;  // `--integrator bdpt`: light-subpath vertices stored per path (max_depth - 2), else 0
     uint bdpt_strategy;       // --bdpt-strategy: s << 16 | t, that strategy alone and unweighted; 0: all, by MIS
-    uint pad0, pad1;
+    // Russian roulette keeps a camera path with probability min(0.95, rr_survival_scale x its largest throughput
+    // component) (--rr-survival-scale; shade.comp).
+    float rr_survival_scale;
+    uint pad1;
 };
 
 // Push constants: what changes per wave and per depth.

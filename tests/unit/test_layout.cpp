@@ -116,6 +116,7 @@ FH_OFFSET(FrameParams, filter_radius, 120);
 FH_OFFSET(FrameParams, flags, 124);
 FH_OFFSET(FrameParams, emitter_count, 128);
 FH_OFFSET(FrameParams, rr_start_depth, 132);
+FH_OFFSET(FrameParams, rr_survival_scale, 248);
 FH_OFFSET(FrameParams, wave_capacity, 136);
 FH_OFFSET(FrameParams, triangle_count, 140);
 FH_OFFSET(FrameParams, env_width, 144);
