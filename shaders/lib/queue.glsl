@@ -1,22 +1,11 @@
-// Appending to queues with one atomic per subgroup instead of one per invocation (measured ~3x faster on
-// lavapipe). Correct under any divergence: ballot, elect and broadcast all act on the same active set.
+// Appending to queues and counting with one atomic per workgroup or subgroup instead of one per invocation (one per
+// subgroup measured ~3x faster on lavapipe than one per invocation). Correct under any divergence: ballot, elect and
+// broadcast all act on the same active set. A macro because GLSL cannot pass a buffer member to a function by reference.
 #ifndef FH_QUEUE_GLSL
 #define FH_QUEUE_GLSL
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_ballot : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
-
-// Sets `slot` to a unique index in the queue whose length is `counter` for every active invocation with
-// `wants` true. A macro because GLSL cannot pass a buffer member to a function by reference.
-#define PUSH_TO_QUEUE(counter, wants, slot)                                    \
-    {                                                                          \
-        uvec4 ballot_ = subgroupBallot(wants);                                 \
-        uint total_ = subgroupBallotBitCount(ballot_);                         \
-        uint base_ = 0u;                                                       \
-        if (subgroupElect() && total_ > 0u) base_ = atomicAdd(counter, total_); \
-        base_ = subgroupBroadcastFirst(base_);                                 \
-        slot = base_ + subgroupBallotExclusiveBitCount(ballot_);               \
-    }
 
 // What a path-vertex stage (shade, light_shade) appends at its end, with one atomic per counter and workgroup instead
 // of per subgroup: its continuation ray to queue `ray_counter` (slot `ray_slot`), its shadow ray to queue
@@ -24,7 +13,8 @@
 // Every invocation of the workgroup must reach it (it has barriers). Each subgroup's counts go to shared memory, the
 // first invocation adds the workgroup's totals to the counters, and each subgroup's slots follow those of the
 // subgroups before it. On lavapipe the two threads' atomics on the counters' cache line took about 6% of a render's
-// time with one atomic per subgroup (README "Speed").
+// time with one atomic per subgroup (README "Speed"). Slots within a queue follow no fixed order: an item carries its
+// path, whose numbers depend on its pixel, sample and depth, not on its slot, so the images do not depend on it.
 shared uvec4 queue_subgroup_counts_[WORKGROUP_SIZE];  // per subgroup: rays, shadow rays, escaped rays
 shared uvec2 queue_group_bases_;
 #define PUSH_VERTEX_RESULTS_IN_WORKGROUP(ray_counter, push_ray, ray_slot, shadow_counter, push_shadow, shadow_slot,   \
