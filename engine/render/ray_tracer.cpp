@@ -63,7 +63,7 @@ TracedRays trace_ray_queue(const vk::Context& context, const StageTable& stages,
         recorder.bind_table(stages.bindings());
         gpu::StagePush push{};
         if (stages.options().sort_rays) push.ray_order = gpu::RAY_ORDER_SORTED;
-        push.count_escaped_rays = count_on_device ? 1u : 0u;  // no shade runs to count them
+        push.count_escaped_rays = count_on_device ? 1u : 0u;  // in a render shade counts them; no shade runs here
         recorder.push_constants(&push, sizeof(push));
         if (stages.options().sort_rays) record_ray_sort(recorder, stages, buffers);
         recorder.barrier_compute();
@@ -75,12 +75,14 @@ TracedRays trace_ray_queue(const vk::Context& context, const StageTable& stages,
     }
     result.hits.resize(rays.size());
     vk::download_from_buffer(context, buffers.hits, result.hits.data(), rays.size() * sizeof(gpu::HitItem));
-    vk::download_from_buffer(context, buffers.counters, &counters, sizeof(counters));
-    result.escaped_rays = counters.escaped_rays;
-    if (!count_on_device)
+    if (count_on_device) {
+        vk::download_from_buffer(context, buffers.counters, &counters, sizeof(counters));
+        result.escaped_rays = counters.escaped_rays;
+    } else {
         result.escaped_rays = uint32_t(std::count_if(result.hits.begin(), result.hits.end(), [](const gpu::HitItem& h) {
             return h.triangle == gpu::INVALID_INDEX;
         }));
+    }
     return result;
 }
 
