@@ -23,6 +23,12 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 }
 }  // namespace
 
+BvhOptions make_bvh_options(const RenderSettings& settings) {
+    BvhOptions options;
+    options.max_leaf_size = settings.bvh_max_leaf_size;
+    return options;
+}
+
 PreparedScene prepare_scene(const std::filesystem::path& file, const RenderSettings& settings) {
     PreparedScene prepared;
     auto start = std::chrono::steady_clock::now();
@@ -40,9 +46,7 @@ PreparedScene prepare_scene(const std::filesystem::path& file, const RenderSetti
     for (const std::string& warning : prepared.scene.warnings)
         std::fprintf(stderr, "fredholm: warning: %s\n", warning.c_str());
 
-    BvhOptions bvh_options;
-    bvh_options.max_leaf_size = settings.bvh_max_leaf_size;
-    SceneBvh bvh = build_scene_bvh(prepared.scene, bvh_options);
+    SceneBvh bvh = build_scene_bvh(prepared.scene, make_bvh_options(settings));
     if (bvh.max_depth >= MAX_TRAVERSAL_DEPTH)
         throw SceneError(file.string() + ": BVH depth " + std::to_string(bvh.max_depth) +
                          " exceeds the traversal stack (" + std::to_string(MAX_TRAVERSAL_DEPTH) + ")");

@@ -23,6 +23,9 @@ struct PreparedScene {
     uint32_t bvh_depth = 0;
 };
 
+// The BVH build's options for these settings (the leaf size).
+BvhOptions make_bvh_options(const RenderSettings& settings);
+
 // Loads and packs a scene (TECHNIQUE_REBASE and the BVH leaf size from `settings`); prints the loader's
 // warnings to stderr.
 PreparedScene prepare_scene(const std::filesystem::path& file, const RenderSettings& settings);

@@ -2,6 +2,8 @@
 // written straight into the depth-first linear layout the GPU traverses (pbrt-v4 LinearBVHNode).
 #include "scene/bvh.h"
 
+#include "scene/helper_threads.h"
+
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -109,30 +111,40 @@ struct Bin {
     uint32_t count = 0;
 };
 // Empty between calls of find_split: it empties the bins it filled, not all of them (clearing all 3 x 16 bins of 48
-// bytes for each of the 1.31 M-triangle mesh's million small nodes stored about 3 GB).
-using BinScratch = std::array<std::array<Bin, MAX_BINS>, 3>;
+// bytes for each of the 1.31 M-triangle mesh's million small nodes stored about 3 GB). Binning also sets each filled
+// bin's bit in `used`, so the sweeps visit the bins in use without scanning all of them (a scan's branch on each bin's
+// count was a fifth of the build).
+struct BinScratch {
+    std::array<std::array<Bin, MAX_BINS>, 3> bins;
+    std::array<std::array<uint64_t, MAX_BINS / 64>, 3> used{};
+};
 
 Split find_split(const std::vector<PrimRef>& refs, const Task& task, const Box& centroids, const Binner& binner,
-                 BinScratch& bins) {
+                 BinScratch& scratch) {
     for (uint32_t i = task.begin; i < task.end; ++i) {
         const Lanes f = binner.bin_coordinates(refs[i].centroid());
         for (int axis = 0; axis < 3; ++axis) {
-            Bin& b = bins[axis][binner.clamp_bin(f[axis])];
+            const uint32_t bin = binner.clamp_bin(f[axis]);
+            Bin& b = scratch.bins[axis][bin];
             b.bounds.grow(refs[i].bounds);
             ++b.count;
+            scratch.used[axis][bin / 64] |= uint64_t(1) << (bin % 64);
         }
     }
     Split best;
     const uint32_t k = binner.count;
     for (int axis = 0; axis < 3; ++axis) {
-        std::array<Bin, MAX_BINS>& axis_bins = bins[axis];
+        std::array<Bin, MAX_BINS>& axis_bins = scratch.bins[axis];
         // Only the bins in use, in order. An empty bin changes neither side: the split after it costs what the split
         // before it costs, which the strict < below already preferred. So the sweeps skip empty bins (most bins of a
         // small node) with the same result, and the bins in use are all that need emptying.
         std::array<uint32_t, MAX_BINS> used;
         uint32_t used_count = 0;
-        for (uint32_t i = 0; i < k; ++i)
-            if (axis_bins[i].count) used[used_count++] = i;
+        for (uint32_t word = 0; word * 64 < k; ++word) {
+            for (uint64_t bits = scratch.used[axis][word]; bits != 0; bits &= bits - 1)
+                used[used_count++] = word * 64 + uint32_t(std::countr_zero(bits));
+            scratch.used[axis][word] = 0;
+        }
         if (centroids.hi[axis] > centroids.lo[axis]) {
             // Sweep from the right to get the cost of every right side, then from the left (Wald 2007 sec. 3.2).
             std::array<double, MAX_BINS> right_cost;  // [u]: cost of the bins in use after used[u] (-1: none)
@@ -327,78 +339,94 @@ Subtree build_serially(std::vector<PrimRef>& refs, const Task& root, const BvhOp
     return out;
 }
 
-Subtree join_subtrees(const NodeSplit& split, const Subtree& left, const Subtree& right);
+// Ranges smaller than this are not offered to another thread.
+constexpr uint32_t PARALLEL_MIN_TRIANGLES = 1u << 12;
 
-// Ranges smaller than this are not worth a thread.
-constexpr uint32_t PARALLEL_MIN_TRIANGLES = 1u << 14;
+// A subtree as the threads built it: one thread's nodes (`serial`), or a node over two parts. Laid out once at the
+// end (lay_out), so no node is copied twice.
+struct Part {
+    Subtree serial;
+    NodeSplit split;  // the node over `first` and `second`
+    std::unique_ptr<Part> first, second;
+};
 
-// The top `levels` balanced splits are made here, their two children built on two threads; below, serially. The nodes come
-// out exactly as build_serially would lay them out (its depth-first order), whatever the threads' timing.
-Subtree build_in_parallel(std::vector<PrimRef>& refs, const Task& task, const BvhOptions& options, uint32_t levels) {
-    if (levels == 0 || task.end - task.begin < PARALLEL_MIN_TRIANGLES) return build_serially(refs, task, options);
-    auto bins = std::make_unique<BinScratch>();
-    const NodeSplit split = split_node(refs, task, options, *bins);
-    if (split.axis < 0) return build_serially(refs, task, options);
-    const Task first{task.begin, split.mid, gpu::INVALID_INDEX, task.depth + 1, split.first};
-    const Task second_task{split.mid, task.end, gpu::INVALID_INDEX, task.depth + 1, split.second};
-    Subtree left, right;
-    const uint32_t smaller = std::min(split.mid - task.begin, task.end - split.mid);
-    if (smaller < (task.end - task.begin) / 8) {
-        // A split that peels a few triangles off (a wall beside a detailed object) would leave one thread idle:
-        // build the small side here and keep the threads for the large one.
-        left = build_in_parallel(refs, first, options, levels);
-        right = build_in_parallel(refs, second_task, options, levels);
-        return join_subtrees(split, left, right);
+// Builds the task's subtree, offering the second subtree of each of the top `levels` splits to the helper threads.
+std::unique_ptr<Part> build_in_parallel(std::vector<PrimRef>& refs, const Task& task, const BvhOptions& options,
+                                        uint32_t levels, HelperThreads& helpers) {
+    auto part = std::make_unique<Part>();
+    if (levels == 0 || task.end - task.begin < PARALLEL_MIN_TRIANGLES) {
+        part->serial = build_serially(refs, task, options);
+        return part;
     }
-    // The children own disjoint ranges of refs, so the two threads never touch the same element.
-    std::exception_ptr failure;
-    std::thread second([&] {
-        try {
-            right = build_in_parallel(refs, second_task, options, levels - 1);
-        } catch (...) {
-            failure = std::current_exception();
-        }
-    });
+    {
+        auto bins = std::make_unique<BinScratch>();
+        part->split = split_node(refs, task, options, *bins);
+    }
+    const NodeSplit& split = part->split;
+    if (split.axis < 0) {
+        part->serial = build_serially(refs, task, options);
+        return part;
+    }
+    const Task first{task.begin, split.mid, gpu::INVALID_INDEX, task.depth + 1, split.first};
+    const Task second{split.mid, task.end, gpu::INVALID_INDEX, task.depth + 1, split.second};
+    // The children own disjoint ranges of refs, so two threads never touch the same element.
+    HelperThreads::Job job;
+    job.run = [&] { part->second = build_in_parallel(refs, second, options, levels - 1, helpers); };
+    helpers.offer(job);
     try {
-        left = build_in_parallel(refs, first, options, levels - 1);
+        part->first = build_in_parallel(refs, first, options, levels - 1, helpers);
     } catch (...) {
-        second.join();
+        try {
+            helpers.finish(job);  // the job refers to this frame: it must be over before the frame is
+        } catch (...) {
+        }
         throw;
     }
-    second.join();
-    if (failure) std::rethrow_exception(failure);
-    return join_subtrees(split, left, right);
+    helpers.finish(job);
+    return part;
 }
 
-// A node over two subtrees, laid out depth first: the node, the first subtree, the second.
-Subtree join_subtrees(const NodeSplit& split, const Subtree& left, const Subtree& right) {
-    Subtree out;
-    out.root_area = split.area;
-    out.nodes.reserve(1 + left.nodes.size() + right.nodes.size());
-    gpu::BvhNode root{};
-    write_bounds(root, split.bounds);
-    root.count_and_axis = uint32_t(split.axis) << gpu::BVH_LEAF_COUNT_BITS;
-    root.child_or_first = uint32_t(1 + left.nodes.size());
-    out.nodes.push_back(root);
-    for (const Subtree* child : {&left, &right}) {
+// Appends the part's nodes depth first (a node, its first subtree, its second) and adds up its statistics.
+void lay_out(const Part& part, Subtree& out) {
+    if (!part.first) {
         const uint32_t offset = uint32_t(out.nodes.size());
-        for (gpu::BvhNode node : child->nodes) {
-            const bool leaf = leaf_count(node) != 0;
-            if (!leaf) node.child_or_first += offset;  // a leaf's first triangle is already global
+        if (offset == 0) out.root_area = part.serial.root_area;
+        for (gpu::BvhNode node : part.serial.nodes) {
+            if (leaf_count(node) == 0) node.child_or_first += offset;  // a leaf's first triangle is already global
             out.nodes.push_back(node);
         }
+        out.weighted_cost += part.serial.weighted_cost;
+        out.leaf_count += part.serial.leaf_count;
+        out.max_depth = std::max(out.max_depth, part.serial.max_depth);
+        return;
     }
-    out.weighted_cost = split.area * SAH_NODE_COST + left.weighted_cost + right.weighted_cost;
-    out.leaf_count = left.leaf_count + right.leaf_count;
-    out.max_depth = std::max(left.max_depth, right.max_depth);
-    return out;
+    const size_t root = out.nodes.size();
+    if (root == 0) out.root_area = part.split.area;
+    gpu::BvhNode node{};
+    write_bounds(node, part.split.bounds);
+    node.count_and_axis = uint32_t(part.split.axis) << gpu::BVH_LEAF_COUNT_BITS;
+    out.nodes.push_back(node);
+    out.weighted_cost += part.split.area * SAH_NODE_COST;
+    lay_out(*part.first, out);
+    out.nodes[root].child_or_first = uint32_t(out.nodes.size());
+    lay_out(*part.second, out);
+}
+
+size_t count_nodes(const Part& part) {
+    return part.first ? 1 + count_nodes(*part.first) + count_nodes(*part.second) : part.serial.nodes.size();
 }
 
 Bvh build_from_refs(std::vector<PrimRef> refs, const BvhOptions& options,
                     std::chrono::steady_clock::time_point start) {
     const uint32_t triangle_count = uint32_t(refs.size());
     const Task root{0, triangle_count, gpu::INVALID_INDEX, 0, bound_range(refs, 0, triangle_count)};
-    Subtree tree = build_in_parallel(refs, root, options, options.parallel_levels);
+    // The calling thread builds too: one helper fewer than the hardware's threads.
+    const uint32_t hardware = std::max(1u, std::thread::hardware_concurrency());
+    HelperThreads helpers(options.parallel_levels > 0 ? hardware - 1 : 0);
+    const std::unique_ptr<Part> parts = build_in_parallel(refs, root, options, options.parallel_levels, helpers);
+    Subtree tree;
+    tree.nodes.reserve(count_nodes(*parts));
+    lay_out(*parts, tree);
     Bvh bvh;
     bvh.nodes = std::move(tree.nodes);
     bvh.leaf_count = tree.leaf_count;

@@ -21,8 +21,9 @@ struct BvhOptions {
     uint32_t bin_count = 16;     // SAH bins per axis, 2 .. 256 (Wald 2007 uses 16 or 32)
     uint32_t max_depth = 64;     // no leaf deeper than this (root: 0), the GPU's traversal stack size;
                                  // SAH splits that would break it become median splits
-    uint32_t parallel_levels = 3;  // the top balanced splits whose two subtrees are built on two threads (0: one thread);
-                                   // the nodes are the same either way
+    // The top levels of splits whose second subtree is offered to the other hardware threads (helper_threads.h);
+    // 0: one thread. The nodes are the same either way.
+    uint32_t parallel_levels = 8;
 };
 
 struct Bvh {

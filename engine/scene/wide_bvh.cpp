@@ -51,14 +51,15 @@ uint32_t choose_exponent(float lo, float hi) {
 
 // Child boxes rounded outwards to whole steps, in exact arithmetic (what intersect.glsl's padding assumes): the low
 // plane origin + q * step at or below lo, the high one at or above hi. Their float sums then are too.
-uint32_t quantise_down(float origin, float step, float lo) {
-    uint32_t q = uint32_t(std::clamp(std::floor((double(lo) - double(origin)) / double(step)), 0.0, 255.0));
+// inverse_step = 1 / step, exactly (step is a power of two): multiplying by it is dividing by step, and faster.
+uint32_t quantise_down(float origin, float step, double inverse_step, float lo) {
+    uint32_t q = uint32_t(std::clamp(std::floor((double(lo) - double(origin)) * inverse_step), 0.0, 255.0));
     while (q > 0 && compare_dequantised(origin, q, step, lo) > 0) --q;
     return q;
 }
 
-uint32_t quantise_up(float origin, float step, float hi) {
-    uint32_t q = uint32_t(std::clamp(std::ceil((double(hi) - double(origin)) / double(step)), 0.0, 255.0));
+uint32_t quantise_up(float origin, float step, double inverse_step, float hi) {
+    uint32_t q = uint32_t(std::clamp(std::ceil((double(hi) - double(origin)) * inverse_step), 0.0, 255.0));
     while (q < 255 && compare_dequantised(origin, q, step, hi) < 0) ++q;
     return q;
 }
@@ -179,12 +180,13 @@ void quantise_boxes(const std::vector<gpu::BvhNode>& nodes, const Children& chil
     for (int axis = 0; axis < 3; ++axis) {
         const uint32_t biased = choose_exponent(lo[axis], hi[axis]);
         const float step = step_of(biased);
+        const double inverse_step = std::ldexp(1.0, 127 - int(biased));
         w.exponents |= biased << (8 * axis);
         for (uint32_t k = 0; k < children.size; ++k) {
             const gpu::BvhNode& n = nodes[children.node[k]];
             const float child_lo[3] = {n.min_x, n.min_y, n.min_z}, child_hi[3] = {n.max_x, n.max_y, n.max_z};
-            *lo_words[axis] |= quantise_down(lo[axis], step, child_lo[axis]) << (8 * k);
-            *hi_words[axis] |= quantise_up(lo[axis], step, child_hi[axis]) << (8 * k);
+            *lo_words[axis] |= quantise_down(lo[axis], step, inverse_step, child_lo[axis]) << (8 * k);
+            *hi_words[axis] |= quantise_up(lo[axis], step, inverse_step, child_hi[axis]) << (8 * k);
         }
     }
 }
@@ -286,7 +288,10 @@ uint32_t read_wide_kind(const gpu::BvhWideNode& node, uint32_t k) {
 
 uint32_t read_first_node(const gpu::BvhWideNode& node) { return node.first_node & gpu::WIDE_MAX_FIRST_NODE; }
 
-WideChild read_wide_child(const gpu::BvhWideNode& node, uint32_t k) {
+namespace {
+
+// What read_wide_child says of the child's index and count, without its box.
+void locate_wide_child(const gpu::BvhWideNode& node, uint32_t k, uint32_t& index, uint32_t& count) {
     // Interior children take consecutive nodes, leaves consecutive triangles (an instance one), in slot order.
     uint32_t next_node = read_first_node(node), next_leaf = node.first_leaf;
     for (uint32_t j = 0; j < k; ++j) {
@@ -295,12 +300,16 @@ WideChild read_wide_child(const gpu::BvhWideNode& node, uint32_t k) {
         else if (kind == gpu::WIDE_INSTANCE_COUNT) ++next_leaf;
         else if (kind != gpu::WIDE_NO_CHILD) next_leaf += kind;
     }
-    WideChild c;
     const uint32_t kind = read_wide_kind(node, k);
-    if (kind != gpu::WIDE_NO_CHILD) {
-        c.index = kind == 0 ? next_node : next_leaf;
-        c.count = kind;
-    }
+    index = kind == gpu::WIDE_NO_CHILD ? gpu::INVALID_INDEX : (kind == 0 ? next_node : next_leaf);
+    count = kind == gpu::WIDE_NO_CHILD ? 0 : kind;
+}
+
+}  // namespace
+
+WideChild read_wide_child(const gpu::BvhWideNode& node, uint32_t k) {
+    WideChild c;
+    locate_wide_child(node, k, c.index, c.count);
     const float origin[3] = {node.origin_x, node.origin_y, node.origin_z};
     const uint32_t lo[3] = {node.lo_x, node.lo_y, node.lo_z}, hi[3] = {node.hi_x, node.hi_y, node.hi_z};
     for (int axis = 0; axis < 3; ++axis) {
@@ -337,11 +346,12 @@ uint32_t measure_stack_bound(const std::vector<gpu::BvhWideNode>& nodes, const s
     for (size_t i = nodes.size(); i-- > 0;) {
         uint32_t children = 0, below = 0;
         for (uint32_t k = 0; k < gpu::BVH_WIDTH; ++k) {
-            const WideChild c = read_wide_child(nodes[i], k);
-            if (c.index == gpu::INVALID_INDEX) continue;
+            uint32_t index, count;
+            locate_wide_child(nodes[i], k, index, count);
+            if (index == gpu::INVALID_INDEX) continue;
             ++children;
-            if (c.count == 0) below = std::max(below, bound.at(c.index));
-            else if (c.count == gpu::WIDE_INSTANCE_COUNT) below = std::max(below, bound.at(instances.at(c.index).root_node));
+            if (count == 0) below = std::max(below, bound.at(index));
+            else if (count == gpu::WIDE_INSTANCE_COUNT) below = std::max(below, bound.at(instances.at(index).root_node));
         }
         bound[i] = (children > 0 ? children - 1 : 0) + below;
     }

@@ -115,7 +115,7 @@ TEST(Bvh, ThreadsBuildTheSameTree) {
     BvhOptions serial;
     serial.parallel_levels = 0;
     const Bvh a = fh::build_bvh(p, serial);
-    for (uint32_t levels : {1u, 3u, 6u}) {
+    for (uint32_t levels : {1u, 3u, 6u, BvhOptions{}.parallel_levels}) {
         BvhOptions parallel;
         parallel.parallel_levels = levels;
         const Bvh b = fh::build_bvh(p, parallel);
