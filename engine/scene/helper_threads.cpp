@@ -1,11 +1,17 @@
 #include "scene/helper_threads.h"
 
 #include <algorithm>
+#include <system_error>
 
 namespace fh {
 
 HelperThreads::HelperThreads(uint32_t helpers) {
-    for (uint32_t i = 0; i < helpers; ++i) threads_.emplace_back([this] { serve(); });
+    try {
+        for (uint32_t i = 0; i < helpers; ++i) threads_.emplace_back([this] { serve(); });
+    } catch (const std::system_error&) {
+        // No more threads to be had (a process or container limit): the ones started do the work, or, with none,
+        // the offering threads themselves.
+    }
 }
 
 HelperThreads::~HelperThreads() {

@@ -23,7 +23,9 @@ public:
         std::exception_ptr failure;
     };
 
-    explicit HelperThreads(uint32_t helpers);  // 0: finish runs every job on the offering thread
+    // Starts up to `helpers` threads (fewer where the system refuses more); with none, finish runs every job on the
+    // offering thread.
+    explicit HelperThreads(uint32_t helpers);
     ~HelperThreads();
     HelperThreads(const HelperThreads&) = delete;
     HelperThreads& operator=(const HelperThreads&) = delete;
