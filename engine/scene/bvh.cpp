@@ -370,19 +370,8 @@ std::unique_ptr<Part> build_in_parallel(std::vector<PrimRef>& refs, const Task& 
     const Task first{task.begin, split.mid, gpu::INVALID_INDEX, task.depth + 1, split.first};
     const Task second{split.mid, task.end, gpu::INVALID_INDEX, task.depth + 1, split.second};
     // The children own disjoint ranges of refs, so two threads never touch the same element.
-    HelperThreads::Job job;
-    job.run = [&] { part->second = build_in_parallel(refs, second, options, levels - 1, helpers); };
-    helpers.offer(job);
-    try {
-        part->first = build_in_parallel(refs, first, options, levels - 1, helpers);
-    } catch (...) {
-        try {
-            helpers.finish(job);  // the job refers to this frame: it must be over before the frame is
-        } catch (...) {
-        }
-        throw;
-    }
-    helpers.finish(job);
+    helpers.run_both([&] { part->first = build_in_parallel(refs, first, options, levels - 1, helpers); },
+                     [&] { part->second = build_in_parallel(refs, second, options, levels - 1, helpers); });
     return part;
 }
 

@@ -34,6 +34,24 @@ public:
     // Returns when the job has run (here, or on a helper); rethrows what it threw.
     void finish(Job& job);
 
+    // Runs `first` here while `second` is offered, and returns when both are done (rethrowing what either threw).
+    template <class First, class Second>
+    void run_both(First first, Second second) {
+        Job job;
+        job.run = second;
+        offer(job);
+        try {
+            first();
+        } catch (...) {
+            try {
+                finish(job);  // the job refers to this frame: it must be over before the frame is
+            } catch (...) {
+            }
+            throw;
+        }
+        finish(job);
+    }
+
 private:
     void serve();
     static void execute(Job& job);

@@ -33,8 +33,9 @@ struct WideBvh {
 // interior node, and a subtree of at most max_leaf triangles may become one leaf. A BVH that is one leaf gives one node
 // with that leaf as its only child. Each quantised box contains its binary node's box. Throws std::invalid_argument
 // for a leaf of more than gpu::WIDE_MAX_LEAF triangles, a binary tree not laid out depth-first, or more nodes or leaves
-// than a wide node can name.
-WideBvh make_wide_nodes(const std::vector<gpu::BvhNode>& nodes, uint32_t max_leaf);
+// than a wide node can name. Large trees are collapsed on all hardware threads unless `on_threads` is false; the
+// nodes are the same either way (sah_cost is summed in another order).
+WideBvh make_wide_nodes(const std::vector<gpu::BvhNode>& nodes, uint32_t max_leaf, bool on_threads = true);
 
 // Slot k's kind (layout.h BvhWideNode): 0 a wide node, 1 .. WIDE_MAX_LEAF triangles, WIDE_INSTANCE_COUNT an instance,
 // WIDE_NO_CHILD none.

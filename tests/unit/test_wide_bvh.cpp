@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <stdexcept>
 
 #include <gtest/gtest.h>
@@ -156,6 +157,21 @@ struct ExhaustiveCollapse {
         return best;
     }
 };
+
+// The top levels of a large tree are planned and made on helper threads, each subtree at ranges the plan's counts
+// give: the same nodes and leaf order as one thread makes.
+TEST(WideBvh, ThreadsMakeTheSameNodes) {
+    for (const uint32_t triangles : {3000u, 40000u, 150000u}) {
+        const auto p = fh::test::make_random_soup(triangles, 5 + triangles, 10.0f, 0.05f);
+        const fh::Bvh bvh = fh::build_bvh(p);
+        const fh::WideBvh one = fh::make_wide_nodes(bvh.nodes, 4, false), threads = fh::make_wide_nodes(bvh.nodes, 4);
+        ASSERT_EQ(one.nodes.size(), threads.nodes.size()) << triangles;
+        EXPECT_EQ(std::memcmp(one.nodes.data(), threads.nodes.data(), one.nodes.size() * sizeof(BvhWideNode)), 0)
+            << triangles;
+        EXPECT_EQ(one.leaf_order, threads.leaf_order) << triangles;
+        EXPECT_NEAR(one.sah_cost, threads.sah_cost, 1e-9 * one.sah_cost) << triangles;
+    }
+}
 
 TEST(WideBvh, CollapseIsTheLeastSahCost) {
     // Small soups (the search is exponential), leaves of one to four triangles; leaves of one merged into wide leaves of
