@@ -25,4 +25,10 @@ inline Image render_image(const std::string& fredholm, const std::string& scene,
     return read_exr(file);
 }
 
+// The arguments of a size x size render at `spp` samples, paths of at most max_depth bounces, seeded with `seed`.
+inline std::string square_render_args(int size, int spp, int max_depth, unsigned seed) {
+    return "--width " + std::to_string(size) + " --height " + std::to_string(size) + " --spp " + std::to_string(spp) +
+           " --max-depth " + std::to_string(max_depth) + " --seed " + std::to_string(seed);
+}
+
 }  // namespace fh::test

@@ -50,9 +50,7 @@ double analytic_pixel(int i, int j) {
 
 fh::Image render(const std::string& pick, unsigned seed) {
     return fh::test::render_image(FREDHOLM_EXE, QUAD_LIGHT_SCENE, OUT, pick + "_" + std::to_string(seed),
-                                  "--width " + std::to_string(SIZE) + " --height " + std::to_string(SIZE) + " --spp " +
-                                      std::to_string(SPP) + " --max-depth 2 --seed " + std::to_string(seed) +
-                                      " --light-pick " + pick);
+                                  fh::test::square_render_args(SIZE, SPP, 2, seed) + " --light-pick " + pick);
 }
 
 TEST(LightPick, ReuseHasLessErrorAndBothConvergeToTheAnalyticImage) {

@@ -19,9 +19,7 @@ constexpr int SPP = 16;
 
 fh::Image render(const std::string& sampler, unsigned seed) {
     return fh::test::render_image(FREDHOLM_EXE, CORNELL_SCENE, OUT, sampler + "_" + std::to_string(seed),
-                                  "--width " + std::to_string(SIZE) + " --height " + std::to_string(SIZE) + " --spp " +
-                                      std::to_string(SPP) + " --max-depth 10 --seed " + std::to_string(seed) +
-                                      " --sampler " + sampler);
+                                  fh::test::square_render_args(SIZE, SPP, 10, seed) + " --sampler " + sampler);
 }
 
 TEST(Sampler, SobolHasSeveralTimesLessErrorThanIndependent) {
