@@ -36,15 +36,18 @@ rm "$stage/files"
 # What ctest needs at the configured paths: the source tree, the build, ../shared/references, cmake (the render
 # tests are cmake -P scripts), python3 (the scene generators) and CMake's GoogleTestAddTests.cmake (gtest_discover_tests).
 cache() { sed -n "s#^$1:[A-Z]*=##p" "$build/CMakeCache.txt"; }
-gtest_module=$(grep -rhom1 '"/[^"]*/GoogleTestAddTests.cmake"' --include='*_include.cmake' "$build" | head -1 | tr -d '"')
+gtest_module=$( (grep -rho '"/[^"]*/GoogleTestAddTests.cmake"' --include='*_include.cmake' "$build" || true) |
+               sort -u | head -n 1 | tr -d '"')
 [ -n "$gtest_module" ] && cp "$gtest_module" "$stage/GoogleTestAddTests.cmake"
 cat > "$stage/setup.sh" <<SETUP
 #!/usr/bin/env bash
 # Written by tests/bench/pack_device_bundle.sh. Run from the repository's root on the machine the bundle went to.
 set -eu
 here=\$(cd "\$(dirname "\$0")" && pwd)
-# link TARGET PATH: PATH leads to TARGET, unless something other than a link is there already (then it is left alone).
+# link TARGET PATH: PATH leads to TARGET, unless something other than a link is there already (then it is left alone)
+# or the build recorded no such path.
 link() {
+    [ -n "\$2" ] || return 0
     if [ -e "\$2" ] && [ ! -L "\$2" ]; then
         [ "\$(realpath "\$1")" = "\$(realpath "\$2")" ] || echo "setup.sh: \$2 exists; left as it is" >&2
         return 0
