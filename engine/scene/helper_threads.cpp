@@ -70,6 +70,22 @@ void HelperThreads::finish(Job& job) {
     if (job.failure) std::rethrow_exception(job.failure);
 }
 
+void HelperThreads::run_all(std::span<const std::function<void()>> tasks) {
+    std::vector<Job> jobs(tasks.size());  // sized once: offered jobs never move
+    for (size_t i = 1; i < tasks.size(); ++i) {
+        jobs[i].run = tasks[i];
+        offer(jobs[i]);
+    }
+    std::exception_ptr failure;
+    for (size_t i = 0; i < tasks.size(); ++i) try {
+            if (i == 0) tasks[0]();
+            else finish(jobs[i]);  // every offered job is over before `jobs` is
+        } catch (...) {
+            if (!failure) failure = std::current_exception();
+        }
+    if (failure) std::rethrow_exception(failure);
+}
+
 void HelperThreads::serve() {
     std::unique_lock lock(mutex_);
     while (true) {

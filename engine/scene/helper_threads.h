@@ -6,6 +6,7 @@
 #include <exception>
 #include <functional>
 #include <mutex>
+#include <span>
 #include <thread>
 #include <vector>
 
@@ -34,22 +35,12 @@ public:
     // Returns when the job has run (here, or on a helper); rethrows what it threw.
     void finish(Job& job);
 
-    // Runs `first` here while `second` is offered, and returns when both are done (rethrowing what either threw).
-    template <class First, class Second>
-    void run_both(First first, Second second) {
-        Job job;
-        job.run = second;
-        offer(job);
-        try {
-            first();
-        } catch (...) {
-            try {
-                finish(job);  // the job refers to this frame: it must be over before the frame is
-            } catch (...) {
-            }
-            throw;
-        }
-        finish(job);
+    // Runs tasks[0] here while the others are offered, and returns when all are done (rethrowing the first failure in
+    // task order).
+    void run_all(std::span<const std::function<void()>> tasks);
+    void run_both(std::function<void()> first, std::function<void()> second) {
+        const std::function<void()> tasks[] = {std::move(first), std::move(second)};
+        run_all(tasks);
     }
 
 private:

@@ -9,6 +9,8 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <functional>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -162,10 +164,6 @@ Children collect_children(const std::vector<gpu::BvhNode>& nodes, const Collapse
     return c;
 }
 
-}  // namespace
-
-namespace {
-
 // Where wide nodes and leaf triangles go: `wide` is sized for all of them, and each subtree writes its own ranges.
 struct Emitter {
     const std::vector<gpu::BvhNode>& nodes;
@@ -175,7 +173,7 @@ struct Emitter {
 
 // Makes wide node `wide_index` over binary node `binary`: its interior children take the wide nodes from next_node on
 // and its leaf children's triangles the leaf positions from next_leaf on (both advanced). Returns the children's
-// binary nodes, their interior ones (0: a leaf) in `interior`, and adds the node's and its leaves' cost.
+// binary nodes, and adds the node's and its leaves' cost.
 Children make_wide_node(const Emitter& e, uint32_t binary, uint32_t wide_index, uint32_t& next_node,
                         uint32_t& next_leaf, double& weighted_cost) {
     const Children children = collect_children(e.nodes, e.plan, binary);
@@ -243,24 +241,14 @@ double make_subtree(const Emitter& e, uint32_t binary, uint32_t wide_index, uint
         next_node += e.plan.wide_count[child] - 1;  // its descendants
         next_leaf += e.plan.count[child];
     }
-    // Each part in a job of its own but the first, which this thread makes; the cost adds up in slot order.
-    std::array<HelperThreads::Job, gpu::BVH_WIDTH> jobs;
-    auto run = [&](uint32_t i) {
-        Part& part = parts[i];
-        part.cost = make_subtree(e, part.binary, part.wide, part.next_node, part.next_leaf, levels - 1, helpers);
-    };
-    for (uint32_t i = 1; i < part_count; ++i) {
-        jobs[i].run = [&run, i] { run(i); };
-        helpers.offer(jobs[i]);
-    }
-    std::exception_ptr failure;
-    for (uint32_t i = 0; i < part_count; ++i) try {
-            if (i == 0) run(0);
-            else helpers.finish(jobs[i]);  // every offered job is over before this frame is
-        } catch (...) {
-            if (!failure) failure = std::current_exception();
-        }
-    if (failure) std::rethrow_exception(failure);
+    // Each part in a task of its own, the first on this thread; the cost adds up in slot order.
+    std::array<std::function<void()>, gpu::BVH_WIDTH> tasks;
+    for (uint32_t i = 0; i < part_count; ++i)
+        tasks[i] = [&, i] {
+            Part& part = parts[i];
+            part.cost = make_subtree(e, part.binary, part.wide, part.next_node, part.next_leaf, levels - 1, helpers);
+        };
+    helpers.run_all(std::span<const std::function<void()>>(tasks.data(), part_count));
     for (uint32_t i = 0; i < part_count; ++i) weighted_cost += parts[i].cost;
     return weighted_cost;
 }
@@ -271,8 +259,8 @@ WideBvh make_wide_nodes(const std::vector<gpu::BvhNode>& nodes, uint32_t max_lea
     WideBvh wide;
     if (nodes.empty()) return wide;
     const uint32_t hardware = std::max(1u, std::thread::hardware_concurrency());
-    HelperThreads helpers(on_threads && nodes.size() >= PARALLEL_MIN_NODES ? hardware - 1 : 0);
     const bool threads = on_threads && nodes.size() >= PARALLEL_MIN_NODES;
+    HelperThreads helpers(threads ? hardware - 1 : 0);
     const CollapsePlan plan = plan_collapse(nodes, std::min(max_leaf, gpu::WIDE_MAX_LEAF), helpers, threads);
     if (plan.count[0] > size_t(gpu::WIDE_MAX_INDEX) + 1)
         throw std::invalid_argument("wide_bvh.cpp: " + std::to_string(plan.count[0]) +
@@ -289,6 +277,5 @@ WideBvh make_wide_nodes(const std::vector<gpu::BvhNode>& nodes, uint32_t max_lea
     wide.sah_cost = root_area > 0.0 ? weighted_cost / root_area : weighted_cost;
     return wide;
 }
-
 
 }  // namespace fh

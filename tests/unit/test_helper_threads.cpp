@@ -1,6 +1,8 @@
-// HelperThreads: every offered job runs once, wherever it runs; nested offers finish; a job's exception reaches finish.
+// HelperThreads: every offered job runs once, wherever it runs; nested offers finish; a job's exception reaches finish;
+// run_all runs every task and rethrows the first failure in task order.
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <stdexcept>
 #include <vector>
 
@@ -49,6 +51,31 @@ TEST(HelperThreads, FinishRethrowsWhatTheJobThrew) {
         job.run = [] { throw std::runtime_error("job failed"); };
         threads.offer(job);
         EXPECT_THROW(threads.finish(job), std::runtime_error) << helpers << " helpers";
+    }
+}
+
+TEST(HelperThreads, RunAllRunsEveryTaskAndRethrowsTheFirstFailureInTaskOrder) {
+    for (uint32_t helpers : {0u, 1u, 3u}) {
+        fh::HelperThreads threads(helpers);
+        std::vector<std::atomic<int>> runs(4);
+        const std::function<void()> tasks[] = {
+            [&] { runs[0].fetch_add(1); },
+            [&] {
+                runs[1].fetch_add(1);
+                throw std::runtime_error("second");
+            },
+            [&] {
+                runs[2].fetch_add(1);
+                throw std::logic_error("third");
+            },
+            [&] { runs[3].fetch_add(1); }};
+        try {
+            threads.run_all(tasks);
+            ADD_FAILURE() << "run_all did not throw, " << helpers << " helpers";
+        } catch (const std::runtime_error& e) {
+            EXPECT_STREQ(e.what(), "second") << helpers << " helpers";
+        }
+        for (int i = 0; i < 4; ++i) EXPECT_EQ(runs[i].load(), 1) << "task " << i << ", " << helpers << " helpers";
     }
 }
 
