@@ -67,11 +67,17 @@ void add_bench_options(CLI::App& app, BenchCommand& c) {
            }, "constant environment radiance R,G,B")
         ->delimiter(',')
         ->expected(3);
-    app.add_option("--trace-rays", c.trace_rays,
+    CLI::Option* trace = app.add_option("--trace-rays", c.trace_rays,
                    "only time the extend stage over the rays of this file (six float32 per ray: world-space origin, "
                    "direction), median of --repeats")
         ->check(CLI::ExistingFile);
-    app.add_option("--hits-out", c.hits_out, "with --trace-rays: write each ray's hit distance (float32, inf: miss)");
+    app.add_option("--hits-out", c.hits_out,
+                   "with --trace-rays: write each ray's hit distance (float32, inf: miss; with --any-hit 1 where occluded, "
+                   "else 0)");
+    app.add_flag("--any-hit", c.any_hit,
+                 "with --trace-rays: the rays are shadow rays (seven float32 per ray: origin, direction, t_max), timed "
+                 "through the connect stage (any hit, as next-event estimation traces them); the rays in file order")
+        ->needs(trace);
     app.add_option("--json", c.json, "also write the figures as JSON");
     app.add_option("--device", c.device, "use the first Vulkan device whose name contains this");
     app.add_option("--bvh-leaf-size", c.bvh_leaf_size, "most triangles per BVH leaf")->check(CLI::Range(1u, gpu::WIDE_MAX_LEAF));
@@ -185,40 +191,104 @@ void write_bytes_atomically(const std::filesystem::path& file, const void* data,
     });
 }
 
-// --trace-rays: the extend stage alone over the rays of a file (six float32 each, world-space origin and direction,
-// no header), median GPU time of --repeats dispatches; --hits-out writes each ray's hit distance (float32, +inf for a
-// miss) in the same order, to compare with another tracer (tests/bench/compare_embree.py).
-int trace_ray_file(const vk::Context& context, const PreparedScene& prepared, const RenderSettings& settings,
-                   const BenchCommand& c) {
-    std::ifstream in(c.trace_rays, std::ios::binary);
-    std::vector<float> values;
+// The float32 values of a ray file (`per_ray` per ray, no header).
+std::vector<float> read_ray_file(const std::filesystem::path& file, size_t per_ray) {
+    std::ifstream in(file, std::ios::binary);
     in.seekg(0, std::ios::end);
     const std::streamoff bytes = in ? std::streamoff(in.tellg()) : -1;
-    if (bytes <= 0 || bytes % (6 * sizeof(float)) != 0)
-        throw IoError(c.trace_rays.string() + ": not a ray file (six float32 per ray, at least one ray)");
-    values.resize(size_t(bytes) / sizeof(float));
+    if (bytes <= 0 || bytes % std::streamoff(per_ray * sizeof(float)) != 0)
+        throw IoError(file.string() + ": not a ray file (" + std::to_string(per_ray) +
+                      " float32 per ray, at least one ray)");
+    std::vector<float> values(size_t(bytes) / sizeof(float));
     in.seekg(0);
     in.read(reinterpret_cast<char*>(values.data()), bytes);
-    const size_t count = values.size() / 6;
-    std::vector<gpu::RayItem> rays(count);
-    const glm::dvec3 origin = prepared.packed.origin;  // render space: the scene's arrays are rebased
-    for (size_t i = 0; i < count; ++i) {
-        const float* v = &values[6 * i];
-        rays[i] = {float(v[0] - origin.x), float(v[1] - origin.y), float(v[2] - origin.z), uint32_t(i),
-                   v[3], v[4], v[5], gpu::INVALID_INDEX};
-    }
-    const bool sort = settings.sort_rays.value();  // resolved by with_device_defaults
-    RayTracer tracer(context, prepared.packed, uint32_t(count), sort, settings.disabled_effects);
+    if (!in) throw IoError(file.string() + ": cannot read");
+    return values;
+}
+
+struct TraceFigures {
+    std::vector<double> seconds;  // sorted
+    double median = 0.0;
+    std::vector<float> per_ray;   // what --hits-out writes
+    nlohmann::json json;          // what the stage counted
+};
+
+// One queue item per `per_ray` values of a ray file, made by make(values of the ray, its index).
+template <typename Item, typename Make>
+std::vector<Item> make_ray_items(const std::vector<float>& values, size_t per_ray, Make make) {
+    std::vector<Item> items(values.size() / per_ray);
+    for (size_t i = 0; i < items.size(); ++i) items[i] = make(&values[per_ray * i], uint32_t(i));
+    return items;
+}
+
+// The extend stage over closest-hit rays (six float32 each: world-space origin, direction).
+TraceFigures trace_closest_hits(RayTracer& tracer, const std::vector<float>& values, const glm::dvec3& origin,
+                                uint32_t repeats) {
+    const std::vector<gpu::RayItem> rays = make_ray_items<gpu::RayItem>(values, 6, [&](const float* v, uint32_t i) {
+        return gpu::RayItem{float(v[0] - origin.x), float(v[1] - origin.y), float(v[2] - origin.z), i,
+                            v[3], v[4], v[5], gpu::INVALID_INDEX};
+    });
     tracer.trace(rays, 1, false);  // lavapipe compiles at the first dispatch
     // Extend as a render runs it: the escaped rays counted from the hits on the host, not by an atomic in extend.
-    TracedRays traced = tracer.trace(rays, c.repeats, false);
-    std::vector<double> seconds = traced.seconds;
-    std::sort(seconds.begin(), seconds.end());
-    const double median = seconds[seconds.size() / 2];
-    std::printf("trace-rays: %zu rays from %s: extend %.4f s (median of %u; %s), %.3f Mrays/s; %u escaped\n",
-                count, c.trace_rays.string().c_str(), median, c.repeats,
-                sort ? "the rays sorted first, the sort's time included" : "the rays in file order",
-                double(count) / median * 1e-6, traced.escaped_rays);
+    TracedRays traced = tracer.trace(rays, repeats, false);
+    TraceFigures f;
+    f.seconds = traced.seconds;
+    for (const gpu::HitItem& hit : traced.hits)
+        f.per_ray.push_back(hit.triangle == gpu::INVALID_INDEX ? std::numeric_limits<float>::infinity() : hit.t);
+    f.json = {{"escaped_rays", traced.escaped_rays}};
+    return f;
+}
+
+// The connect stage over shadow rays (seven float32 each: world-space origin, direction, t_max).
+TraceFigures trace_any_hits(RayTracer& tracer, const std::vector<float>& values, const glm::dvec3& origin,
+                            uint32_t repeats) {
+    const std::vector<gpu::ShadowRayItem> rays =
+        make_ray_items<gpu::ShadowRayItem>(values, 7, [&](const float* v, uint32_t) {
+            gpu::ShadowRayItem r{};
+            r.origin_x = float(v[0] - origin.x);
+            r.origin_y = float(v[1] - origin.y);
+            r.origin_z = float(v[2] - origin.z);
+            r.dir_x = v[3];
+            r.dir_y = v[4];
+            r.dir_z = v[5];
+            r.t_max = v[6];
+            r.origin_triangle = gpu::INVALID_INDEX;
+            return r;
+        });
+    tracer.trace_shadow_rays(rays, 1);  // lavapipe compiles at the first dispatch
+    TracedShadowRays traced = tracer.trace_shadow_rays(rays, repeats);
+    TraceFigures f;
+    f.seconds = traced.seconds;
+    f.per_ray.assign(traced.occluded.begin(), traced.occluded.end());
+    f.json = {{"occluded_rays", std::count(traced.occluded.begin(), traced.occluded.end(), uint8_t(1))}};
+    return f;
+}
+
+// --trace-rays: the extend stage alone over the rays of a file (six float32 each, world-space origin and direction,
+// no header), or with --any-hit the connect stage over shadow rays (seven: t_max too), median GPU time of --repeats
+// dispatches; --hits-out writes each ray's hit distance (float32, +inf for a miss; any hit: 1 occluded, 0 not) in the
+// same order, to compare with another tracer (tests/bench/compare_embree.py).
+int trace_ray_file(const vk::Context& context, const PreparedScene& prepared, const RenderSettings& settings,
+                   const BenchCommand& c) {
+    const std::vector<float> values = read_ray_file(c.trace_rays, c.any_hit ? 7 : 6);
+    const size_t count = values.size() / (c.any_hit ? 7 : 6);
+    const glm::dvec3 origin = prepared.packed.origin;  // render space: the scene's arrays are rebased
+    const bool sort = !c.any_hit && settings.sort_rays.value();  // resolved by with_device_defaults; connect never sorts
+    RayTracer tracer(context, prepared.packed, uint32_t(count), sort, settings.disabled_effects);
+    TraceFigures f = c.any_hit ? trace_any_hits(tracer, values, origin, c.repeats)
+                               : trace_closest_hits(tracer, values, origin, c.repeats);
+    std::sort(f.seconds.begin(), f.seconds.end());
+    f.median = f.seconds[f.seconds.size() / 2];
+    if (c.any_hit)
+        std::printf("trace-rays: %zu shadow rays from %s: connect %.4f s (median of %u; the rays in file order), "
+                    "%.3f Mrays/s; %s occluded\n",
+                    count, c.trace_rays.string().c_str(), f.median, c.repeats, double(count) / f.median * 1e-6,
+                    f.json["occluded_rays"].dump().c_str());
+    else
+        std::printf("trace-rays: %zu rays from %s: extend %.4f s (median of %u; %s), %.3f Mrays/s; %s escaped\n",
+                    count, c.trace_rays.string().c_str(), f.median, c.repeats,
+                    sort ? "the rays sorted first, the sort's time included" : "the rays in file order",
+                    double(count) / f.median * 1e-6, f.json["escaped_rays"].dump().c_str());
     // The build again, timed as compare_embree.py times Embree's: the median of --repeats builds in this warm process
     // (prepared.bvh_build_seconds is the first, cold one: fresh pages, threads started for the first time).
     std::vector<double> builds;
@@ -228,19 +298,15 @@ int trace_ray_file(const vk::Context& context, const PreparedScene& prepared, co
     const double build_median = builds[builds.size() / 2];
     std::printf("BVH build: %.4f s the first time, %.4f s the median of %u more\n", prepared.bvh_build_seconds,
                 build_median, c.repeats);
-    if (!c.hits_out.empty()) {
-        std::vector<float> t(count);
-        for (size_t i = 0; i < count; ++i)
-            t[i] = traced.hits[i].triangle == gpu::INVALID_INDEX ? std::numeric_limits<float>::infinity() : traced.hits[i].t;
-        write_bytes_atomically(c.hits_out, t.data(), t.size() * sizeof(float));
-    }
+    if (!c.hits_out.empty()) write_bytes_atomically(c.hits_out, f.per_ray.data(), f.per_ray.size() * sizeof(float));
     if (!c.json.empty()) {
-        nlohmann::json j = {{"rays", count}, {"seconds", seconds}, {"median_seconds", median},
-                            {"rays_per_second", double(count) / median}, {"escaped_rays", traced.escaped_rays},
+        nlohmann::json j = {{"rays", count}, {"seconds", f.seconds}, {"median_seconds", f.median},
+                            {"rays_per_second", double(count) / f.median}, {"any_hit", c.any_hit},
                             {"sorted", sort},
                             {"triangles_stored", prepared.scene.triangle_count()},
                             {"bvh_build_seconds", prepared.bvh_build_seconds},
                             {"bvh_build_seconds_median", build_median}};
+        j.update(f.json);
         const std::string text = j.dump(1) + "\n";
         write_bytes_atomically(c.json, text.data(), text.size());
     }

@@ -29,7 +29,8 @@ struct BenchCommand {
     bool compare_stores = false;     // --compare-stores: shade's uvec4 stores against field stores (--wide-stores)
     std::filesystem::path json;
     std::filesystem::path trace_rays;     // --trace-rays: time the extend stage alone over these rays
-    std::filesystem::path hits_out;       // --hits-out: their hit distances
+    std::filesystem::path hits_out;       // --hits-out: their hit distances (with --any-hit: 1 occluded, 0 not)
+    bool any_hit = false;                 // --any-hit: the rays are shadow rays, traced by the connect stage
     std::string device;
     bool techniques = false;  // also time each robustness technique switched off (README cost table)
     bool textures = false;    // also time the scene with its material effects compiled out (factors only)

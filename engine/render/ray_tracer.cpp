@@ -86,6 +86,43 @@ TracedRays trace_ray_queue(const vk::Context& context, const StageTable& stages,
     return result;
 }
 
+TracedShadowRays RayTracer::trace_shadow_rays(const std::vector<gpu::ShadowRayItem>& rays, uint32_t repeats) {
+    if (rays.empty() || rays.size() > capacity_)
+        throw std::invalid_argument("RayTracer: " + std::to_string(rays.size()) + " shadow rays for a capacity of " +
+                                    std::to_string(capacity_));
+    std::vector<gpu::ShadowRayItem> items = rays;
+    for (size_t i = 0; i < items.size(); ++i) {
+        items[i].path = uint32_t(i);
+        items[i].contrib_r = 1.0f;
+        items[i].contrib_g = items[i].contrib_b = 0.0f;
+    }
+    vk::upload_to_buffer(context_, buffers_.shadow_rays, items.data(), items.size() * sizeof(gpu::ShadowRayItem));
+    TracedShadowRays result;
+    for (uint32_t r = 0; r < repeats; ++r) {
+        gpu::QueueCounters counters{};
+        counters.shadow_count_active = uint32_t(rays.size());
+        counters.connect_args = {uint32_t((rays.size() + gpu::WORKGROUP_SIZE - 1) / gpu::WORKGROUP_SIZE), 1, 1};
+        vk::upload_to_buffer(context_, buffers_.counters, &counters, sizeof(counters));
+        vk::CommandRecorder recorder(context_, 1);
+        recorder.begin();
+        recorder.fill_buffer(buffers_.paths, 0u);  // every path's radiance 0 (its rng 0: the alpha test's key)
+        recorder.barrier_compute();
+        recorder.bind_table(stages_.bindings());
+        gpu::StagePush push{};
+        recorder.push_constants(&push, sizeof(push));
+        recorder.dispatch_indirect(stages_[Stage::connect], buffers_.counters, offsetof(gpu::QueueCounters, connect_args));
+        recorder.submit_and_wait();
+        double seconds = 0.0;
+        for (const auto& [name, dispatch] : recorder.dispatch_seconds()) seconds += dispatch;
+        result.seconds.push_back(seconds);
+    }
+    std::vector<gpu::PathState> paths(rays.size());
+    vk::download_from_buffer(context_, buffers_.paths, paths.data(), paths.size() * sizeof(gpu::PathState));
+    result.occluded.resize(rays.size());
+    for (size_t i = 0; i < paths.size(); ++i) result.occluded[i] = paths[i].radiance_r == 0.0f ? 1u : 0u;
+    return result;
+}
+
 TracedRays RayTracer::trace(const std::vector<gpu::RayItem>& rays, uint32_t repeats, bool count_on_device) {
     if (rays.empty() || rays.size() > capacity_)
         throw std::invalid_argument("RayTracer: " + std::to_string(rays.size()) + " rays for a capacity of " +

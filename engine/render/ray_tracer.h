@@ -1,5 +1,6 @@
-// The extend stage alone over a given set of rays (no paths, no shading): the ray-tracing core measured apart from
-// the path tracer (`fredholm bench --trace-rays`) and checked against a brute force (tests/gpu).
+// The extend stage (closest hit) or the connect stage (any hit, shadow rays) alone over a given set of rays (no paths,
+// no shading): the ray-tracing core measured apart from the path tracer (`fredholm bench --trace-rays [--any-hit]`) and
+// checked against a brute force (tests/gpu).
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -21,6 +22,11 @@ struct TracedRays {
     std::vector<double> seconds;     // GPU time of each repeat: extend's dispatch, and the ray sort's when it sorts
 };
 
+struct TracedShadowRays {
+    std::vector<uint8_t> occluded;   // per ray, in order: 1 where something lies between origin and t_max
+    std::vector<double> seconds;     // GPU time of connect's dispatch, per repeat
+};
+
 // Traces `rays` through the extend stage of `stages`, in `buffers` (its rays, hits and counters; at most as many rays as
 // the hits buffer holds), `repeats` times, one submission each; sorted first (render/ray_sort.h) when the stages
 // were built for it. Leaves the counters as the last dispatch left them. count_on_device: extend counts the escaped rays
@@ -40,6 +46,11 @@ public:
     // Traces `rays` (RayItem::path is ignored; origin_triangle in BVH leaf order) `repeats` times (count_on_device:
     // trace_ray_queue).
     TracedRays trace(const std::vector<gpu::RayItem>& rays, uint32_t repeats = 1, bool count_on_device = true);
+
+    // Traces shadow rays (ShadowRayItem: origin, direction, t_max, origin_triangle in BVH leaf order; path and
+    // contribution are set here) through the connect stage, as a render's next-event estimation does, `repeats` times.
+    // Each ray i adds a contribution of 1 to path i's radiance where it is not occluded; that radiance is read back.
+    TracedShadowRays trace_shadow_rays(const std::vector<gpu::ShadowRayItem>& rays, uint32_t repeats = 1);
 
 private:
     const vk::Context& context_;

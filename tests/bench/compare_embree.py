@@ -2,7 +2,7 @@
 """Incoherent rays per second of Fredholm's extend stage against Embree 4 (PyPI embreex) on the same mesh and rays.
 
   /opt/refbench/mitsuba-venv/bin/python tests/bench/compare_embree.py SCENE.glb [--rays 1000000] [--repeats 3]
-      [--order random|origin|direction-origin] [--sort-rays] [--opaque]
+      [--order random|origin|direction-origin] [--sort-rays] [--opaque] [--any-hit] [--mitsuba]
 
 The rays are diffuse bounces: origins uniform by area over every triangle of the scene, lifted off the surface by
 1e-4 of the scene's size, directions cosine-distributed about the triangle's normal (the side its winding faces); no
@@ -18,6 +18,14 @@ opaque, do the same work and agree on every ray.
 ray order would buy: by the Morton code of the origin, or by a direction cell (16 x 16 x 16 over the unit cube) and
 then the origin's Morton code. --sort-rays has Fredholm sort the rays on the device first (`--sort-rays on`, as a
 render would; README "Ray order"), the sort's time counted in its rate; Embree traces them as given.
+--any-hit traces shadow rays instead, as next-event estimation does: from a point uniform by area over the triangles
+that do not emit, lifted off the surface towards the target, to a point uniform by area over the emitting triangles
+(over all triangles in a scene without emission), ending 1e-4 of the distance short of it (the renderer's shadow
+epsilon). Fredholm traces them through its connect stage (`bench --trace-rays FILE --any-hit`), Embree as occlusion
+queries; both must agree on which rays are blocked.
+--mitsuba also times Mitsuba 3's ray tracer on the same rays (`Scene.ray_intersect_preliminary`, or `Scene.ray_test`
+with --any-hit; two threads, the median of --repeats after an untimed first call that compiles the kernel): the tracer
+inside the renderer that `compare_efficiency.py` measures. Needs the Mitsuba venv.
 Needs numpy and embreex (tests/bench/README.md).
 """
 import argparse
@@ -38,30 +46,45 @@ from compare_renderers import load_gltf
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 
-def read_triangles(path):
+def read_scene_triangles(path):
     """Every triangle of the scene's default scene graph in world space (every node's transform applied, as Fredholm
-    loads it), as an (n, 3, 3) float32 array."""
+    loads it), as an (n, 3, 3) float32 array, and whether each one's material emits light."""
     try:
         meshes = load_gltf(path, need_camera=False)["meshes"]
     except (ValueError, KeyError, OSError) as e:
         raise SystemExit(f"compare_embree: {path}: {e}")
-    return np.concatenate([m["positions"][m["faces"]] for m in meshes]).astype(np.float32)
+    triangles = np.concatenate([m["positions"][m["faces"]] for m in meshes]).astype(np.float32)
+    emits = np.concatenate([np.full(len(m["faces"]), any(c > 0.0 for c in m["material"]["emission"])) for m in meshes])
+    return triangles, emits
 
 
-def diffuse_rays(triangles, count, seed):
-    rng = np.random.default_rng(seed)
+def read_triangles(path):
+    return read_scene_triangles(path)[0]
+
+
+def sample_surface_points(triangles, candidates, count, rng):
+    """Points uniform by area over the triangles whose indices are `candidates`, and their unit normals."""
     e1, e2 = triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0]
     normals = np.cross(e1, e2).astype(np.float64)
     areas = 0.5 * np.linalg.norm(normals, axis=1)
     keep = areas > 0
     normals[keep] /= (2.0 * areas[keep])[:, None]
-    pick = rng.choice(len(triangles), size=count, p=areas / areas.sum())
+    weights = areas[candidates]
+    pick = candidates[rng.choice(len(candidates), size=count, p=weights / weights.sum())]
     r1, r2 = np.sqrt(rng.random(count)), rng.random(count)
     b1, b2 = r1 * (1 - r2), r1 * r2
     points = triangles[pick, 0] + b1[:, None] * e1[pick] + b2[:, None] * e2[pick]
-    n = normals[pick]
-    size = float(np.max(triangles.reshape(-1, 3).max(0) - triangles.reshape(-1, 3).min(0)))
-    origins = points + 1e-4 * size * n
+    return points, normals[pick]
+
+
+def scene_size(triangles):
+    return float(np.max(triangles.reshape(-1, 3).max(0) - triangles.reshape(-1, 3).min(0)))
+
+
+def diffuse_rays(triangles, count, seed):
+    rng = np.random.default_rng(seed)
+    points, n = sample_surface_points(triangles, np.arange(len(triangles)), count, rng)
+    origins = points + 1e-4 * scene_size(triangles) * n
     # Cosine-weighted directions about n (Malley's method in a frame built around n).
     u1, u2 = rng.random(count), rng.random(count)
     radius, phi = np.sqrt(u1), 2.0 * np.pi * u2
@@ -72,6 +95,23 @@ def diffuse_rays(triangles, count, seed):
     b = np.cross(n, t)
     directions = local[:, :1] * t + local[:, 1:2] * b + local[:, 2:3] * n
     return origins.astype(np.float32), directions.astype(np.float32)
+
+
+def shadow_rays(triangles, emits, count, seed):
+    """Next-event estimation's rays (see --any-hit): origins, unit directions and t_max."""
+    rng = np.random.default_rng(seed)
+    everything = np.arange(len(triangles))
+    lights, others = (everything[emits], everything[~emits]) if emits.any() and not emits.all() else (everything, everything)
+    points, n = sample_surface_points(triangles, others, count, rng)
+    targets, _ = sample_surface_points(triangles, lights, count, rng)
+    side = np.where(np.sum((targets - points) * n, axis=1) < 0.0, -1.0, 1.0)[:, None]
+    origins = points + 1e-4 * scene_size(triangles) * side * n
+    to_target = targets - origins
+    length = np.linalg.norm(to_target, axis=1)
+    keep = length > 1e-6 * scene_size(triangles)  # a target on the origin's own spot has no direction
+    directions = to_target[keep] / length[keep, None]
+    return (origins[keep].astype(np.float32), directions.astype(np.float32),
+            (length[keep] * (1.0 - 1e-4)).astype(np.float32))
 
 
 def morton_code(cells, bits):
@@ -106,7 +146,9 @@ def build_embree(triangles, origins, directions):
     return scene, time.perf_counter() - start
 
 
-def time_embree(triangles, origins, directions, threads, repeats):
+def time_embree(triangles, origins, directions, t_max, threads, repeats):
+    """Median seconds of tracing every ray, and per ray its hit distance (inf: a miss), or with t_max (occlusion
+    queries) 1 where it is blocked, 0 where not; and the build's seconds."""
     builds = [build_embree(triangles, origins, directions) for _ in range(repeats)]
     scene, build_seconds = builds[-1][0], float(np.median([b[1] for b in builds]))
     chunks = np.array_split(np.arange(len(origins)), threads)
@@ -115,7 +157,10 @@ def time_embree(triangles, origins, directions, threads, repeats):
     for _ in range(repeats):
         def work(k):
             idx = chunks[k]
-            results[k] = scene.run(origins[idx], directions[idx], output=1)["tfar"]
+            if t_max is None:
+                results[k] = scene.run(origins[idx], directions[idx], output=1)["tfar"]
+            else:  # the id of the geometry that blocks the ray, -1 for none
+                results[k] = (scene.run(origins[idx], directions[idx], dists=t_max[idx], query="OCCLUDED") != -1)
         start = time.perf_counter()
         workers = [threading.Thread(target=work, args=(k,)) for k in range(threads)]
         for w in workers:
@@ -123,8 +168,54 @@ def time_embree(triangles, origins, directions, threads, repeats):
         for w in workers:
             w.join()
         seconds.append(time.perf_counter() - start)
-    tfar = np.concatenate(results)
-    return float(np.median(seconds)), np.where(tfar > 1e30, np.inf, tfar), build_seconds
+    out = np.concatenate(results)
+    out = out.astype(np.float32) if t_max is not None else np.where(out > 1e30, np.inf, out)
+    return float(np.median(seconds)), out, build_seconds
+
+
+def time_mitsuba(triangles, origins, directions, t_max, threads, repeats):
+    """Mitsuba 3's tracer (llvm_ad_rgb, as compare_efficiency.py renders with) over the same rays: median seconds and
+    per ray what time_embree returns. The first call compiles the kernel and is not timed."""
+    import drjit as dr
+    import mitsuba as mi
+    mi.set_variant("llvm_ad_rgb")
+    dr.set_thread_count(threads)
+    mesh = mi.Mesh("mesh", 3 * len(triangles), len(triangles), has_vertex_normals=False)
+    params = mi.traverse(mesh)
+    params["vertex_positions"] = mi.Float(triangles.reshape(-1).astype(np.float32))
+    params["faces"] = mi.UInt32(np.arange(3 * len(triangles), dtype=np.uint32))
+    params.update()
+    scene = mi.load_dict({"type": "scene", "mesh": mesh})
+    o, d = mi.Point3f(*(origins[:, k] for k in range(3))), mi.Vector3f(*(directions[:, k] for k in range(3)))
+    ray = mi.Ray3f(o, d)
+    if t_max is not None:
+        ray.maxt = mi.Float(t_max)  # the constructor's third argument is the ray's time, not maxt
+    dr.eval(ray)
+    seconds, out = [], None
+    for r in range(repeats + 1):
+        dr.sync_thread()
+        start = time.perf_counter()
+        result = scene.ray_intersect_preliminary(ray).t if t_max is None else scene.ray_test(ray)
+        dr.eval(result)
+        dr.sync_thread()
+        if r > 0:
+            seconds.append(time.perf_counter() - start)
+        out = np.array(result)
+    if t_max is None:
+        out = np.where(np.isfinite(out) & (out < 1e30), out, np.inf).astype(np.float32)
+    else:
+        out = out.astype(np.float32)
+    return float(np.median(seconds)), out, mi.__version__
+
+
+def agreement(kind, ours, theirs):
+    """Where two tracers agree, as a phrase: hit or miss, and the hit distances (closest hits); blocked or not (any)."""
+    if kind == "any-hit":
+        return f"blocked or not agree on {100 * float(np.mean(ours == theirs)):.4f}% of rays"
+    both = np.isfinite(ours) & np.isfinite(theirs)
+    rel = np.abs(ours[both] - theirs[both]) / np.maximum(theirs[both], 1e-12)
+    return (f"hit or miss agree on {100 * float(np.mean(np.isfinite(ours) == np.isfinite(theirs))):.4f}% of rays, "
+            f"hit distance relative difference median {np.median(rel):.2e}, 99.9th percentile {np.quantile(rel, 0.999):.2e}")
 
 
 def main():
@@ -141,35 +232,64 @@ def main():
                     help="Fredholm sorts the rays on the device before tracing them, the sort timed with the trace")
     ap.add_argument("--opaque", action="store_true",
                     help="Fredholm without its alpha test (--disable-effect alpha), every triangle opaque as for Embree")
+    ap.add_argument("--any-hit", action="store_true",
+                    help="shadow rays towards the emitting triangles, traced as occlusion queries (connect stage)")
+    ap.add_argument("--mitsuba", action="store_true", help="also time Mitsuba 3's tracer on the same rays")
     ap.add_argument("--json", help="also write the figures here")
     args = ap.parse_args()
-    triangles = read_triangles(args.scene)
-    origins, directions = diffuse_rays(triangles, args.rays, args.seed)
+    if args.any_hit and args.sort_rays:
+        ap.error("--sort-rays sorts extend's rays; the connect stage traces shadow rays in their order")
+    kind = "any-hit" if args.any_hit else "closest-hit"
+    triangles, emits = read_scene_triangles(args.scene)
+    if args.any_hit:
+        origins, directions, t_max = shadow_rays(triangles, emits, args.rays, args.seed)
+    else:
+        (origins, directions), t_max = diffuse_rays(triangles, args.rays, args.seed), None
     permutation = order_rays(origins, directions, args.order)
     origins, directions = origins[permutation], directions[permutation]
+    columns = [origins, directions]
+    if t_max is not None:
+        t_max = t_max[permutation]
+        columns.append(t_max[:, None])
+    count = len(origins)
     with tempfile.TemporaryDirectory() as tmp:
         ray_file, hit_file, stats_file = (os.path.join(tmp, n) for n in ("rays.bin", "hits.bin", "stats.json"))
-        np.concatenate([origins, directions], axis=1).astype("<f4").tofile(ray_file)
+        np.concatenate(columns, axis=1).astype("<f4").tofile(ray_file)
         subprocess.run([args.fredholm, "bench", args.scene, "--trace-rays", ray_file, "--hits-out", hit_file,
                         "--repeats", str(args.repeats), "--json", stats_file, "--sort-rays", "on" if args.sort_rays else "off"]
-                       + (["--disable-effect", "alpha"] if args.opaque else []),
+                       + (["--disable-effect", "alpha"] if args.opaque else []) + (["--any-hit"] if args.any_hit else []),
                        check=True, stdout=subprocess.DEVNULL)
-        fredholm_t = np.fromfile(hit_file, dtype="<f4")
+        fredholm_out = np.fromfile(hit_file, dtype="<f4")
         stats = json.load(open(stats_file))
     fredholm_rate = stats["rays_per_second"]
-    embree_seconds, embree_t, embree_build = time_embree(triangles, origins, directions, args.threads, args.repeats)
-    embree_rate = args.rays / embree_seconds
-    both = np.isfinite(fredholm_t) & np.isfinite(embree_t)
-    agree_hit = float(np.mean(np.isfinite(fredholm_t) == np.isfinite(embree_t)))
-    rel = np.abs(fredholm_t[both] - embree_t[both]) / np.maximum(embree_t[both], 1e-12)
-    print(f"scene {os.path.basename(args.scene)}: {len(triangles)} triangles, {args.rays} diffuse-bounce rays, "
-          f"order {args.order}")
-    print(f"fredholm extend: {fredholm_rate / 1e6:.3f} Mrays/s (median of {args.repeats}"
+    embree_seconds, embree_out, embree_build = time_embree(triangles, origins, directions, t_max, args.threads,
+                                                           args.repeats)
+    embree_rate = count / embree_seconds
+    rays_kind = "shadow rays (any hit)" if args.any_hit else "diffuse-bounce rays"
+    print(f"scene {os.path.basename(args.scene)}: {len(triangles)} triangles, {count} {rays_kind}, order {args.order}")
+    if args.any_hit:
+        print(f"  {int(np.sum(fredholm_out))} of them blocked (Fredholm); mean t_max {float(np.mean(t_max)):.4g}")
+    stage = "connect" if args.any_hit else "extend"
+    print(f"fredholm {stage}: {fredholm_rate / 1e6:.3f} Mrays/s (median of {args.repeats}"
           f"{'; sorted on the device first, the sort timed too' if args.sort_rays else ''}"
           f"{'; alpha test compiled out, every triangle opaque' if args.opaque else ''})")
     print(f"embree {args.threads} thread(s): {embree_rate / 1e6:.3f} Mrays/s (median of {args.repeats})")
-    print(f"fredholm / embree: {fredholm_rate / embree_rate:.3f}; hit or miss agree on {100 * agree_hit:.4f}% of rays, "
-          f"hit distance relative difference median {np.median(rel):.2e}, 99.9th percentile {np.quantile(rel, 0.999):.2e}")
+    print(f"fredholm / embree: {fredholm_rate / embree_rate:.3f}; {agreement(kind, fredholm_out, embree_out)}")
+    figures = {"triangles": len(triangles), "rays": count, "kind": kind, "fredholm_rays_per_second": fredholm_rate,
+               "embree_rays_per_second": embree_rate, "embree_threads": args.threads, "order": args.order,
+               "fredholm_sorts_rays": args.sort_rays, "opaque": args.opaque, "ratio": fredholm_rate / embree_rate,
+               "embree_agreement": agreement(kind, fredholm_out, embree_out)}
+    if args.mitsuba:
+        mitsuba_seconds, mitsuba_out, version = time_mitsuba(triangles, origins, directions, t_max, args.threads,
+                                                             args.repeats)
+        mitsuba_rate = count / mitsuba_seconds
+        call = "ray_test" if args.any_hit else "ray_intersect_preliminary"
+        print(f"mitsuba {version} llvm_ad_rgb {call}, {args.threads} thread(s): {mitsuba_rate / 1e6:.3f} Mrays/s "
+              f"(median of {args.repeats})")
+        print(f"fredholm / mitsuba: {fredholm_rate / mitsuba_rate:.3f}; {agreement(kind, fredholm_out, mitsuba_out)}")
+        figures.update(mitsuba_rays_per_second=mitsuba_rate, mitsuba_version=version,
+                       mitsuba_ratio=fredholm_rate / mitsuba_rate,
+                       mitsuba_agreement=agreement(kind, fredholm_out, mitsuba_out))
     # Both builds timed alike: the median of --repeats builds in a warm process. Fredholm's first, cold build (the
     # one a render pays once) is printed beside it.
     fredholm_build, fredholm_cold = stats["bvh_build_seconds_median"], stats["bvh_build_seconds"]
@@ -178,13 +298,17 @@ def main():
           f"{len(triangles) / embree_build / 1e6:.2f} M triangles/s ({embree_build:.4f} s, median of {args.repeats}); "
           f"fredholm / embree {embree_build / fredholm_build:.3f}")
     if args.json:
+        figures.update(fredholm_bvh_build_seconds=fredholm_build, fredholm_bvh_first_build_seconds=fredholm_cold,
+                       embree_build_seconds=embree_build)
+        if not args.any_hit:
+            both = np.isfinite(fredholm_out) & np.isfinite(embree_out)
+            rel = np.abs(fredholm_out[both] - embree_out[both]) / np.maximum(embree_out[both], 1e-12)
+            figures.update(hit_agreement=float(np.mean(np.isfinite(fredholm_out) == np.isfinite(embree_out))),
+                           relative_t_median=float(np.median(rel)))
+        else:
+            figures.update(hit_agreement=float(np.mean(fredholm_out == embree_out)))
         with open(args.json, "w") as out:
-            json.dump({"triangles": len(triangles), "rays": args.rays, "fredholm_rays_per_second": fredholm_rate,
-                       "embree_rays_per_second": embree_rate, "embree_threads": args.threads, "order": args.order,
-                       "fredholm_sorts_rays": args.sort_rays, "opaque": args.opaque, "ratio": fredholm_rate / embree_rate,
-                       "hit_agreement": agree_hit, "relative_t_median": float(np.median(rel)),
-                       "fredholm_bvh_build_seconds": fredholm_build,
-                       "fredholm_bvh_first_build_seconds": fredholm_cold, "embree_build_seconds": embree_build}, out, indent=1)
+            json.dump(figures, out, indent=1)
     return 0
 
 

@@ -69,4 +69,26 @@ ExtendResult run_extend_stage(const std::vector<glm::vec3>& positions, const std
     return run_extend_once(context, packed, rays, sort_rays);
 }
 
+std::vector<uint8_t> run_connect_stage(const std::vector<glm::vec3>& positions, const std::vector<ShadowRay>& rays) {
+    vk::Context& context = shared_test_context();
+    Scene scene = make_grey_scene(positions);
+    PackedScene packed = pack_scene(scene, build_bvh(scene.positions, {}));
+    std::vector<gpu::ShadowRayItem> items(rays.size());
+    for (size_t i = 0; i < rays.size(); ++i) {
+        gpu::ShadowRayItem& item = items[i];
+        item.origin_x = rays[i].origin.x;
+        item.origin_y = rays[i].origin.y;
+        item.origin_z = rays[i].origin.z;
+        item.dir_x = rays[i].dir.x;
+        item.dir_y = rays[i].dir.y;
+        item.dir_z = rays[i].dir.z;
+        item.t_max = rays[i].t_max;
+        item.origin_triangle = gpu::INVALID_INDEX;
+    }
+    RayTracer tracer(context, packed, uint32_t(rays.size()));
+    TracedShadowRays traced = tracer.trace_shadow_rays(items);
+    EXPECT_EQ(context.validation_message_count(), 0u) << "Vulkan validation messages (printed above)";
+    return traced.occluded;
+}
+
 }  // namespace fh::test

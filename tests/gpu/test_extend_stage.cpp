@@ -1,6 +1,7 @@
 // The extend stage (BVH traversal + watertight triangle test, on lavapipe) against a brute-force
 // double-precision reference: random rays, axis-parallel rays, origins on BVH box planes, and rays aimed
-// exactly at the shared vertices and edges of meshes (which must all hit).
+// exactly at the shared vertices and edges of meshes (which must all hit). And the connect stage's shadow rays (any
+// hit up to t_max) against the same reference.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -160,6 +161,44 @@ TEST(ExtendStage, LeafSizeDoesNotChangeHits) {
         EXPECT_EQ(a.hits[i].triangle, b.hits[i].triangle) << "ray " << i;
         if (a.hits[i].triangle == b.hits[i].triangle) EXPECT_EQ(a.hits[i].t, b.hits[i].t) << "ray " << i;
     }
+}
+
+// Shadow rays between two random points (as next-event estimation traces them, ending just short of the target): the
+// connect stage finds a blocker exactly where the reference's closest hit lies before t_max. Rays whose closest hit
+// grazes an edge or lies within 1e-5 of t_max may go either way (float precision), and are not counted.
+TEST(ConnectStage, ShadowRaysAreBlockedExactlyWhereTheReferenceFindsAHitBeforeTMax) {
+    const std::vector<glm::vec3> soup = make_random_soup(800, 13);
+    Rng rng(17);
+    std::vector<ShadowRay> rays;
+    std::vector<Ray> as_rays;
+    for (int i = 0; i < 8192; ++i) {
+        const glm::vec3 from = rng.uniform3(-12.0f, 12.0f), to = rng.uniform3(-12.0f, 12.0f);
+        const float length = glm::length(to - from);
+        if (length < 1e-3f) continue;
+        const glm::vec3 dir = (to - from) / length;
+        rays.push_back({from, dir, length * (1.0f - 1e-4f)});
+        as_rays.push_back({from, dir});
+    }
+    const std::vector<uint8_t> occluded = run_connect_stage(soup, rays);
+    ASSERT_EQ(occluded.size(), rays.size());
+    int blocked = 0, bad = 0, uncertain = 0;
+    for (size_t i = 0; i < rays.size(); ++i) {
+        const ReferenceHit ref = trace_reference(soup, as_rays[i]);
+        const bool expected = ref.t < double(rays[i].t_max);
+        if (ref.edge_distance < 1e-5 || std::abs(ref.t - rays[i].t_max) <= 1e-5 * rays[i].t_max) {
+            ++uncertain;
+            continue;
+        }
+        blocked += expected;
+        if ((occluded[i] != 0) != expected && ++bad <= 5)
+            ADD_FAILURE() << "ray " << i << ": connect says " << (occluded[i] ? "blocked" : "clear")
+                          << ", reference closest hit at t " << ref.t << " of t_max " << rays[i].t_max;
+    }
+    EXPECT_EQ(bad, 0);
+    EXPECT_LT(uncertain, 20);
+    // Both answers occur often: the test would notice a stage that blocks everything or nothing.
+    EXPECT_GT(blocked, int(rays.size()) / 10);
+    EXPECT_LT(blocked, int(rays.size()) * 9 / 10);
 }
 
 }  // namespace

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""`fredholm bench --trace-rays` with and without the alpha test (`--disable-effect alpha`).
+"""`fredholm bench --trace-rays` with and without the alpha test (`--disable-effect alpha`), closest and any hit.
 
   check_trace_rays.py FREDHOLM env_plane_cutouts.gltf OUT_DIR
 
@@ -7,6 +7,8 @@ The scene (make_asset_scenes.py) is a floor at z = 0 under three planes at z = 0
 entirely. Rays cast straight down from z = 2 must pass the three planes and hit the floor at t = 2 with the alpha
 test, and hit the top plane at t = 0.8 without it (every triangle opaque, as Embree sees them in
 tests/bench/compare_embree.py --opaque). Both runs must count no escaped ray.
+The same rays as shadow rays (`--any-hit`, the connect stage): ending at t = 1.9, above the floor, none is blocked with
+the alpha test and every one without it; ending at t = 2.5, below the floor, every one is blocked.
 """
 import os
 import re
@@ -23,6 +25,15 @@ def trace(fredholm, scene, rays_file, hits_file, extra):
     with open(hits_file, "rb") as f:
         data = f.read()
     return list(struct.unpack(f"<{len(data) // 4}f", data)), escaped
+
+
+def trace_shadows(fredholm, scene, rays_file, hits_file, extra):
+    out = subprocess.run([fredholm, "bench", scene, "--trace-rays", rays_file, "--any-hit", "--hits-out", hits_file,
+                          "--repeats", "1"] + extra, check=True, capture_output=True, text=True).stdout
+    occluded = int(re.search(r"(\d+) occluded", out).group(1))
+    with open(hits_file, "rb") as f:
+        data = f.read()
+    return list(struct.unpack(f"<{len(data) // 4}f", data)), occluded
 
 
 def main():
@@ -44,6 +55,21 @@ def main():
         ok = len(t) == n * n and worst < 1e-5 and escaped == 0
         print(f"{name}: {len(t)} rays, expected t = {expected}, largest difference {worst:.3g}, {escaped} escaped: "
               f"{'PASS' if ok else 'FAIL'}")
+        failures += 0 if ok else 1
+    shadow_file = os.path.join(out_dir, "trace_rays_cutouts_shadow.bin")
+    for name, extra, t_max, expected in (("alpha test", [], 1.9, 0.0),
+                                         ("--disable-effect alpha", ["--disable-effect", "alpha"], 1.9, 1.0),
+                                         ("alpha test, through the floor", [], 2.5, 1.0)):
+        shadows = []
+        for k in range(n * n):
+            shadows += rays[6 * k:6 * k + 6] + [t_max]
+        with open(shadow_file, "wb") as f:
+            f.write(struct.pack(f"<{len(shadows)}f", *shadows))
+        blocked, occluded = trace_shadows(fredholm, scene, shadow_file, os.path.join(out_dir, "trace_rays_blocked.bin"),
+                                          extra)
+        ok = len(blocked) == n * n and all(b == expected for b in blocked) and occluded == int(expected) * n * n
+        print(f"any hit, {name}, t_max {t_max}: {len(blocked)} rays, {occluded} blocked, expected "
+              f"{int(expected) * n * n}: {'PASS' if ok else 'FAIL'}")
         failures += 0 if ok else 1
     return 1 if failures else 0
 
