@@ -62,13 +62,19 @@ def read_triangles(path):
     return read_scene_triangles(path)[0]
 
 
-def sample_surface_points(triangles, candidates, count, rng):
-    """Points uniform by area over the triangles whose indices are `candidates`, and their unit normals."""
+def triangle_geometry(triangles):
+    """Per triangle its two edges from vertex 0, its unit normal (winding order) and its area."""
     e1, e2 = triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0]
     normals = np.cross(e1, e2).astype(np.float64)
     areas = 0.5 * np.linalg.norm(normals, axis=1)
     keep = areas > 0
     normals[keep] /= (2.0 * areas[keep])[:, None]
+    return e1, e2, normals, areas
+
+
+def sample_surface_points(triangles, geometry, candidates, count, rng):
+    """Points uniform by area over the triangles whose indices are `candidates`, and their unit normals."""
+    e1, e2, normals, areas = geometry
     weights = areas[candidates]
     pick = candidates[rng.choice(len(candidates), size=count, p=weights / weights.sum())]
     r1, r2 = np.sqrt(rng.random(count)), rng.random(count)
@@ -83,7 +89,7 @@ def scene_size(triangles):
 
 def diffuse_rays(triangles, count, seed):
     rng = np.random.default_rng(seed)
-    points, n = sample_surface_points(triangles, np.arange(len(triangles)), count, rng)
+    points, n = sample_surface_points(triangles, triangle_geometry(triangles), np.arange(len(triangles)), count, rng)
     origins = points + 1e-4 * scene_size(triangles) * n
     # Cosine-weighted directions about n (Malley's method in a frame built around n).
     u1, u2 = rng.random(count), rng.random(count)
@@ -102,8 +108,9 @@ def shadow_rays(triangles, emits, count, seed):
     rng = np.random.default_rng(seed)
     everything = np.arange(len(triangles))
     lights, others = (everything[emits], everything[~emits]) if emits.any() and not emits.all() else (everything, everything)
-    points, n = sample_surface_points(triangles, others, count, rng)
-    targets, _ = sample_surface_points(triangles, lights, count, rng)
+    geometry = triangle_geometry(triangles)
+    points, n = sample_surface_points(triangles, geometry, others, count, rng)
+    targets, _ = sample_surface_points(triangles, geometry, lights, count, rng)
     side = np.where(np.sum((targets - points) * n, axis=1) < 0.0, -1.0, 1.0)[:, None]
     origins = points + 1e-4 * scene_size(triangles) * side * n
     to_target = targets - origins
@@ -209,14 +216,21 @@ def time_mitsuba(triangles, origins, directions, t_max, threads, repeats):
 
 
 def agreement(kind, ours, theirs):
-    """Where two tracers agree, as a phrase: hit or miss, and the hit distances (closest hits); blocked or not (any)."""
+    """Where two tracers agree: the share of rays with the same answer (hit or miss; blocked or not), and for closest
+    hits the relative difference of the hit distances where both hit (median, 99.9th percentile)."""
     if kind == "any-hit":
-        return f"blocked or not agree on {100 * float(np.mean(ours == theirs)):.4f}% of rays"
+        return {"hit_agreement": float(np.mean(ours == theirs))}
     both = np.isfinite(ours) & np.isfinite(theirs)
     rel = np.abs(ours[both] - theirs[both]) / np.maximum(theirs[both], 1e-12)
-    return (f"hit or miss agree on {100 * float(np.mean(np.isfinite(ours) == np.isfinite(theirs))):.4f}% of rays, "
-            f"hit distance relative difference median {np.median(rel):.2e}, 99.9th percentile {np.quantile(rel, 0.999):.2e}")
+    return {"hit_agreement": float(np.mean(np.isfinite(ours) == np.isfinite(theirs))),
+            "relative_t_median": float(np.median(rel)), "relative_t_p999": float(np.quantile(rel, 0.999))}
 
+
+def describe_agreement(kind, a):
+    if kind == "any-hit":
+        return f"blocked or not agree on {100 * a['hit_agreement']:.4f}% of rays"
+    return (f"hit or miss agree on {100 * a['hit_agreement']:.4f}% of rays, hit distance relative difference median "
+            f"{a['relative_t_median']:.2e}, 99.9th percentile {a['relative_t_p999']:.2e}")
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
@@ -274,11 +288,12 @@ def main():
           f"{'; sorted on the device first, the sort timed too' if args.sort_rays else ''}"
           f"{'; alpha test compiled out, every triangle opaque' if args.opaque else ''})")
     print(f"embree {args.threads} thread(s): {embree_rate / 1e6:.3f} Mrays/s (median of {args.repeats})")
-    print(f"fredholm / embree: {fredholm_rate / embree_rate:.3f}; {agreement(kind, fredholm_out, embree_out)}")
+    embree_agreement = agreement(kind, fredholm_out, embree_out)
+    print(f"fredholm / embree: {fredholm_rate / embree_rate:.3f}; {describe_agreement(kind, embree_agreement)}")
     figures = {"triangles": len(triangles), "rays": count, "kind": kind, "fredholm_rays_per_second": fredholm_rate,
                "embree_rays_per_second": embree_rate, "embree_threads": args.threads, "order": args.order,
                "fredholm_sorts_rays": args.sort_rays, "opaque": args.opaque, "ratio": fredholm_rate / embree_rate,
-               "embree_agreement": agreement(kind, fredholm_out, embree_out)}
+               **embree_agreement}
     if args.mitsuba:
         mitsuba_seconds, mitsuba_out, version = time_mitsuba(triangles, origins, directions, t_max, args.threads,
                                                              args.repeats)
@@ -286,10 +301,11 @@ def main():
         call = "ray_test" if args.any_hit else "ray_intersect_preliminary"
         print(f"mitsuba {version} llvm_ad_rgb {call}, {args.threads} thread(s): {mitsuba_rate / 1e6:.3f} Mrays/s "
               f"(median of {args.repeats})")
-        print(f"fredholm / mitsuba: {fredholm_rate / mitsuba_rate:.3f}; {agreement(kind, fredholm_out, mitsuba_out)}")
+        mitsuba_agreement = agreement(kind, fredholm_out, mitsuba_out)
+        print(f"fredholm / mitsuba: {fredholm_rate / mitsuba_rate:.3f}; {describe_agreement(kind, mitsuba_agreement)}")
         figures.update(mitsuba_rays_per_second=mitsuba_rate, mitsuba_version=version,
                        mitsuba_ratio=fredholm_rate / mitsuba_rate,
-                       mitsuba_agreement=agreement(kind, fredholm_out, mitsuba_out))
+                       mitsuba_agreement=mitsuba_agreement)
     # Both builds timed alike: the median of --repeats builds in a warm process. Fredholm's first, cold build (the
     # one a render pays once) is printed beside it.
     fredholm_build, fredholm_cold = stats["bvh_build_seconds_median"], stats["bvh_build_seconds"]
@@ -300,13 +316,6 @@ def main():
     if args.json:
         figures.update(fredholm_bvh_build_seconds=fredholm_build, fredholm_bvh_first_build_seconds=fredholm_cold,
                        embree_build_seconds=embree_build)
-        if not args.any_hit:
-            both = np.isfinite(fredholm_out) & np.isfinite(embree_out)
-            rel = np.abs(fredholm_out[both] - embree_out[both]) / np.maximum(embree_out[both], 1e-12)
-            figures.update(hit_agreement=float(np.mean(np.isfinite(fredholm_out) == np.isfinite(embree_out))),
-                           relative_t_median=float(np.median(rel)))
-        else:
-            figures.update(hit_agreement=float(np.mean(fredholm_out == embree_out)))
         with open(args.json, "w") as out:
             json.dump(figures, out, indent=1)
     return 0
