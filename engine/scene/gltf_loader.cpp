@@ -31,6 +31,7 @@
 #include "scene/gltf_draco.h"
 #include "scene/gltf_meshopt.h"
 #include "scene/gltf_texture.h"
+#include "scene/json_limits.h"
 #include "scene/scene.h"
 
 namespace fh {
@@ -148,28 +149,34 @@ bool patch_for_decoders(std::string& json, std::vector<gltf::FallbackBuffer>& fa
     return true;
 }
 
-// The file's JSON patched for the compression extensions (patch_for_decoders), as a .gltf text or a rebuilt
-// .glb; empty when the file does not need it (tinygltf then reads the file itself).
-std::vector<unsigned char> patch_file_for_decoders(const std::filesystem::path& file, bool is_glb,
-                                             std::vector<gltf::FallbackBuffer>& fallbacks) {
-    std::ifstream in(file, std::ios::binary);
+// The file's JSON text: the whole .gltf, or a .glb's JSON chunk (`json_end`: the byte after it). Empty when the
+// file cannot be read so (tinygltf then reads the file itself and reports the problem).
+std::string read_json_text(const std::filesystem::path& file, bool is_glb, uint64_t& json_end) {
     std::string json;
-    uint64_t json_end = 0;
-    if (is_glb) {  // only the header and the JSON chunk, unless the file needs the patch
-        unsigned char header[20] = {};
-        if (!in.read(reinterpret_cast<char*>(header), sizeof header)) return {};
-        const uint64_t json_length = load_le32(header + 12);
-        std::error_code ec;
-        if (20 + json_length > std::filesystem::file_size(file, ec) || ec || json_length > MAX_FILE_BYTES) return {};
-        json.resize(size_t(json_length));
-        if (!in.read(json.data(), std::streamsize(json_length))) return {};
-        json_end = 20 + json_length;
-    } else {
+    json_end = 0;
+    if (!is_glb) {
         std::vector<unsigned char> bytes;
         std::string problem;
-        if (!read_regular_file(&bytes, &problem, file.string(), nullptr)) return {};  // tinygltf reports it
-        json.assign(bytes.begin(), bytes.end());
+        if (!read_regular_file(&bytes, &problem, file.string(), nullptr)) return {};
+        return std::string(bytes.begin(), bytes.end());
     }
+    std::ifstream in(file, std::ios::binary);
+    unsigned char header[20] = {};
+    if (!in.read(reinterpret_cast<char*>(header), sizeof header)) return {};
+    const uint64_t json_length = load_le32(header + 12);
+    std::error_code ec;
+    if (20 + json_length > std::filesystem::file_size(file, ec) || ec || json_length > MAX_FILE_BYTES) return {};
+    json.resize(size_t(json_length));
+    if (!in.read(json.data(), std::streamsize(json_length))) return {};
+    json_end = 20 + json_length;
+    return json;
+}
+
+// The file's JSON (`json`, as read_json_text gave it) patched for the compression extensions (patch_for_decoders),
+// as a .gltf text or a rebuilt .glb; empty when the file does not need it (tinygltf then reads the file itself).
+std::vector<unsigned char> patch_file_for_decoders(const std::filesystem::path& file, bool is_glb, std::string json,
+                                                   uint64_t json_end, std::vector<gltf::FallbackBuffer>& fallbacks) {
+    if (json.empty()) return {};
     if (!patch_for_decoders(json, fallbacks)) return {};
     if (!is_glb) return std::vector<unsigned char>(json.begin(), json.end());
     std::vector<unsigned char> bytes;
@@ -206,8 +213,12 @@ tinygltf::Model read_model(const std::filesystem::path& file, std::vector<std::s
     std::string err, warn;
     const bool is_glb = has_glb_magic(file);
     if (is_glb) check_glb_bin_chunk(file);
+    // Nesting is checked before any recursive parse: tinygltf's parse and destruction recurse per level.
+    uint64_t json_end = 0;
+    std::string json = read_json_text(file, is_glb, json_end);
+    check_json_nesting(json, is_glb ? "the GLB's JSON chunk" : "the JSON");
     std::vector<gltf::FallbackBuffer> fallbacks;
-    const std::vector<unsigned char> patched = patch_file_for_decoders(file, is_glb, fallbacks);
+    const std::vector<unsigned char> patched = patch_file_for_decoders(file, is_glb, std::move(json), json_end, fallbacks);
     const std::string base_dir = file.parent_path().string();
     bool ok;
     if (patched.empty())

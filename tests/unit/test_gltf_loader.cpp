@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "gltf_builder.h"
+#include "scene/json_limits.h"
 #include "scene/scene.h"
 
 namespace {
@@ -489,4 +490,16 @@ TEST(GltfLoader, RejectsAMissingLightWithItsNode) {
     b.set_scene({b.add_node({{"mesh", mesh}, {"extensions", {{"KHR_lights_punctual", {{"light", 4}}}}}})});
     const std::string error = load_error(b.write_gltf());
     EXPECT_NE(error.find("node 0: KHR_lights_punctual light 4"), std::string::npos) << error;
+}
+
+// The nesting count the loader checks before tinygltf parses (a 30,000-level file overflowed its stack).
+TEST(JsonLimits, CountsNestingOutsideStringsOnly) {
+    EXPECT_EQ(fh::json_nesting_depth(R"({"a": [1, {"b": []}]})"), 4u);
+    EXPECT_EQ(fh::json_nesting_depth(R"({"a": "[[[[{{{{", "b": "\\"})"), 1u);  // brackets in strings, escaped backslash
+    EXPECT_EQ(fh::json_nesting_depth(R"(["\"[[[["])"), 1u);                     // an escaped quote stays in the string
+    EXPECT_EQ(fh::json_nesting_depth("]]]][[]"), 2u);                              // stray closers do not go below zero
+    const std::string deep = std::string(5000, '[') + std::string(5000, ']');
+    EXPECT_EQ(fh::json_nesting_depth(deep, 100), 101u);  // stops counting past the limit
+    EXPECT_NO_THROW(fh::check_json_nesting(std::string(fh::MAX_JSON_DEPTH, '['), "x"));
+    EXPECT_THROW(fh::check_json_nesting(std::string(fh::MAX_JSON_DEPTH + 1, '{'), "x"), fh::SceneError);
 }

@@ -245,6 +245,21 @@ def main():
     with open(os.path.join(HERE, "empty_file.gltf"), "wb") as f:
         pass
 
+    # Hostile nesting: 30,000 arrays inside `extras` overflowed the stack of a recursive parser (60 KB of text).
+    d = copy.deepcopy(doc)
+    d["extras"] = "NESTED"
+    deep_text = json.dumps(d).replace('"NESTED"', "[" * 30000 + "]" * 30000)
+    write("deep_nesting.gltf", deep_text)
+    deep_doc, deep_bin = triangle_scene()
+    del deep_doc["buffers"][0]["uri"]  # the BIN chunk holds it: the file is whole but for its nesting
+    deep_chunk = json.dumps(deep_doc).replace('"asset"', '"extras": ' + "[" * 30000 + "]" * 30000 + ', "asset"', 1).encode()
+    deep_chunk += b" " * (-len(deep_chunk) % 4)
+    deep_bin += b"\0" * (-len(deep_bin) % 4)
+    with open(os.path.join(HERE, "deep_nesting.glb"), "wb") as f:
+        f.write(struct.pack("<4sII", b"glTF", 2, 12 + 8 + len(deep_chunk) + 8 + len(deep_bin)) +
+                struct.pack("<II", len(deep_chunk), 0x4E4F534A) + deep_chunk +
+                struct.pack("<II", len(deep_bin), 0x004E4942) + deep_bin)
+
 
 if __name__ == "__main__":
     main()
