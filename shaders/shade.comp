@@ -126,6 +126,9 @@ void shade_vertex(uint i, uint parity, out bool push_ray, out RayItem next, out 
                 if ((params.flags & RENDER_MIS) != 0u) {
                     float cos_light = abs(dot(s.ng, wo));
                     float light_pdf = s.light_pdf_area * hit.t * hit.t / cos_light;
+                    if (effect_on(EFFECT_LIGHT_TREE))  // as NEE at the vertex the ray left would have sampled it
+                        light_pdf = tree_emitter_hit_pdf(unpack_light_point(path_light_points[path]), hit.triangle,
+                                                         s.light_entry, hit.t, cos_light);
                     weight = power_heuristic(state.bsdf_pdf, light_pdf);
                 } else {
                     weight = 0.0f;
@@ -200,8 +203,15 @@ void shade_vertex(uint i, uint parity, out bool push_ray, out RayItem next, out 
             }
 
             VertexSamples u = draw_vertex_samples(path, push.depth, rng);
+            // Where NEE stands; the light tree also bounds by the normal on the side the path came from.
+            LightTreePoint light_point;
+            light_point.p = s.p;
+            light_point.n = ng;
+            light_point.kind = LIGHT_POINT_NO_NORMAL;
+            if (effect_on(EFFECT_LIGHT_TREE))
+                light_point = make_light_point(s.p, ng, transmits ? LIGHT_POINT_TWO_SIDED : LIGHT_POINT_ONE_SIDED);
             if ((params.flags & RENDER_NEE) != 0u && params.emitter_count > 0u) {
-                LightConnection light = sample_light_connection(s.p, u.pick, u.light);
+                LightConnection light = sample_light_connection(light_point, u.pick, u.light);
                 vec3 wi = light.wi;
                 if (light.valid != 0u && (transmits || dot(wi, ng) > 0.0f)) {
                     vec3 wi_local = to_local(frame, wi);
@@ -275,6 +285,8 @@ void shade_vertex(uint i, uint parity, out bool push_ray, out RayItem next, out 
                     next.dir_z = wi.z;
                     state.bsdf_pdf = bs.pdf;
                     push_ray = true;
+                    if (effect_on(EFFECT_LIGHT_TREE))  // for the MIS weight of an emitter the ray hits
+                        path_light_points[path] = pack_light_point(light_point.p, light_point.n, light_point.kind);
                     if (bdpt)
                         account_scattering(mis, abs(dot(wi, ng)), bs.pdf,
                                            pdf_next_direction(make_surface_bsdf(sp, wi), wi, wo));

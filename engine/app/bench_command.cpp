@@ -362,6 +362,7 @@ int run_bench(const BenchCommand& c) {
                 scene_file.string().c_str(), prepared.scene.rendered_triangle_count(), prepared.scene.triangle_count(),
                 prepared.scene.instances.size(), prepared.load_seconds,
                 prepared.bvh_nodes, prepared.bvh_build_seconds, prepared.sah_cost, prepared.wide_sah_cost);
+    std::printf("light sampling: %s\n", describe_light_sampler(prepared.packed).c_str());
     print_memory_figures(prepared, base);
     if (!c.trace_rays.empty()) return trace_ray_file(*context, prepared, base, c);
     std::printf("device %s; integrator %s, %u spp, max depth %u, waves of %u paths, rays %s, median of %u\n",

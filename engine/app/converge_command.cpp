@@ -79,6 +79,8 @@ void apply_vary(const std::string& key, const std::string& v, RenderSettings& s)
     } else if (key == "light-pick") {
         if (v != "reuse" && v != "separate") throw std::invalid_argument("light-pick: '" + v + "' is not reuse or separate");
         s.light_pick_reuse = v == "reuse";
+    } else if (key == "light-sampler") {
+        s.light_sampler = parse_light_sampler(v);
     } else if (key == "sampler") {
         if (v != "independent" && v != "sobol") throw std::invalid_argument("sampler: '" + v + "' is not independent or sobol");
         s.sampler = v == "sobol" ? Sampler::sobol : Sampler::independent;
@@ -103,7 +105,7 @@ void apply_vary(const std::string& key, const std::string& v, RenderSettings& s)
         s.forced_effects = on ? s.forced_effects | bit : s.forced_effects & ~bit;
         s.disabled_effects = on ? s.disabled_effects & ~bit : s.disabled_effects | bit;
     } else {
-        throw std::invalid_argument("unknown key '" + key + "' (max-depth, nee, mis, rr, rr-start-depth, rr-survival-scale, sort-rays, filter, sampler, light-pick, "
+        throw std::invalid_argument("unknown key '" + key + "' (max-depth, nee, mis, rr, rr-start-depth, rr-survival-scale, sort-rays, filter, sampler, light-pick, light-sampler, "
                                     "integrator, "
                                     "aperture, aperture-radius, effect:NAME)");
     }
@@ -113,7 +115,8 @@ bool same_settings(const RenderSettings& a, const RenderSettings& b) {
     return a.max_depth == b.max_depth && a.nee == b.nee && a.mis == b.mis &&
            a.russian_roulette == b.russian_roulette && a.rr_start_depth == b.rr_start_depth &&
            a.rr_survival_scale == b.rr_survival_scale && a.filter == b.filter &&
-           a.sampler == b.sampler && a.light_pick_reuse == b.light_pick_reuse && a.integrator == b.integrator && a.sort_rays == b.sort_rays &&
+           a.sampler == b.sampler && a.light_pick_reuse == b.light_pick_reuse &&
+           a.light_sampler == b.light_sampler && a.integrator == b.integrator && a.sort_rays == b.sort_rays &&
            a.forced_effects == b.forced_effects &&
            a.disabled_effects == b.disabled_effects && describe_lens(a.lens) == describe_lens(b.lens);
 }
@@ -158,12 +161,24 @@ struct Session {
     SceneCamera camera;
     std::unique_ptr<vk::Context> context;
     std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
+    // The scene's lights set up for another light sampler or integrator than the command's (--vary light-sampler=...,
+    // integrator=...): prepared again, once per combination.
+    mutable std::map<std::string, PreparedScene> other_lights;
+
+    const PackedScene& packed_for(const RenderSettings& settings) const {
+        if (settings.light_sampler == command.settings.light_sampler && settings.integrator == command.settings.integrator)
+            return prepared.packed;
+        const std::string key = std::string(light_sampler_name(settings.light_sampler)) + "/" + to_string(settings.integrator);
+        auto it = other_lights.find(key);
+        if (it == other_lights.end()) it = other_lights.emplace(key, prepare_scene(command.scene, settings)).first;
+        return it->second.packed;
+    }
 
     Film make_film(RenderSettings settings, uint32_t spp_total) const {
         settings.spp = spp_total;
         Film f;
-        f.renderer = std::make_unique<Renderer>(*context, prepared.packed,
-                                                apply_lens(*context, prepared.packed, camera, settings), settings);
+        const PackedScene& packed = packed_for(settings);
+        f.renderer = std::make_unique<Renderer>(*context, packed, apply_lens(*context, packed, camera, settings), settings);
         f.renderer->clear_film();
         return f;
     }
@@ -255,6 +270,7 @@ std::string describe_command(const ConvergeCommand& c) {
     if (!s.nee) line += " --nee off";
     if (!s.mis) line += " --mis off";
     if (!s.light_pick_reuse) line += " --light-pick separate";
+    if (s.light_sampler != LightSampler::automatic) line += std::string(" --light-sampler ") + light_sampler_name(s.light_sampler);
     if (!s.russian_roulette) line += " --rr off";
     if (s.sort_rays) line += std::string(" --sort-rays ") + (*s.sort_rays ? "on" : "off");
     if (s.rr_start_depth != RenderSettings{}.rr_start_depth) line += " --rr-start-depth " + std::to_string(s.rr_start_depth);
@@ -315,7 +331,7 @@ void add_converge_options(CLI::App& app, ConvergeCommand& c) {
     two->excludes(ref_spp);
     app.add_option("--max-seconds", c.max_seconds, "render-time budget per configuration")->check(CLI::PositiveNumber);
     app.add_option("--max-spp", c.max_spp, "largest spp of the doubling sequence")->check(CLI::Range(1u, 1u << 20));
-    app.add_option("--vary", c.vary, "KEY=V1,V2,...: one curve per value (max-depth, nee, mis, rr, rr-start-depth, rr-survival-scale, sort-rays, filter, sampler, light-pick (reuse, separate), integrator (path, light, bdpt), aperture (0: pinhole), aperture-radius; effect:NAME=on,off compiles "
+    app.add_option("--vary", c.vary, "KEY=V1,V2,...: one curve per value (max-depth, nee, mis, rr, rr-start-depth, rr-survival-scale, sort-rays, filter, sampler, light-pick (reuse, separate), light-sampler (auto, tree, power, uniform), integrator (path, light, bdpt), aperture (0: pinhole), aperture-radius; effect:NAME=on,off compiles "
                    "an effect in or out (a material or light effect, or motion-blur), e.g. effect:transmission=on,off)")
         ->check(CLI::Validator(
             [](std::string& spec) {
@@ -367,7 +383,7 @@ int run_converge(const ConvergeCommand& c) {
     report.command_line = describe_command(c);
     Session s{c, prepare_scene(c.scene, c.settings), {}, nullptr};
     s.camera = choose_camera(s.prepared.scene, c.settings.camera);
-    for (const NamedSettings& n : configs) check_render_settings(s.prepared.packed, s.camera, n.settings);
+    for (const NamedSettings& n : configs) check_render_settings(s.packed_for(n.settings), s.camera, n.settings);
     Film reference;
     if (!c.reference.empty()) {
         reference.image = read_exr(c.reference);

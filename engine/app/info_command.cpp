@@ -46,6 +46,7 @@ int run_info(const InfoCommand& c) {
     j["texture_bytes"] = p.packed.texels.size() * 4;
     j["emitters"] = p.packed.emitters.size();
     j["punctual_lights"] = p.packed.punctual_lights.size();
+    j["light_sampler"] = describe_light_sampler(p.packed);
     j["cameras"] = p.scene.cameras.size();
     j["variants"] = p.scene.variants;
     j["animations"] = p.scene.animations;
@@ -75,8 +76,8 @@ int run_info(const InfoCommand& c) {
                 p.scene.instances.size());
     std::printf("  materials          %zu; textures %zu (%.1f MiB of texels)\n", p.scene.materials.size(),
                 p.packed.texture_images.size(), double(p.packed.texels.size()) * 4.0 / (1024.0 * 1024.0));
-    std::printf("  lights             %zu in the light table (%zu punctual)\n", p.packed.emitters.size(),
-                p.packed.punctual_lights.size());
+    std::printf("  lights             %zu in the light table (%zu punctual); NEE: %s\n", p.packed.emitters.size(),
+                p.packed.punctual_lights.size(), describe_light_sampler(p.packed).c_str());
     std::printf("  cameras            %zu\n", p.scene.cameras.size());
     if (!p.scene.animations.empty()) {
         std::string names;

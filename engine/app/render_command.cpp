@@ -78,6 +78,7 @@ ImageMetadata make_metadata(const RenderCommand& c, const std::string& scene_has
             {"fredholm:rr_start_depth", std::to_string(s.rr_start_depth)},
             {"fredholm:rr_survival_scale", survival},
             {"fredholm:light_pick", s.light_pick_reuse ? "reuse" : "separate"},
+            {"fredholm:light_sampler", light_sampler_name(s.light_sampler)},
             {"fredholm:disabled_techniques", name_techniques(s.disabled_techniques)},
             {"fredholm:bvh_leaf_size", std::to_string(s.bvh_max_leaf_size)},
             {"fredholm:effects", describe_effects(select_effects(effects, s.forced_effects, s.disabled_effects))},
@@ -132,6 +133,10 @@ void write_stats(const std::filesystem::path& file, const RenderCommand& c, cons
     j["punctual_lights"] = prepared.packed.punctual_lights.size();
     j["sampler"] = to_string(s.sampler);
     j["light_pick"] = s.light_pick_reuse ? "reuse" : "separate";
+    j["light_sampler"] = prepared.packed.light_sampler;  // as chosen (--light-sampler auto resolved)
+    j["light_tree_lights"] = prepared.packed.light_tree_lights;
+    j["light_tree_depth"] = prepared.packed.light_tree_depth;
+    j["light_tree_build_seconds"] = prepared.packed.light_tree_build_seconds;
     j["rr_start_depth"] = s.rr_start_depth;
     j["rr_survival_scale"] = s.rr_survival_scale;
     j["integrator"] = to_string(s.integrator);
@@ -382,6 +387,7 @@ int run_frame(const RenderCommand& command, vk::Context* shared_context) {
         const IntegratorChoice choice = choose_integrator_by_pilot(*context, prepared.packed, camera, c.settings);
         if (!c.quiet) std::fprintf(stderr, "fredholm: %s\n", choice.report.c_str());
         c.settings.integrator = choice.integrator;
+        apply_light_sampler(prepared, c.scene, c.settings);
     }
     c.settings = with_device_defaults(c.settings, *context, prepared.packed);
     try {

@@ -62,6 +62,15 @@ void add_sampling_options(CLI::App& app, RenderSettings& s) {
                    "coordinate of the light point's 2D sample, so a quad's points stay stratified over the whole quad; "
                    "separate: a sample dimension of its own")
         ->transform(CLI::CheckedTransformer(picks, CLI::ignore_case));
+    app.add_option("--light-sampler", s.light_sampler,
+                   "how next-event estimation picks a light: tree (by each light's importance at the shading point: "
+                   "power, distance, orientation), power (one table for the whole scene), uniform; auto (default): the "
+                   "tree where the scene's lights differ in kind or material or number more than 16, else power")
+        ->transform(CLI::CheckedTransformer(std::map<std::string, LightSampler>{{"auto", LightSampler::automatic},
+                                                                                {"tree", LightSampler::tree},
+                                                                                {"power", LightSampler::power},
+                                                                                {"uniform", LightSampler::uniform}},
+                                            CLI::ignore_case));
     app.add_option("--wave-paths", s.wave_paths,
                    "paths in flight per wave (default: 524288 on a CPU device such as lavapipe, 4194304 on a GPU, "
                    "halved until the wave fits the device's buffer limits and a quarter of its memory)")

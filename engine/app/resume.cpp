@@ -65,7 +65,7 @@ const std::vector<std::string>& matching_film_keys() {
     static const std::vector<std::string> keys = {
         "fredholm:renderer", "fredholm:scene", "fredholm:scene_hash", "fredholm:image_size", "fredholm:seed",
         "fredholm:max_depth", "fredholm:camera", "fredholm:filter", "fredholm:filter_radius", "fredholm:sampler",
-        "fredholm:integrator", "fredholm:bdpt_strategy", "fredholm:nee", "fredholm:mis", "fredholm:rr", "fredholm:rr_start_depth", "fredholm:rr_survival_scale", "fredholm:light_pick", "fredholm:disabled_techniques",
+        "fredholm:integrator", "fredholm:bdpt_strategy", "fredholm:nee", "fredholm:mis", "fredholm:rr", "fredholm:rr_start_depth", "fredholm:rr_survival_scale", "fredholm:light_pick", "fredholm:light_sampler", "fredholm:disabled_techniques",
         "fredholm:environment", "fredholm:lens", "fredholm:animation", "fredholm:time", "fredholm:shutter",
         "fredholm:variant", "fredholm:disabled_effects", "fredholm:forced_effects"};
     return keys;
@@ -97,6 +97,7 @@ FilmFile read_film_file(const std::filesystem::path& file, const std::string& wh
     // Films written before --integrator (and --bdpt-strategy) existed were path traced, all strategies.
     f.metadata.emplace("fredholm:integrator", "path");
     f.metadata.emplace("fredholm:bdpt_strategy", "all");
+    f.metadata.emplace("fredholm:light_sampler", "power");  // before --light-sampler, NEE picked by power
     f.end_sample = read_count(f.metadata, "fredholm:spp", prefix);
     f.first_sample = read_count(f.metadata, "fredholm:first_sample", prefix);
     if (f.first_sample > f.end_sample) throw std::runtime_error(prefix + "fredholm:first_sample is above fredholm:spp");

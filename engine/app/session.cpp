@@ -29,6 +29,14 @@ BvhOptions make_bvh_options(const RenderSettings& settings) {
     return options;
 }
 
+void apply_light_sampler(PreparedScene& prepared, const std::filesystem::path& file, const RenderSettings& settings) {
+    try {
+        choose_light_sampler(prepared.packed, settings.light_sampler, settings.integrator == Integrator::path);
+    } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(file.string() + ": --integrator " + to_string(settings.integrator) + ": " + e.what());
+    }
+}
+
 PreparedScene prepare_scene(const std::filesystem::path& file, const RenderSettings& settings) {
     PreparedScene prepared;
     auto start = std::chrono::steady_clock::now();
@@ -56,6 +64,8 @@ PreparedScene prepare_scene(const std::filesystem::path& file, const RenderSetti
     prepared.bvh_nodes = bvh.node_count;
     prepared.bvh_depth = bvh.max_depth;
     prepared.packed = pack_scene(prepared.scene, bvh, load_environment(settings));
+    // --integrator auto chooses by pilot renders first (render_command.cpp), then the light sampler.
+    if (settings.integrator != Integrator::automatic) apply_light_sampler(prepared, file, settings);
     decide_camera_effects(prepared.packed.effects, settings.lens.on());
     decide_motion_effects(prepared.packed.effects, settings.has_shutter(), prepared.scene.moving_instances,
                           choose_camera(prepared.scene, settings.camera).moves);

@@ -30,6 +30,11 @@ BvhOptions make_bvh_options(const RenderSettings& settings);
 // warnings to stderr.
 PreparedScene prepare_scene(const std::filesystem::path& file, const RenderSettings& settings);
 
+// The light sampler of settings.light_sampler for settings.integrator, set up in prepared.packed (scene/light_sampler.h;
+// prepare_scene does it unless the integrator is still auto). Throws std::invalid_argument naming `file` for a tree
+// with another integrator than path tracing.
+void apply_light_sampler(PreparedScene& prepared, const std::filesystem::path& file, const RenderSettings& settings);
+
 // The environment light the settings ask for (--env, --background), or an empty map. Throws IoError naming
 // the file for an unreadable or invalid map.
 EnvironmentMap load_environment(const RenderSettings& settings);

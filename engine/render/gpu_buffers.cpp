@@ -95,6 +95,7 @@ GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& sce
     b.materials = make_texel_buffer(context, scene.materials);
     b.emitters = make_texel_buffer(context, scene.emitters);
     b.punctual_lights = make_texel_buffer(context, scene.punctual_lights);
+    b.light_tree = make_texel_buffer(context, scene.light_tree);
     b.ggx_albedo = make_buffer(context, flatten_albedo_tables(), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
     const size_t capacity = frame.wave_capacity;
     b.counters = make_state_buffer(context, sizeof(gpu::QueueCounters), VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT);
@@ -121,6 +122,7 @@ GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& sce
     b.instances = make_texel_buffer(context, scene.instances);
     b.material_layers = make_texel_buffer(context, scene.material_layers);
     b.path_media = make_state_buffer(context, path_media_bytes(frame.wave_capacity, effects));
+    b.path_light_points = make_state_buffer(context, path_light_points_bytes(frame.wave_capacity, effects));
     b.path_spectra = make_state_buffer(context, path_spectra_bytes(frame.wave_capacity, effects));
     b.path_times = make_state_buffer(context, path_times_bytes(frame.wave_capacity, effects));
     b.glass_albedo = make_filled_buffer(context, flatten_glass_albedo_table(effects));
@@ -134,7 +136,8 @@ GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& sce
                                      &b.punctual_lights, &b.ggx_albedo, &b.counters, &b.counters_readback, &b.paths, &b.rays, &b.hits,
                                      &b.shadow_rays, &b.film, &b.tri_attributes, &b.texture_slots, &b.texture_images,
                                      &b.texels, &b.env_radiance, &b.env_cdf, &b.instances, &b.material_layers, &b.path_media,
-                                     &b.path_spectra, &b.path_times, &b.glass_albedo, &b.light_vertices, &b.path_mis, &b.ray_sort})
+                                     &b.path_spectra, &b.path_times, &b.glass_albedo, &b.light_vertices, &b.path_mis, &b.ray_sort,
+                                     &b.light_tree, &b.path_light_points})
         allocated += buffer->size();
     if (allocated !=
         estimate_render_memory(scene, frame.film_width, frame.film_height, frame.wave_capacity, effects, store).device_bytes())
@@ -176,6 +179,8 @@ void bind_gpu_buffers(vk::BindingTable& table, const GpuBuffers& b) {
     table.bind_buffer(gpu::BINDING_PATH_MIS, b.path_mis);
     table.bind_buffer(gpu::BINDING_RAY_SORT, b.ray_sort);
     table.bind_buffer(gpu::BINDING_GLASS_ALBEDO, b.glass_albedo);
+    table.bind_buffer(gpu::BINDING_LIGHT_TREE, b.light_tree);
+    table.bind_buffer(gpu::BINDING_PATH_LIGHT_POINTS, b.path_light_points);
 }
 
 }  // namespace fh

@@ -22,6 +22,7 @@ struct GpuBuffers {
     vk::Buffer materials;
     vk::Buffer emitters;
     vk::Buffer punctual_lights;
+    vk::Buffer light_tree;         // LightTreeNode[] (EFFECT_LIGHT_TREE; else one node)
     vk::Buffer ggx_albedo;         // the BSDF's albedo tables, GGX and sheen (uniform)
     vk::Buffer counters;           // device-local: atomics stay on the device
     vk::Buffer counters_readback;  // host-visible copy made at the end of each submission
@@ -38,6 +39,7 @@ struct GpuBuffers {
     vk::Buffer env_cdf;
     vk::Buffer instances;          // two-level BVH (one dummy element when the scene has none)
     vk::Buffer material_layers;    // KHR material extensions, one per material
+    vk::Buffer path_light_points;  // per path: where its last NEE stood (EFFECT_LIGHT_TREE; else one element)
     vk::Buffer path_media;         // the volumes each path is inside (EFFECT_VOLUME, _ABSORPTION; else one stack)
     vk::Buffer path_spectra;       // each path's wavelengths (EFFECT_SPECTRAL; else one element)
     vk::Buffer path_times;         // each path's time in the shutter (EFFECT_MOTION_BLUR; else one word)

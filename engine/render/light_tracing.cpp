@@ -48,6 +48,8 @@ std::string find_light_tracing_obstacle(const PackedScene& scene, const RenderSe
                    ": a path of one segment (the camera seeing a light) is made by (0,2) alone: BDPT does not splat a "
                    "light's own vertex";
     }
+    if (effects & gpu::EFFECT_LIGHT_TREE)
+        return "light subpaths start by power, and their weights assume NEE does too (--light-sampler power or uniform)";
     if (settings.lens.on() || camera.has_lens()) return "light tracing does not handle a thin lens (--aperture) yet";
     for (const Unsupported& u : UNSUPPORTED)
         if ((effects & u.bit) && !(u.bdpt_handles && settings.integrator == Integrator::bdpt))

@@ -42,6 +42,10 @@ uint64_t path_media_bytes(uint32_t wave_capacity, uint32_t effects) {
                : gpu::MEDIUM_STACK_SIZE * sizeof(uint32_t);
 }
 
+uint64_t path_light_points_bytes(uint32_t wave_capacity, uint32_t effects) {
+    return uint64_t((effects & gpu::EFFECT_LIGHT_TREE) ? wave_capacity : 1u) * sizeof(gpu::uvec4);
+}
+
 uint64_t glass_albedo_bytes(uint32_t effects) {
     return uint64_t((effects & gpu::EFFECT_GLASS_MULTISCATTER) ? tables::GLASS_ALBEDO_TABLE_SIZE : 1) * sizeof(float);
 }
@@ -93,6 +97,7 @@ MemoryEstimate estimate_render_memory(const PackedScene& scene, uint32_t width, 
         {"materials", array_bytes(scene.materials), texels},
         {"emitters", array_bytes(scene.emitters), texels},
         {"punctual_lights", array_bytes(scene.punctual_lights), texels},
+        {"light_tree", array_bytes(scene.light_tree), texels},
         {"albedo_tables", uint64_t(tables::GGX_ALBEDO_TABLE_SIZE + tables::SHEEN_ALBEDO_TABLE_SIZE + tables::SPECTRAL_TABLE_SIZE) * sizeof(float), other},
         {"counters", sizeof(gpu::QueueCounters), storage},
         {"counters_readback", sizeof(gpu::QueueCounters), storage},
@@ -116,6 +121,7 @@ MemoryEstimate estimate_render_memory(const PackedScene& scene, uint32_t width, 
         {"light_vertices", light_vertices_bytes(wave_capacity, store), storage},
         {"path_mis", path_mis_bytes(wave_capacity, store), storage},
         {"ray_sort", ray_sort_bytes(wave_capacity, store), storage},
+        {"path_light_points", path_light_points_bytes(wave_capacity, effects), storage},
     };
     e.film_readback_bytes = film;
     return e;

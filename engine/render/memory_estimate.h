@@ -48,6 +48,8 @@ struct DeviceMemoryLimits {
 // attributes the scene has none of (--force-effect); and of the path media and path spectra buffers.
 uint64_t attribute_bytes(const PackedScene& scene, uint32_t effects);
 uint64_t path_media_bytes(uint32_t wave_capacity, uint32_t effects);
+// The shading point of each path's last NEE (EFFECT_LIGHT_TREE; else one element).
+uint64_t path_light_points_bytes(uint32_t wave_capacity, uint32_t effects);
 uint64_t path_spectra_bytes(uint32_t wave_capacity, uint32_t effects);
 uint64_t path_times_bytes(uint32_t wave_capacity, uint32_t effects);  // EFFECT_MOTION_BLUR
 // The glass albedo table's buffer: the whole table with EFFECT_GLASS_MULTISCATTER, else one word.

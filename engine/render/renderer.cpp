@@ -72,6 +72,7 @@ gpu::FrameParams make_frame(const PackedScene& scene, const SceneCamera& camera,
     f.env_height = scene.environment.height;
     f.env_rotation = scene.environment.rotation;
     f.env_pick_pdf = scene.environment_pick_pdf;
+    f.light_tree_lights = scene.light_tree_lights;
     f.motion_segments = scene.motion_segments;
     f.crop_x = s.has_crop() ? s.crop_x0 : 0u;
     f.crop_y = s.has_crop() ? s.crop_y0 : 0u;

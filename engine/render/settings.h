@@ -5,6 +5,7 @@
 #include <string>
 
 #include "scene/instancing.h"
+#include "scene/light_sampler.h"
 
 namespace fh {
 
@@ -56,6 +57,8 @@ struct RenderSettings {
     // --light-pick reuse|separate: NEE picks the light with the first coordinate of its point's 2D sample and reuses the
     // rest (up to 16 lights; shaders/lib/lights.glsl), or with a sampler dimension of its own (README "Sampling").
     bool light_pick_reuse = true;
+    // --light-sampler: how NEE picks a light (scene/light_sampler.h); auto: the tree where the lights differ.
+    LightSampler light_sampler = LightSampler::automatic;
     uint32_t wave_paths = 0;  // paths in flight per wave; 0: chosen for the device (render/device_defaults.h)
     // --sort-rays: extend takes each bounce's rays sorted by direction and origin (render/ray_sort.h). Unset (auto):
     // chosen for the device and scene by with_device_defaults (render/device_defaults.h; README "Ray order").

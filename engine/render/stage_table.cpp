@@ -50,7 +50,7 @@ std::array<VkDescriptorType, gpu::BINDING_COUNT> binding_types() {
                             gpu::BINDING_TRI_ATTRIBUTES, gpu::BINDING_INSTANCES, gpu::BINDING_MATERIAL_LAYERS,
                             gpu::BINDING_TEXTURE_SLOTS, gpu::BINDING_TEXTURE_IMAGES, gpu::BINDING_TEXELS,
                             gpu::BINDING_PATH_TEXELS, gpu::BINDING_RAY_TEXELS, gpu::BINDING_HIT_TEXELS,
-                            gpu::BINDING_SHADOW_RAY_TEXELS})
+                            gpu::BINDING_SHADOW_RAY_TEXELS, gpu::BINDING_LIGHT_TREE})
         types[texels] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;  // layout.h TEXELS bindings
     return types;
 }

@@ -74,6 +74,7 @@ const std::vector<EffectInfo>& list_effects() {
         {gpu::EFFECT_SPECULAR, "specular"},
         {gpu::EFFECT_EMISSIVE_TRIANGLES, "emissive-triangles"},
         {gpu::EFFECT_PUNCTUAL_LIGHTS, "punctual-lights"},
+        {gpu::EFFECT_LIGHT_TREE, "light-tree"},
         {gpu::EFFECT_ENVIRONMENT, "environment"},
         {gpu::EFFECT_TRANSMISSION, "transmission"},
         {gpu::EFFECT_TRANSMISSION_TEXTURE, "transmission-texture"},
@@ -290,6 +291,13 @@ void decide_light_effects(SceneEffects& effects, const std::set<uint32_t>& emitt
     decide(gpu::EFFECT_PUNCTUAL_LIGHTS, punctual_lights > 0,
            punctual_lights > 0 ? std::to_string(punctual_lights) + " KHR_lights_punctual lights"
                                : "no KHR_lights_punctual light of non-zero power");
+    sort_decisions(effects);
+}
+
+void decide_light_tree_effect(SceneEffects& effects, bool tree, std::string why) {
+    effects.bits &= ~gpu::EFFECT_LIGHT_TREE;
+    std::erase_if(effects.decisions, [](const EffectDecision& d) { return d.bit == gpu::EFFECT_LIGHT_TREE; });
+    add_decision(effects, gpu::EFFECT_LIGHT_TREE, tree, std::move(why));
     sort_decisions(effects);
 }
 

@@ -273,6 +273,7 @@ PackedScene pack_scene(const Scene& scene, const SceneBvh& bvh, EnvironmentMap e
     }
     decide_light_effects(packed.effects, emitting_materials, triangle_lights + moving_emitting_triangles,
                          packed.punctual_lights.size());
+    decide_light_tree_effect(packed.effects, false, "NEE picks by the power table (--light-sampler decides: prepare_scene)");
     decide_camera_effects(packed.effects, false);  // a pinhole unless the render asks for a lens (prepare_scene)
     decide_motion_effects(packed.effects, scene.moving_instances > 0, scene.moving_instances, false);  // and the camera
     // The environment as a light over the scene's bounding disc: pi r^2 times the integral of its radiance
@@ -286,6 +287,7 @@ PackedScene pack_scene(const Scene& scene, const SceneBvh& bvh, EnvironmentMap e
     if (emissive.empty()) return packed;
 
     for (double w : power) packed.total_emitted_power += w;
+    packed.emitter_power = power;
     const std::vector<AliasEntry> table = build_alias_table(power);
     packed.emitters.resize(emissive.size());
     for (size_t e = 0; e < emissive.size(); ++e) {

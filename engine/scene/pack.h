@@ -22,6 +22,13 @@ struct PackedScene {
     std::vector<gpu::Material> materials;
     std::vector<gpu::MaterialLayers> material_layers;  // one per material
     std::vector<gpu::Emitter> emitters;             // alias table over every light (may be empty)
+    std::vector<double> emitter_power;              // the power of each entry's light (the alias table's weight)
+    // --light-sampler (scene/light_sampler.h): the tree, when NEE uses it, over entries [0, light_tree_lights).
+    std::vector<gpu::LightTreeNode> light_tree;
+    uint32_t light_tree_lights = 0;
+    uint32_t light_tree_depth = 0;
+    double light_tree_build_seconds = 0.0;
+    const char* light_sampler = "power";            // the one NEE uses: "tree", "power" or "uniform"
     std::vector<gpu::PunctualLight> punctual_lights;  // render space
     std::vector<gpu::TriangleAttributes> attributes;  // BVH leaf order; empty without textures and COLOR_0
     std::vector<gpu::TextureSlot> texture_slots;

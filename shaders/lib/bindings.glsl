@@ -19,9 +19,10 @@ layout(std430, binding = BINDING_GLASS_ALBEDO) readonly buffer GlassAlbedoBuffer
 layout(std430, binding = BINDING_LIGHT_VERTICES) buffer LightVertexBuffer { LightVertex light_vertices[]; };
 layout(std430, binding = BINDING_PATH_MIS) buffer PathMisBuffer { PathMis path_mis[]; };
 layout(std430, binding = BINDING_RAY_SORT) buffer RaySortBuffer { uint ray_sort_words[]; };  // lib/ray_order.glsl
+layout(std430, binding = BINDING_PATH_LIGHT_POINTS) buffer PathLightPointBuffer { uvec4 path_light_points[]; };
 // The scene's read-only structs (layout.h TEXELS bindings): load_bvh_node, load_triangle_positions,
 // load_triangle_shading, load_material, load_emitter, load_punctual_light, load_triangle_attributes, load_instance,
-// load_material_layers, written at build time from layout.h.
+// load_material_layers, load_light_tree_node, written at build time from layout.h.
 #include "generated/scene_texels.glsl"
 // Set by the host for a two-level BVH (meshes drawn by several nodes); without it the instance code is not
 // compiled into traversal or shading.

@@ -1,5 +1,6 @@
 // Light sampling for next-event estimation: pick a light in proportion to its power from the alias table
-// over every light (Walker 1977; Vose 1991), then a point on it. Emissive triangles are sampled uniformly
+// over every light (Walker 1977; Vose 1991), or by its importance at the shading point from the light tree
+// (EFFECT_LIGHT_TREE, lib/light_tree.glsl), then a point on it. Emissive triangles are sampled uniformly
 // by area; punctual lights (KHR_lights_punctual: point, spot, directional) are delta lights, reached by NEE
 // only, and never MIS-weighted.
 #ifndef FH_LIGHTS_GLSL
@@ -8,6 +9,8 @@
 #include "ray_offset.glsl"
 #include "material.glsl"
 #include "environment.glsl"
+#include "light_tree.glsl"
+#include "spherical_triangle.glsl"
 
 // Scenes without punctual lights (EFFECT_PUNCTUAL_LIGHTS) or emitting triangles (EFFECT_EMISSIVE_TRIANGLES)
 // compile the code of that kind of light out: its entries cannot be in the light table.
@@ -112,13 +115,30 @@ LightConnection connect_punctual_light(uint index, float pick_pdf, vec3 p) {
     return c;
 }
 
-LightConnection connect_triangle_light(uint tri, vec3 p, vec2 u_point) {
+// The area of a triangle light as NEE and the emitter hit (SurfaceHit.area) both compute it.
+float light_triangle_area(vec3 p0, vec3 p1, vec3 p2) { return 0.5f * length(cross(p1 - p0, p2 - p0)); }
+
+// pick_pdf: the light tree's probability of this triangle (EFFECT_LIGHT_TREE); the alias table's is in the triangle's
+// light_pdf_area.
+LightConnection connect_triangle_light(uint tri, vec3 p, vec2 u_point, float pick_pdf) {
     TrianglePositions tp = load_triangle_positions(tri);
     TriangleShading ts = load_triangle_shading(tri);
     vec3 p0 = vec3(tp.p0_x, tp.p0_y, tp.p0_z);
     vec3 p1 = vec3(tp.p1_x, tp.p1_y, tp.p1_z);
     vec3 p2 = vec3(tp.p2_x, tp.p2_y, tp.p2_z);
     vec2 b = sample_uniform_triangle(u_point);
+    // With the light tree, a triangle that subtends enough is sampled by solid angle (lib/spherical_triangle.glsl).
+    float solid_angle = 0.0f;
+    bool spherical = false;
+    if (effect_on(EFFECT_LIGHT_TREE)) {
+        solid_angle = spherical_triangle_solid_angle(p0, p1, p2, p);
+        spherical = use_spherical_sampling(solid_angle);
+        if (spherical) {
+            SphericalTriangleSample st = sample_spherical_triangle(p0, p1, p2, p, u_point);
+            if (!st.valid) return make_invalid_connection();
+            b = st.b;
+        }
+    }
     float b0 = 1.0f - b.x - b.y;
     Material m = load_material(ts.material);
     // Textured emitters: the emission at the sampled point (the triangle was picked by its integrated power,
@@ -136,7 +156,8 @@ LightConnection connect_triangle_light(uint tri, vec3 p, vec2 u_point) {
     float cos_light = -dot(n, c.wi);
     bool emits = cos_light > 0.0f || ((m.flags & MATERIAL_DOUBLE_SIDED) != 0u && cos_light < 0.0f);
     if (!emits) return c;
-    c.pdf = ts.light_pdf_area * dist2 / abs(cos_light);  // area to solid angle
+    float pdf_area = effect_on(EFFECT_LIGHT_TREE) ? pick_pdf / light_triangle_area(p0, p1, p2) : ts.light_pdf_area;
+    c.pdf = spherical ? pick_pdf / solid_angle : pdf_area * dist2 / abs(cos_light);  // area to solid angle
     c.radiance_over_pdf = m.emission.xyz / c.pdf;
     c.emission_over_direct = abs(cos_light) * INV_PI * ((m.flags & MATERIAL_DOUBLE_SIDED) != 0u ? 0.5f : 1.0f) / dist2;
     c.target = offset_ray_origin(q, q_error, n, -c.wi);
@@ -157,14 +178,55 @@ LightConnection connect_environment(float pick_pdf, vec2 u) {
     return c;
 }
 
-LightConnection sample_light_connection(vec3 p, float u_pick, vec2 u_point) {
-    bool reuse = (params.flags & RENDER_LIGHT_PICK_REUSE) != 0u && params.emitter_count <= LIGHT_PICK_REUSE_MAX;
-    Emitter e = reuse ? pick_emitter_reusing(u_point.x) : pick_emitter(u_pick);
-    if (effect_on(EFFECT_ENVIRONMENT) && e.light == ENVIRONMENT_LIGHT) return connect_environment(e.pick_pdf, u_point);
+// The solid-angle density with which NEE at the path's last vertex (`from`, as shade stored it) samples the direction
+// towards triangle `tri` of Emitter entry + 1 `light_entry` (0: not in the tree), `t` away, met at cos_light to its
+// normal: the tree's pick, then solid angle or area as connect_triangle_light chooses.
+float tree_emitter_hit_pdf(LightTreePoint from, uint tri, uint light_entry, float t, float cos_light) {
+    if (light_entry == 0u) return 0.0f;
+    float pick_pdf = tree_light_pick_pdf(from, light_entry - 1u);
+    TrianglePositions tp = load_triangle_positions(tri);
+    vec3 p0 = vec3(tp.p0_x, tp.p0_y, tp.p0_z);
+    vec3 p1 = vec3(tp.p1_x, tp.p1_y, tp.p1_z);
+    vec3 p2 = vec3(tp.p2_x, tp.p2_y, tp.p2_z);
+    float solid_angle = spherical_triangle_solid_angle(p0, p1, p2, from.p);
+    if (use_spherical_sampling(solid_angle)) return pick_pdf / solid_angle;
+    return pick_pdf / light_triangle_area(p0, p1, p2) * t * t / cos_light;
+}
+
+// The light of Emitter entry e, picked with probability pick_pdf, seen from p.
+LightConnection connect_emitter(Emitter e, float pick_pdf, vec3 p, vec2 u_point) {
+    if (effect_on(EFFECT_ENVIRONMENT) && e.light == ENVIRONMENT_LIGHT) return connect_environment(pick_pdf, u_point);
     if (effect_on(EFFECT_PUNCTUAL_LIGHTS) && (e.light & PUNCTUAL_LIGHT_BIT) != 0u)
-        return connect_punctual_light(e.light & ~PUNCTUAL_LIGHT_BIT, e.pick_pdf, p);
+        return connect_punctual_light(e.light & ~PUNCTUAL_LIGHT_BIT, pick_pdf, p);
     if (effect_on(EFFECT_EMISSIVE_TRIANGLES) && (e.light & PUNCTUAL_LIGHT_BIT) == 0u && e.light != ENVIRONMENT_LIGHT)
-        return connect_triangle_light(e.light, p, u_point);
+        return connect_triangle_light(e.light, p, u_point, pick_pdf);
     return make_invalid_connection();  // a kind of light compiled out (--disable-effect)
+}
+
+// The light tree's pick: one share for the tree, one for each light outside it (light_tree_share), then the walk.
+LightConnection sample_light_tree_connection(LightTreePoint q, float u, vec2 u_point, bool reuse) {
+    uint outside = params.emitter_count - params.light_tree_lights;
+    float scaled = u * float(outside + 1u);
+    uint slot = min(uint(scaled), outside);
+    u = min(scaled - float(slot), ONE_BELOW_ONE);
+    uint entry = params.light_tree_lights + slot;
+    float pick_pdf = light_tree_share();
+    if (slot == outside) {
+        LightTreeWalk walk = walk_light_tree(q, u, 0u, false);
+        if (!(walk.pdf > 0.0f)) return make_invalid_connection();
+        entry = walk.entry;
+        pick_pdf *= walk.pdf;
+        u = walk.u;
+    }
+    if (reuse) u_point.x = u;
+    return connect_emitter(load_emitter(entry), pick_pdf, q.p, u_point);
+}
+
+// q: the shading point (its normal is read by the light tree alone).
+LightConnection sample_light_connection(LightTreePoint q, float u_pick, vec2 u_point) {
+    bool reuse = (params.flags & RENDER_LIGHT_PICK_REUSE) != 0u && params.emitter_count <= LIGHT_PICK_REUSE_MAX;
+    if (effect_on(EFFECT_LIGHT_TREE)) return sample_light_tree_connection(q, reuse ? u_point.x : u_pick, u_point, reuse);
+    Emitter e = reuse ? pick_emitter_reusing(u_point.x) : pick_emitter(u_pick);
+    return connect_emitter(e, e.pick_pdf, q.p, u_point);
 }
 #endif

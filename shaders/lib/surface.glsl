@@ -13,6 +13,7 @@ struct SurfaceHit {
     vec3 ta;         // direction of KHR_materials_anisotropy (tangent plane; 0: none), set by the caller
     uint material;
     float light_pdf_area;
+    uint light_entry;  // EFFECT_LIGHT_TREE: the triangle's Emitter entry + 1 (0: none; layout.h TRIANGLE_LIGHT_SHIFT)
     float area;
 };
 
@@ -51,6 +52,7 @@ SurfaceHit load_surface(uint triangle, float b1, float b2) {
     s.ta = vec3(0.0f);
     s.material = ts.material;
     s.light_pdf_area = ts.light_pdf_area;
+    s.light_entry = ts.flags >> TRIANGLE_LIGHT_SHIFT;
     return s;
 }
 

@@ -76,7 +76,11 @@ FH_CONST uint BINDING_PATH_TEXELS = 29u;        // TEXELS PathState[wave capacit
 FH_CONST uint BINDING_RAY_TEXELS = 30u;         // TEXELS RayItem[2 * wave capacity] (BINDING_RAYS' memory)
 FH_CONST uint BINDING_HIT_TEXELS = 31u;         // TEXELS HitItem[wave capacity] (BINDING_HITS' memory)
 FH_CONST uint BINDING_SHADOW_RAY_TEXELS = 32u;  // TEXELS ShadowRayItem[wave capacity] (BINDING_SHADOW_RAYS' memory)
-FH_CONST uint BINDING_COUNT = 33u;
+// The light tree (`--light-sampler tree`, EFFECT_LIGHT_TREE; else one node each): its nodes, and per path the shading
+// point whose tree probabilities NEE used, for the MIS weight of the emitter the path's next ray hits (lib/light_tree.glsl).
+FH_CONST uint BINDING_LIGHT_TREE = 33u;       // TEXELS LightTreeNode[]: interior nodes, then one leaf per tree light
+FH_CONST uint BINDING_PATH_LIGHT_POINTS = 34u;  // uvec4[wave capacity]: position bits and packed normal (light_tree.glsl)
+FH_CONST uint BINDING_COUNT = 35u;
 FH_CONST uint TEXEL_BYTES = 16u;             // one RGBA32UI texel of a TEXELS binding
 
 // ---- Specialization constants (constant_id) -------------------------------------------------------------
@@ -123,6 +127,8 @@ FH_CONST uint EFFECT_THIN_LENS = 268435456u;  // --aperture / --aperture-radius 
                                               // polygon, focused on a plane (lib/camera.glsl); else the pinhole
 FH_CONST uint EFFECT_MOTION_BLUR = 536870912u;  // --shutter over which an instance or the camera moves: each path has
                                                 // a time, and moving transforms are interpolated (lib/motion.glsl)
+FH_CONST uint EFFECT_LIGHT_TREE = 1073741824u;  // --light-sampler tree: NEE picks lights by their importance at the
+                                                // shading point (lib/light_tree.glsl), not from the power alias table
 FH_CONST uint EFFECT_ATTRIBUTES = EFFECT_BASE_COLOR_TEXTURE | EFFECT_METALLIC_ROUGHNESS_TEXTURE |
                                   EFFECT_NORMAL_TEXTURE | EFFECT_EMISSIVE_TEXTURE | EFFECT_VERTEX_COLORS |
                                   EFFECT_ALPHA | EFFECT_TRANSMISSION_TEXTURE | EFFECT_CLEARCOAT_TEXTURE |
@@ -169,6 +175,12 @@ FH_CONST uint MATERIAL_UNLIT = 2u;         // Material.flags: KHR_materials_unli
 FH_CONST uint PATH_SECONDARIES_TERMINATED = 1u;  // PathSpectrum.flags: only the hero wavelength goes on
 FH_CONST uint LAYERS_VOLUME = 1u;          // MaterialLayers.flags: the mesh bounds a volume (thicknessFactor > 0)
 FH_CONST uint TRIANGLE_HAS_NORMALS = 1u;   // TriangleShading.flags: vertex normals present
+// TriangleShading.flags bits 8-31 with EFFECT_LIGHT_TREE: the triangle's Emitter entry + 1 (0: not in the light tree).
+FH_CONST uint TRIANGLE_LIGHT_SHIFT = 8u;
+FH_CONST uint MAX_TREE_LIGHTS = 1u << 24u;  // entries that fit in those bits (--light-sampler tree refuses more)
+FH_CONST uint LIGHT_NODE_LEAF = 1u;        // LightTreeNode.flags: one light (else two children)
+FH_CONST uint LIGHT_NODE_TWO_SIDED = 2u;   // LightTreeNode.flags: emits on both sides of its normals' cone
+FH_CONST uint LIGHT_TREE_MAX_DEPTH = 32u;  // levels below the root: a leaf's path fits in one word
 FH_CONST uint TRIANGLE_ALPHA_TESTED = 1u;  // TrianglePositions.flags: its material is not ALPHA_OPAQUE (EFFECT_ALPHA)
 FH_CONST uint RENDER_NEE = 1u;             // FrameParams.flags: next-event estimation
 FH_CONST uint RENDER_MIS = 2u;             // combine NEE and BSDF sampling by MIS (else NEE only)
@@ -366,6 +378,24 @@ struct Emitter {
     float pick_pdf;         // probability of picking this light (power / total power)
 };
 
+// A node of the light tree over the lights that have a place (emissive triangles, point and spot lights; Conty
+// Estevez & Kulla 2018, pbrt-v4's BVHLightSampler): what bounds the light of everything below it, from which NEE
+// weighs the two children of a node at a shading point (lib/light_tree.glsl light_importance). Nodes are
+// [interior nodes in depth-first order, root at 0][one leaf per tree light, leaf k = node (tree lights - 1) + k for
+// Emitter entry k]; a tree of one light is its leaf alone. Built on the host (scene/light_tree.h).
+struct LightTreeNode {
+    float min_x, min_y, min_z;
+    float power;            // emitted power of the lights below (the alias table's weight)
+    float max_x, max_y, max_z;
+    float cos_theta_o;      // every emitting normal lies within theta_o of the axis
+    float axis_x, axis_y, axis_z;
+    float cos_theta_e;      // and emits within theta_e beyond it (pi/2 for a surface, the falloff for a spot)
+    uint child0;            // interior: the children's node indices; leaf: child0 = the path from the root (bit k set:
+    uint child1;            // the second child at level k), child1 = the leaf's depth
+    uint flags;             // LIGHT_NODE_LEAF, LIGHT_NODE_TWO_SIDED
+    uint emitter;           // leaf: its Emitter entry
+};
+
 // A KHR_lights_punctual light placed in world space. Intensities are taken as the scene's radiometric units:
 // point and spot lights give radiant intensity (radiance-units x m^2), directional lights irradiance.
 struct PunctualLight {
@@ -427,7 +457,9 @@ struct FrameParams {
     // Russian roulette keeps a camera path with probability min(0.95, rr_survival_scale x its largest throughput
     // component) (--rr-survival-scale; shade.comp).
     float rr_survival_scale;
-    uint pad1;
+    // EFFECT_LIGHT_TREE: Emitter entries [0, light_tree_lights) are the tree's leaves, the rest (the environment,
+    // directional lights) are picked uniformly, each as often as the whole tree (lib/light_tree.glsl).
+    uint light_tree_lights;
 };
 
 // Push constants: what changes per wave and per depth.

@@ -22,6 +22,7 @@ TEXEL_STRUCTS = [
     ("Material", "load_material", "material", "BINDING_MATERIALS", "material_texels"),
     ("Emitter", "load_emitter", "entry", "BINDING_EMITTERS", "emitter_texels"),
     ("PunctualLight", "load_punctual_light", "light", "BINDING_PUNCTUAL_LIGHTS", "punctual_light_texels"),
+    ("LightTreeNode", "load_light_tree_node", "node", "BINDING_LIGHT_TREE", "light_tree_texels"),
     ("TriangleAttributes", "load_triangle_attributes", "triangle", "BINDING_TRI_ATTRIBUTES", "tri_attribute_texels"),
     ("Instance", "load_instance", "instance", "BINDING_INSTANCES", "instance_texels"),
     ("MaterialLayers", "load_material_layers", "material", "BINDING_MATERIAL_LAYERS", "material_layer_texels"),

@@ -22,6 +22,7 @@
 
 namespace fh::glsl {
 using gpu::TRIANGLE_HAS_NORMALS;
+using gpu::TRIANGLE_LIGHT_SHIFT;
 using gpu::TrianglePositions;
 using gpu::TriangleShading;
 using gpu::Instance;
