@@ -17,12 +17,15 @@ renderer the median render seconds, the mean relMSE over the seeds, the efficien
 The reference: a long Fredholm render of the same scene (`fredholm render SCENE --width 160 --height 160 --spp 8192
 --max-depth 10 --seed 99`); the mean of Mitsuba's images agrees with it where the scene is within what
 compare_renderers.py reads (Lambertian materials, flat shading), which the script prints (mean ratio).
-Needs the Mitsuba environment of tests/bench/README.md.
+--with-cycles adds Blender Cycles (compare_renderers.py: CPU, its default light tree). Needs the Mitsuba (and for
+Cycles the Cycles) environment of tests/bench/README.md.
 """
 import argparse
 import json
 import os
+import re
 import statistics
+import subprocess
 import sys
 import tempfile
 
@@ -43,6 +46,15 @@ def score(image, reference, mask):
     return float(np.mean((lum - ref) ** 2 / (ref ** 2 + 0.01))), float(lum.mean() / ref.mean())
 
 
+def run_cycles(args, out_dir, seed):
+    exr = os.path.join(out_dir, "cycles.exr")
+    cmd = [args.cycles_python, os.path.join(REPO, "tests", "bench", "compare_renderers.py"), "--renderer", "cycles",
+           "--scene", args.scene, "--size", str(args.size), "--spp", str(args.spp), "--max-depth", str(args.max_depth),
+           "--repeats", "1", "--output", exr, "--seed", str(seed)]
+    out = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
+    return exr, float(re.search(r"seconds_median ([0-9.]+)", out).group(1)), " ".join(cmd)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--fredholm", default=os.path.join(REPO, "build", "fredholm"))
@@ -58,12 +70,15 @@ def main():
     ap.add_argument("--mitsuba-python", default="/opt/refbench/mitsuba-venv/bin/python")
     ap.add_argument("--without-mitsuba", action="store_true",
                     help="Fredholm's samplers alone (a scene compare_renderers.py cannot read: punctual lights)")
+    ap.add_argument("--with-cycles", action="store_true", help="also Blender Cycles (bpy, CPU, its light tree on)")
+    ap.add_argument("--cycles-python", default="/opt/refbench/cycles-venv/bin/python")
     ap.add_argument("--json", help="also write the results here")
     args = ap.parse_args()
     args.fredholm_sampler = "sobol"
     reference = read_rgb(args.reference)
     mask = luminance(reference) <= args.emitter_luminance
-    names = [f"fredholm {s}" for s in SAMPLERS] + ([] if args.without_mitsuba else ["mitsuba"])
+    names = [f"fredholm {s}" for s in SAMPLERS] + ([] if args.without_mitsuba else ["mitsuba"]) + \
+        (["cycles"] if args.with_cycles else [])
     results = {n: {"seconds": [], "relmse": [], "mean_ratio": []} for n in names}
     with tempfile.TemporaryDirectory() as out_dir:
         for repeat in range(args.repeats):
@@ -74,6 +89,12 @@ def main():
                 r = results[f"fredholm {s}"]
                 r["command"] = cmd
                 rel, ratio = score(read_rgb(exr), reference, mask)
+                r["seconds"].append(seconds), r["relmse"].append(rel), r["mean_ratio"].append(ratio)
+            if args.with_cycles:
+                exr, seconds, cmd = run_cycles(args, out_dir, seed)
+                rel, ratio = score(read_rgb(exr), reference, mask)
+                r = results["cycles"]
+                r.update(command=cmd)
                 r["seconds"].append(seconds), r["relmse"].append(rel), r["mean_ratio"].append(ratio)
             if args.without_mitsuba:
                 continue

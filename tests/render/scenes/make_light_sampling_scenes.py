@@ -10,6 +10,9 @@ studio.gltf     a grey Lambertian sphere (1,280 flat facets) on a floor under a 
 lamp_hall.gltf  a hall (floor, back wall) lit by 144 small ceiling lamps in a 12 x 12 grid whose radiance spans three
                 decades (a street at night, a hall of bulbs), a spot and a point light, over three Lambertian boxes,
                 and a dim directional light: at each point the nearby lamps matter, wherever the bright ones are.
+sign_bulb.gltf  a textured emissive sign (2 x 1 on the back wall, a 16 x 8 pattern of lit and dark cells, radiance up to
+                8) and a small bright bulb in front of it (an emissive icosahedron of radius 0.04, radiance 3000) over a
+                floor with a box: the sign's power, by its texture, dwarfs the bulb's, which lights the floor.
 """
 import math
 import random
@@ -20,6 +23,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "stability" / "rend
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from make_stability_scenes import Gltf, icosphere, quad  # noqa: E402
 from make_light_scenes import look_at  # noqa: E402
+from make_asset_scenes import AssetGltf, diffuse, quad_uv  # noqa: E402
 
 
 def panel(centre, half, normal_axis, facing_positive):
@@ -85,11 +89,32 @@ def lamp_hall():
     return g
 
 
+def sign_bulb():
+    g = AssetGltf()
+    texels = [((255, 140, 40, 255) if (x // 2 + y) % 3 else (20, 20, 30, 255)) for y in range(8) for x in range(16)]
+    sign = g.add_raw_material({"pbrMetallicRoughness": {"baseColorFactor": [0, 0, 0, 1], "metallicFactor": 0.0},
+                               "emissiveFactor": [1.0, 1.0, 1.0], "emissiveTexture": {"index": g.add_texture(16, 8, texels)},
+                               "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 8.0}}})
+    # The sign stands on the back wall (y = 2), facing -y: the quad in the (x, z) plane.
+    wall = [((x, 2.0, z) for x, z in ((-1.0, 0.5), (1.0, 0.5), (1.0, 1.5))), ((x, 2.0, z) for x, z in ((-1.0, 0.5), (1.0, 1.5), (-1.0, 1.5)))]
+    g.add_node({"mesh": g.add_uv_mesh([tuple(t) for t in wall], [((0.0, 1.0), (1.0, 1.0), (1.0, 0.0)),
+                                                                ((0.0, 1.0), (1.0, 0.0), (0.0, 0.0))], sign)})
+    floor = g.add_raw_material(diffuse((0.6, 0.6, 0.6, 1.0)))
+    g.add_node({"mesh": g.add_uv_mesh(quad(-3.0, -3.0, 3.0, 3.0, 0.0), quad_uv(), floor)})
+    grey = g.add_material(base=(0.5, 0.5, 0.5))
+    g.add_node({"mesh": g.add_mesh(box((0.6, 0.2, 0.0), (1.1, 0.7, 0.5)), grey)})
+    bulb = g.add_material(base=(0.0, 0.0, 0.0), emission=3000.0, emission_color=(1.0, 0.95, 0.85))
+    g.add_node({"mesh": g.add_mesh([tuple((x, y + 0.8, z + 0.6) for x, y, z in t) for t in icosphere(1, 0.04)], bulb)})
+    g.add_perspective_camera(look_at((0.0, -3.0, 1.6), (0.0, 0.8, 0.5)), 1.0)
+    return g
+
+
 def main():
     out = Path(sys.argv[1] if len(sys.argv) > 1 else ".")
     out.mkdir(parents=True, exist_ok=True)
     studio().write(out / "studio.gltf")
     lamp_hall().write(out / "lamp_hall.gltf")
+    sign_bulb().write(out / "sign_bulb.gltf")
 
 
 if __name__ == "__main__":
