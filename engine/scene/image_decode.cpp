@@ -2,6 +2,7 @@
 // inside libtinygltf) and libwebp.
 #include "scene/image_decode.h"
 
+#include <cstdio>
 #include <cstring>
 
 #include <webp/decode.h>
@@ -43,9 +44,51 @@ bool check_size(int width, int height, std::string& error) {
 
 uint32_t pack_rgba8(uint32_t r, uint32_t g, uint32_t b, uint32_t a) { return r | g << 8 | b << 16 | a << 24; }
 
+uint32_t load_be16(const unsigned char* p) { return uint32_t(p[0]) << 8 | p[1]; }
+uint32_t load_be32(const unsigned char* p) { return load_be16(p) << 16 | load_be16(p + 2); }
+
+// The size a PNG (IHDR) or JPEG (its first SOF marker) declares, read before stb_image sees the file: stb refuses a
+// side above STBI_MAX_DIMENSIONS while it looks for the format, and then reports "unknown image type". False where
+// the header does not say (stb then reports what is wrong).
+bool read_declared_size(const unsigned char* bytes, size_t size, int64_t& width, int64_t& height) {
+    if (starts_with(bytes, size, "\x89PNG\r\n\x1a\n", 8) && starts_with(bytes, size, "IHDR", 4, 12) && size >= 24) {
+        width = load_be32(bytes + 16);
+        height = load_be32(bytes + 20);
+        return true;
+    }
+    if (!starts_with(bytes, size, "\xff\xd8", 2)) return false;
+    for (size_t at = 2; at + 9 <= size;) {
+        if (bytes[at] != 0xff) return false;
+        const unsigned marker = bytes[at + 1];
+        if (marker == 0xff) {  // fill byte
+            ++at;
+            continue;
+        }
+        const bool frame = marker >= 0xc0 && marker <= 0xcf && marker != 0xc4 && marker != 0xc8 && marker != 0xcc;
+        if (frame) {
+            height = load_be16(bytes + at + 5);
+            width = load_be16(bytes + at + 7);
+            return true;
+        }
+        if (marker == 0xd9 || marker == 0xda) return false;  // end of image, or scan data before any frame header
+        at += 2 + load_be16(bytes + at + 2);
+    }
+    return false;
+}
+
 bool decode_with_stb(const unsigned char* bytes, size_t size, DecodedImage& out, std::string& error) {
     if (size > size_t(1) << 31) {
         error = "image file larger than 2 GiB";
+        return false;
+    }
+    int64_t declared_width = 0, declared_height = 0;
+    if (read_declared_size(bytes, size, declared_width, declared_height) &&
+        (declared_width > int64_t(MAX_IMAGE_SIDE) || declared_height > int64_t(MAX_IMAGE_SIDE))) {
+        char gib[32];
+        std::snprintf(gib, sizeof gib, "%.1f", double(declared_width) * double(declared_height) * 4.0 / double(1u << 30));
+        error = "image of " + std::to_string(declared_width) + " x " + std::to_string(declared_height) +
+                " texels declared (" + gib + " GiB as RGBA8), more than the limit of " + std::to_string(MAX_IMAGE_SIDE) +
+                " per side";
         return false;
     }
     int width = 0, height = 0, channels = 0;

@@ -202,6 +202,13 @@ def main():
     # Textures: missing, corrupt and unsupported images, broken references, attributes that are not there.
     write("image_missing.gltf", textured_scene("missing_image.png"))
     write("image_corrupt.gltf", textured_scene(data_uri("image/png", png_1x1()[:40])))
+    # Headers that declare 30,000 x 30,000 texels (3.4 GiB decoded): refused with the size and the limit before decoding.
+    big_png = png_1x1()
+    big_png = big_png[:16] + struct.pack(">II", 30000, 30000) + big_png[24:]
+    write("image_too_large_png.gltf", textured_scene(data_uri("image/png", big_png)))
+    big_jpeg = b"\xff\xd8" + b"\xff\xe0" + struct.pack(">H", 16) + b"JFIF\0\1\1\0\0\1\0\1\0\0" + \
+        b"\xff\xc0" + struct.pack(">HBHHB", 11, 8, 30000, 30000, 1) + b"\x01\x11\x00" + b"\xff\xd9"
+    write("image_too_large_jpeg.gltf", textured_scene(data_uri("image/jpeg", big_jpeg)))
     write("image_unsupported.gltf", textured_scene(data_uri("image/gif", b"GIF89a\x01\x00\x01\x00\x00\x00\x00;")))
     d = textured_scene(data_uri("image/png", png_1x1()))
     d["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["index"] = 5
