@@ -84,8 +84,8 @@ def add_seeds(source, out, patterns, generated):
             count += 1
             try:
                 gltf = json.loads(path.read_bytes())
-            except (ValueError, UnicodeDecodeError):
-                continue  # malformed on purpose: the copy is the seed
+            except (ValueError, UnicodeDecodeError, RecursionError):
+                continue  # malformed (or nested deeper than Python parses) on purpose: the copy is the seed
             if not isinstance(gltf, dict):
                 continue
             (out / (stem + ".min.gltf")).write_text(json.dumps(gltf, separators=(",", ":")))
