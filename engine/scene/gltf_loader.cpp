@@ -174,9 +174,11 @@ std::string read_json_text(const std::filesystem::path& file, bool is_glb, uint6
 
 // The file's JSON (`json`, as read_json_text gave it) patched for the compression extensions (patch_for_decoders),
 // as a .gltf text or a rebuilt .glb; empty when the file does not need it (tinygltf then reads the file itself).
-std::vector<unsigned char> patch_file_for_decoders(const std::filesystem::path& file, bool is_glb, std::string json,
-                                                   uint64_t json_end, std::vector<gltf::FallbackBuffer>& fallbacks) {
-    if (json.empty()) return {};
+std::vector<unsigned char> patch_file_for_decoders(const std::filesystem::path& file, bool is_glb,
+                                                   const std::string& text, uint64_t json_end,
+                                                   std::vector<gltf::FallbackBuffer>& fallbacks) {
+    if (text.empty()) return {};
+    std::string json = text;
     if (!patch_for_decoders(json, fallbacks)) return {};
     if (!is_glb) return std::vector<unsigned char>(json.begin(), json.end());
     std::vector<unsigned char> bytes;
@@ -218,10 +220,12 @@ tinygltf::Model read_model(const std::filesystem::path& file, std::vector<std::s
     std::string json = read_json_text(file, is_glb, json_end);
     check_json_nesting(json, is_glb ? "the GLB's JSON chunk" : "the JSON");
     std::vector<gltf::FallbackBuffer> fallbacks;
-    const std::vector<unsigned char> patched = patch_file_for_decoders(file, is_glb, std::move(json), json_end, fallbacks);
+    const std::vector<unsigned char> patched = patch_file_for_decoders(file, is_glb, json, json_end, fallbacks);
     const std::string base_dir = file.parent_path().string();
     bool ok;
-    if (patched.empty())
+    if (patched.empty() && !is_glb && !json.empty())  // the text read above, not the file read again
+        ok = parser.LoadASCIIFromString(&model, &err, &warn, json.data(), unsigned(json.size()), base_dir);
+    else if (patched.empty())
         ok = is_glb ? parser.LoadBinaryFromFile(&model, &err, &warn, file.string())
                     : parser.LoadASCIIFromFile(&model, &err, &warn, file.string());
     else
