@@ -72,6 +72,7 @@ def main():
                     help="Fredholm's samplers alone (a scene compare_renderers.py cannot read: punctual lights)")
     ap.add_argument("--with-cycles", action="store_true", help="also Blender Cycles (bpy, CPU, its light tree on)")
     ap.add_argument("--cycles-python", default="/opt/refbench/cycles-venv/bin/python")
+    ap.add_argument("--fredholm-extra", default="", help="more arguments for every Fredholm render (e.g. --env MAP)")
     ap.add_argument("--json", help="also write the results here")
     args = ap.parse_args()
     args.fredholm_sampler = "sobol"
@@ -84,7 +85,7 @@ def main():
         for repeat in range(args.repeats):
             seed = args.seed + repeat
             for s in SAMPLERS:
-                args.fredholm_args = f"--light-sampler {s}"
+                args.fredholm_args = f"--light-sampler {s} {args.fredholm_extra}"
                 exr, seconds, cmd = run_fredholm(args, out_dir, repeat, seed)
                 r = results[f"fredholm {s}"]
                 r["command"] = cmd
