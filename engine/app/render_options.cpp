@@ -65,7 +65,8 @@ void add_sampling_options(CLI::App& app, RenderSettings& s) {
     app.add_option("--light-sampler", s.light_sampler,
                    "how next-event estimation picks a light: tree (by each light's importance at the shading point: "
                    "power, distance, orientation), power (one table for the whole scene), uniform; auto (default): the "
-                   "tree where the scene's lights differ in kind or material or number more than 16, else power")
+                   "tree where the scene's lights differ in kind or material, number more than 16 or share the scene "
+                   "with --env or a directional light, else power")
         ->transform(CLI::CheckedTransformer(std::map<std::string, LightSampler>{{"auto", LightSampler::automatic},
                                                                                 {"tree", LightSampler::tree},
                                                                                 {"power", LightSampler::power},

@@ -48,7 +48,8 @@ std::string tree_reason(const PackedScene& packed, size_t& sources, size_t& plac
     }
     sources = materials.size() + punctual;
     return std::to_string(placed) + " lights with a place: " + std::to_string(materials.size()) +
-           " emitting material(s), " + std::to_string(punctual) + " point or spot light(s)";
+           " emitting material(s), " + std::to_string(punctual) + " point or spot light(s); " +
+           std::to_string(packed.emitters.size() - placed) + " outside (environment, directional)";
 }
 
 // Equal weights: NEE picks each light as often (Mitsuba 3's rule).
@@ -142,10 +143,12 @@ void choose_light_sampler(PackedScene& packed, LightSampler requested, bool path
                                     "subpaths by power and weigh their strategies with that table (use power or uniform)");
     size_t sources = 0, placed = 0;
     const std::string why = tree_reason(packed, sources, placed);
+    const size_t lights = packed.emitters.size();  // placed < lights: an environment or a directional light besides
     LightSampler chosen = requested;
     if (chosen == LightSampler::automatic)
-        chosen = path_tracing && placed > 0 && (sources >= 2 || placed > TREE_AT_MORE_LIGHTS_THAN) ? LightSampler::tree
-                                                                                                  : LightSampler::power;
+        chosen = path_tracing && placed > 0 && (sources >= 2 || placed > TREE_AT_MORE_LIGHTS_THAN || placed < lights)
+                 ? LightSampler::tree
+                 : LightSampler::power;
     if (placed == 0 && chosen == LightSampler::tree) chosen = LightSampler::power;  // nothing to put in it
     packed.light_sampler = light_sampler_name(chosen);
     if (chosen == LightSampler::uniform && !packed.emitters.empty()) make_uniform(packed);

@@ -15,8 +15,9 @@ LightSampler parse_light_sampler(const std::string& name);
 
 // Sets up `packed`'s lights for `requested`: a tree (emitter table reordered: tree lights first, then the environment
 // and directional lights; EFFECT_LIGHT_TREE), or an alias table of equal weights (uniform), or the power table as
-// pack_scene made it. `automatic` takes the tree where the scene has lights of more than one kind or material, or
-// more than 16 lights (the tree then measured better: tests/bench/RESULTS.md), the power table otherwise.
+// pack_scene made it. `automatic` takes the tree where the scene has lights of more than one kind or material, more
+// than 16 lights, or lights with a place beside an environment or a directional light (the tree then measured better:
+// tests/bench/RESULTS.md), the power table otherwise.
 // path_tracing false (light tracing, BDPT): their light subpaths start by power, and their NEE weights assume the
 // same table, so only power or uniform are allowed (std::invalid_argument for tree). Throws SceneError when the tree
 // would hold more than MAX_TREE_LIGHTS lights.
