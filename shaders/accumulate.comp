@@ -1,14 +1,14 @@
 // Stage "accumulate": adds the wave's finished paths to the film, one invocation per pixel. The sums are fixed point
-// (lib/film.glsl): each sample's radiance is rounded once to 2^-FILM_FRACTION_BITS and then added exactly, so the
+// (lib/core/film.glsl): each sample's radiance is rounded once to 2^-FILM_FRACTION_BITS and then added exactly, so the
 // film holds the same bits whatever the split of the samples into waves, resumed runs or merged parts. Non-finite
 // radiance, and radiance too large for the film (|L| >= 2^FILM_MAX_LOG2), is counted, then dropped.
 // Reads: paths[].radiance, push (wave ranges). Writes: film, counters.nonfinite_samples.
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#include "lib/bindings.glsl"
-#include "lib/film.glsl"
-#include "lib/queue.glsl"
-#include "lib/techniques.glsl"
+#include "lib/core/bindings.glsl"
+#include "lib/core/film.glsl"
+#include "lib/core/queue.glsl"
+#include "lib/core/techniques.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE) in;
 

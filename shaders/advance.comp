@@ -2,10 +2,10 @@
 // a counter back. Reads: counters. Writes: counters (indirect sizes for connect and the next extend/shade,
 // the consumed ray queue emptied and counted as traced, the shadow queue handed to connect and, when connect
 // follows, counted as traced). Counting here rather than with an atomic per SIMD group in extend and connect saves
-// those stages the atomics on one cache line that both of lavapipe's threads write (README "Speed").
+// those stages the atomics on one cache line that both of lavapipe's threads write (tests/bench/RESULTS.md "Speed").
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#include "lib/bindings.glsl"
+#include "lib/core/bindings.glsl"
 
 layout(local_size_x = 1) in;
 

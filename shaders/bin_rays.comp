@@ -1,11 +1,11 @@
-// Stage "bin_rays", the first of the ray sort (lib/ray_order.glsl): each queued ray's key and its rank among the rays
+// Stage "bin_rays", the first of the ray sort (lib/core/ray_order.glsl): each queued ray's key and its rank among the rays
 // of that key (the count before it), and how many rays have each key. Reads: rays[queue depth & 1],
 // counters.ray_count, params (scene bounds). Writes: the ray-sort buffer's keys, ranks and counts (scan_ray_bins
 // leaves the counts zero for the next depth).
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#include "lib/bindings.glsl"
-#include "lib/ray_order.glsl"
+#include "lib/core/bindings.glsl"
+#include "lib/core/ray_order.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE) in;
 

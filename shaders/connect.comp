@@ -5,8 +5,8 @@
 // through the texel view (the radiance was written by earlier dispatches; this one writes it only after reading).
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#include "lib/bindings.glsl"
-#include "lib/traverse.glsl"
+#include "lib/core/bindings.glsl"
+#include "lib/geometry/traverse.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE) in;
 

@@ -2,18 +2,18 @@
 // camera vertex just found (the queued ray's hit, before shade moves the path on) is joined to every stored vertex of
 // the light subpath with the same (pixel, sample) (light_shade.comp) whose full path keeps within --max-depth: both
 // BSDFs evaluated towards each other (the light side's adjoint, with the shading-normal correction, as light tracing
-// has it), the MIS weight from both sides' quantities (lib/bdpt.glsl), and a shadow ray between them. A path's
+// has it), the MIS weight from both sides' quantities (lib/integrator/bdpt.glsl), and a shadow ray between them. A path's
 // connections are summed in a fixed order by one invocation, so the result is the same bits every run.
 // Reads: rays[queue depth & 1], hits, paths, path media, path_mis, light_vertices, triangles, materials, textures,
 // instances, BVH. Writes: paths[].radiance, counters.traced_shadow_rays.
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#include "lib/bindings.glsl"
-#include "lib/queue.glsl"
-#include "lib/effects.glsl"
-#include "lib/surface_bsdf.glsl"
-#include "lib/bdpt.glsl"
-#include "lib/traverse.glsl"
+#include "lib/core/bindings.glsl"
+#include "lib/core/queue.glsl"
+#include "lib/core/effects.glsl"
+#include "lib/bsdf/surface_bsdf.glsl"
+#include "lib/integrator/bdpt.glsl"
+#include "lib/geometry/traverse.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE) in;
 

@@ -1,15 +1,15 @@
 // Stage "extend": finds the closest hit of every ray in the current queue.
-// Takes the queue in the order push.ray_order says (lib/ray_order.glsl): as queued, or sorted by bin_rays ..
+// Takes the queue in the order push.ray_order says (lib/core/ray_order.glsl): as queued, or sorted by bin_rays ..
 // scatter_rays.
 // Reads: rays[queue depth & 1], counters.ray_count, the sorted order, BVH nodes, triangle positions (with EFFECT_ALPHA also
 // paths[].rng, materials and textures; with EFFECT_MOTION_BLUR the path's time and the instances' motion).
 // Writes: hits[i] for ray i; with StagePush.count_escaped_rays counters.escaped_rays (advance counts the traced rays).
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#include "lib/bindings.glsl"
-#include "lib/queue.glsl"
-#include "lib/traverse.glsl"
-#include "lib/ray_order.glsl"
+#include "lib/core/bindings.glsl"
+#include "lib/core/queue.glsl"
+#include "lib/geometry/traverse.glsl"
+#include "lib/core/ray_order.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE) in;
 
@@ -35,6 +35,6 @@ void main() {
         store_hit_item(i, item);
     else
         store_hit_head(i, item);
-    // A render's shade and light_shade count the escaped rays with their queues' atomics (lib/queue.glsl).
+    // A render's shade and light_shade count the escaped rays with their queues' atomics (lib/core/queue.glsl).
     if (push.count_escaped_rays != 0u) COUNT_TRUE_IN_SUBGROUP(counters.escaped_rays, hit.triangle == INVALID_INDEX);
 }

@@ -5,14 +5,14 @@
 // `--integrator bdpt` the camera subpath's MIS quantities (path_mis).
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#include "lib/bindings.glsl"
-#include "lib/queue.glsl"
-#include "lib/rng.glsl"
-#include "lib/sampling.glsl"
-#include "lib/camera.glsl"
-#include "lib/effects.glsl"
-#include "lib/path_sampler.glsl"
-#include "lib/bdpt.glsl"
+#include "lib/core/bindings.glsl"
+#include "lib/core/queue.glsl"
+#include "lib/sampling/rng.glsl"
+#include "lib/sampling/sampling.glsl"
+#include "lib/geometry/camera.glsl"
+#include "lib/core/effects.glsl"
+#include "lib/sampling/path_sampler.glsl"
+#include "lib/integrator/bdpt.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE) in;
 

@@ -1,5 +1,5 @@
 // Stage "light_generate" (`--integrator light` and `bdpt`): starts one light subpath per (pixel, sample) of the wave: a
-// light by power, a point on it and a first direction (lib/light_subpath.glsl), and the light's own vertex joined to
+// light by power, a point on it and a first direction (lib/integrator/light_subpath.glsl), and the light's own vertex joined to
 // the camera (the s = 1, t = 1 strategy: a splat; light tracing only). BDPT also starts the path's MIS quantities.
 // Reads: params, push, triangles, materials, emitters, punctual lights, the environment (with EFFECT_EMISSIVE_TEXTURE
 // / EFFECT_ALPHA textures).
@@ -8,14 +8,14 @@
 // counters (as generate, and the shadow queue's length), path_mis (bdpt), path media.
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#include "lib/bindings.glsl"
-#include "lib/queue.glsl"
-#include "lib/rng.glsl"
-#include "lib/sampling.glsl"
-#include "lib/effects.glsl"
-#include "lib/path_sampler.glsl"
-#include "lib/light_subpath.glsl"
-#include "lib/transmission.glsl"
+#include "lib/core/bindings.glsl"
+#include "lib/core/queue.glsl"
+#include "lib/sampling/rng.glsl"
+#include "lib/sampling/sampling.glsl"
+#include "lib/core/effects.glsl"
+#include "lib/sampling/path_sampler.glsl"
+#include "lib/integrator/light_subpath.glsl"
+#include "lib/material/transmission.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE) in;
 
@@ -47,10 +47,10 @@ void main() {
     item.dir_z = start.dir.z;
     item.origin_triangle = start.triangle;
     store_ray_item(ray_slot(0u, i), item);
-    // Bidirectional path tracing leaves a light seen directly to the camera subpath (s = 0 alone, lib/bdpt.glsl).
+    // Bidirectional path tracing leaves a light seen directly to the camera subpath (s = 0 alone, lib/integrator/bdpt.glsl).
     store_shadow_ray(i, bdpt ? make_empty_splat() : start.splat);
     if (bdpt) store_path_mis(i, start.mis);
-    // Lights stand outside every volume (README "Bidirectional path tracing"); the camera subpath starts its own.
+    // Lights stand outside every volume (shaders/lib/integrator/README.md "Bidirectional path tracing"); the camera subpath starts its own.
     if (tracks_media()) path_media[i] = uvec4(INVALID_INDEX);
 
     PathState state;

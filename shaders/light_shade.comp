@@ -7,21 +7,21 @@
 // for the eye's side (Veach 1997 sec. 5.2), and the subpath keeps its stack of volumes (path_media) for the indices
 // and for Beer-Lambert absorption along its segments and its splats.
 // Bidirectional path tracing also keeps the vertex for the camera subpath (light_vertices), weights the splat by MIS
-// and carries the path's MIS quantities (lib/bdpt.glsl).
+// and carries the path's MIS quantities (lib/integrator/bdpt.glsl).
 // Reads: rays[queue depth & 1], hits, paths, path media, triangles, materials, textures, instances, path_mis. Writes:
 // paths, path media, rays[queue (depth + 1) & 1], shadow_rays, counters.ray_count / shadow_count, light_vertices,
 // path_mis.
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#include "lib/bindings.glsl"
-#include "lib/queue.glsl"
-#include "lib/rng.glsl"
-#include "lib/sampling.glsl"
-#include "lib/effects.glsl"
-#include "lib/surface_bsdf.glsl"
-#include "lib/motion.glsl"
-#include "lib/light_tracing.glsl"
-#include "lib/bdpt.glsl"
+#include "lib/core/bindings.glsl"
+#include "lib/core/queue.glsl"
+#include "lib/sampling/rng.glsl"
+#include "lib/sampling/sampling.glsl"
+#include "lib/core/effects.glsl"
+#include "lib/bsdf/surface_bsdf.glsl"
+#include "lib/geometry/motion.glsl"
+#include "lib/integrator/light_tracing.glsl"
+#include "lib/integrator/bdpt.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE) in;
 

@@ -5,7 +5,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "shared/layout.h"
 #include "shared/present.h"
-#include "lib/film.glsl"
+#include "lib/core/film.glsl"
 
 layout(local_size_x = PRESENT_WORKGROUP_SIZE) in;
 layout(std430, binding = PRESENT_BINDING_FILM) readonly buffer FilmBuffer { FilmPixel film[]; };

@@ -4,8 +4,8 @@
 // Reads and writes: the ray-sort buffer's counts and offsets; reads its block sums.
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#include "lib/bindings.glsl"
-#include "lib/ray_order.glsl"
+#include "lib/core/bindings.glsl"
+#include "lib/core/ray_order.glsl"
 
 layout(local_size_x = RAY_SORT_SCAN_LANES) in;
 

@@ -4,8 +4,8 @@
 // Reads: the ray-sort buffer's keys, ranks and offsets, counters.ray_count. Writes: its order.
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#include "lib/bindings.glsl"
-#include "lib/ray_order.glsl"
+#include "lib/core/bindings.glsl"
+#include "lib/core/ray_order.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE) in;
 

@@ -3,28 +3,28 @@
 // normal map, anisotropy, thin film, glass, dispersion, diffuse transmission, sheen, clear coat, unlit: only the
 // effects the scene has are compiled in), samples a light and pushes a shadow ray (next-event estimation), samples the
 // BSDF, applies Russian roulette and pushes the continuation ray. A spectral render (EFFECT_SPECTRAL) carries four
-// wavelengths per path and hands the film RGB (lib/path_color.glsl).
+// wavelengths per path and hands the film RGB (lib/spectral/path_color.glsl).
 // Reads: rays[queue depth & 1], hits, paths, triangles, materials, emitters, textures, environment, and for
 // glass, sheens and clear coats the material layers, path media and path spectra. Writes: paths, path media, path
 // spectra, rays[queue (depth + 1) & 1], shadow_rays, counters.ray_count / shadow_count.
 // `--integrator bdpt` (the shade_bdpt SPIR-V, FH_INTEGRATOR) weights emission and NEE against every strategy of bidirectional path tracing
-// and carries the camera subpath's MIS quantities (path_mis; lib/bdpt.glsl) instead of the path tracer's two-way MIS.
+// and carries the camera subpath's MIS quantities (path_mis; lib/integrator/bdpt.glsl) instead of the path tracer's two-way MIS.
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#include "lib/bindings.glsl"
-#include "lib/queue.glsl"
-#include "lib/rng.glsl"
-#include "lib/path_sampler.glsl"
-#include "lib/sampling.glsl"
-#include "lib/effects.glsl"
-#include "lib/bsdf_layers.glsl"
-#include "lib/motion.glsl"
-#include "lib/lights.glsl"
-#include "lib/transmission.glsl"
-#include "lib/path_color.glsl"
-#include "lib/surface_bsdf.glsl"
-#include "lib/bdpt.glsl"
-#include "lib/ray_order.glsl"
+#include "lib/core/bindings.glsl"
+#include "lib/core/queue.glsl"
+#include "lib/sampling/rng.glsl"
+#include "lib/sampling/path_sampler.glsl"
+#include "lib/sampling/sampling.glsl"
+#include "lib/core/effects.glsl"
+#include "lib/bsdf/bsdf_layers.glsl"
+#include "lib/geometry/motion.glsl"
+#include "lib/light/lights.glsl"
+#include "lib/material/transmission.glsl"
+#include "lib/spectral/path_color.glsl"
+#include "lib/bsdf/surface_bsdf.glsl"
+#include "lib/integrator/bdpt.glsl"
+#include "lib/core/ray_order.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE) in;
 
@@ -93,7 +93,7 @@ void shade_vertex(uint i, uint parity, out bool push_ray, out RayItem next, out 
         }
         Material m = resolve_material(load_material(s.material), hit.triangle, hit.b1, hit.b2);
         // KHR_materials_unlit: camera rays see the base colour (times its texture and COLOR_0); every other
-        // ray finds a black surface that ends the path (README "Unlit").
+        // ray finds a black surface that ends the path (shaders/lib/bsdf/README.md "Unlit").
         bool unlit = effect_on(EFFECT_UNLIT) && (m.flags & MATERIAL_UNLIT) != 0u;
         bool may_extend = !unlit && (params.max_depth == 0u || segments < params.max_depth);
         // The anisotropy's direction lies in the mesh's tangent frame (object space, before placing the instance);
@@ -146,7 +146,7 @@ void shade_vertex(uint i, uint parity, out bool push_ray, out RayItem next, out 
             vec3 ns = front ? s.ns : -s.ns;
             // Interpolated normals can face away from a grazing viewer although the surface faces it; the
             // BSDF would then return black (black facets at silhouettes). Shade such points with the
-            // geometric normal (README "Numerical stability", case 8).
+            // geometric normal (tests/README.md "Numerical stability", case 8).
             if (dot(ns, wo) <= 0.0f) ns = ng;
             // Glass (KHR_materials_transmission): thin-walled, or the surface of a volume, entered from the front.
             bool volume = false;
@@ -158,7 +158,7 @@ void shade_vertex(uint i, uint parity, out bool push_ray, out RayItem next, out 
             // A mirror reflection about the shading normal must stay above the geometric surface, or the path dies
             // there: normal textures tilt it that far anywhere, and interpolated normals at the curved rims of thin
             // glass, where light guided along the wall by total internal reflection meets it at every bounce
-            // (README "Glass", "Interpolated normals": 15% of a vase's light was lost so).
+            // (shaders/lib/bsdf/README.md "Glass", "Interpolated normals on glass": 15% of a vase's light was lost so).
             if ((effect_on(EFFECT_NORMAL_TEXTURE) && m.normal_texture != INVALID_INDEX) ||
                 (effect_on(EFFECT_TRANSMISSION) && transmission > 0.0f))
                 ns = keep_reflection_above_surface(ns, ng, wo);
@@ -180,7 +180,7 @@ void shade_vertex(uint i, uint parity, out bool push_ray, out RayItem next, out 
                 }
             }
             BsdfParams bsdf = make_bsdf_params(m);
-            float eta = m.ior;  // n beyond / n on this side (lib/transmission.glsl); thin-walled: the ior
+            float eta = m.ior;  // n beyond / n on this side (lib/material/transmission.glsl); thin-walled: the ior
             if (effect_on(EFFECT_TRANSMISSION)) {
                 if (volume) eta = refraction_eta_at(s.material, m.ior, media, front);
                 bsdf = with_transmission(bsdf, transmission, eta, volume ? 0u : 1u);

@@ -6,10 +6,10 @@
 // Writes: film sums, counters.nonfinite_samples, counters.traced_shadow_rays.
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#include "lib/bindings.glsl"
-#include "lib/film.glsl"
-#include "lib/queue.glsl"
-#include "lib/traverse.glsl"
+#include "lib/core/bindings.glsl"
+#include "lib/core/film.glsl"
+#include "lib/core/queue.glsl"
+#include "lib/geometry/traverse.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE) in;
 

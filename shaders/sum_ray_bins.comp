@@ -3,8 +3,8 @@
 // Reads: the ray-sort buffer's counts. Writes: its block sums.
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#include "lib/bindings.glsl"
-#include "lib/ray_order.glsl"
+#include "lib/core/bindings.glsl"
+#include "lib/core/ray_order.glsl"
 
 layout(local_size_x = RAY_SORT_SCAN_LANES) in;
 
@@ -18,7 +18,7 @@ void main() {
     lane_sums[lane] = sum;
     barrier();
     // One lane's loop. A first version summed with a shared atomic per lane here and scanned with a tree of 14 barriers
-    // in scan_ray_bins: on lavapipe the two stages took 1.3 to 1.6x as long (README "Ray order").
+    // in scan_ray_bins: on lavapipe the two stages took 1.3 to 1.6x as long (tests/bench/RESULTS.md "Ray order").
     if (lane == 0u) {
         uint total = 0u;
         for (uint j = 0u; j < RAY_SORT_SCAN_LANES; ++j) total += lane_sums[j];

@@ -3,30 +3,48 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
+#include <set>
+#include <string>
 
-#include "app/bench_command.h"
-#include "app/converge_command.h"
-#include "app/info_command.h"
-#include "app/merge_command.h"
-#include "app/render_command.h"
-#include "app/viewer_command.h"
+#include "app/bench/bench_command.h"
+#include "app/cli/help.h"
+#include "app/converge/converge_command.h"
+#include "app/info/info_command.h"
+#include "app/merge/merge_command.h"
+#include "app/render/render_command.h"
+#include "app/view/viewer_command.h"
 
 int main(int argc, char** argv) {
     CLI::App app{"Fredholm: an unbiased path tracer for glTF 2.0 on Vulkan compute"};
     app.require_subcommand(1);
+    app.footer("Example: fredholm render scenes/cornell.gltf -o cornell.exr --png cornell.png\n"
+               "Each command's --help lists its options; --help-all adds the measurement and diagnostic switches.");
+    const bool help_all = fh::take_help_all(argc, argv);
+    // Each command: its options, then its help arranged (bench lists every switch: it is for measurement).
+    auto command = [&](const char* name, const char* what, auto& options, auto add_options, const char* example,
+                       std::set<std::string> keep_group = {}) {
+        CLI::App* sub = app.add_subcommand(name, what);
+        add_options(*sub, options);
+        fh::arrange_help(*sub, help_all || std::string(name) == "bench", example, keep_group);
+    };
     fh::RenderCommand render;
-    fh::add_render_options(*app.add_subcommand("render", "render a glTF scene to OpenEXR"), render);
+    command("render", "render a glTF scene to OpenEXR", render, fh::add_render_options,
+            "fredholm render scenes/cornell.gltf -o cornell.exr --png cornell.png --spp 256");
     fh::BenchCommand bench;
-    fh::add_bench_options(*app.add_subcommand("bench", "time the Cornell box at 256x256 and 512x512"), bench);
+    command("bench", "time the Cornell box at 256x256 and 512x512", bench, fh::add_bench_options,
+            "fredholm bench scenes/cornell.gltf --sizes 256 --spp 16 --repeats 5");
     fh::ConvergeCommand converge;
-    fh::add_converge_options(*app.add_subcommand("converge", "error against render time at doubling spp, as a report"),
-                             converge);
+    command("converge", "error against render time at doubling spp, as a report", converge, fh::add_converge_options,
+            "fredholm converge scenes/cornell.gltf -o report --two-seeds --vary light-sampler=tree,power");
     fh::InfoCommand info;
-    fh::add_info_options(*app.add_subcommand("info", "scene statistics and the effects it compiles, with why"), info);
+    command("info", "scene statistics and the effects it compiles, with why", info, fh::add_info_options,
+            "fredholm info scenes/cornell.gltf");
     fh::MergeCommand merge;
-    fh::add_merge_options(*app.add_subcommand("merge", "join parts of a render (--samples, --crop) bit-exactly"), merge);
+    command("merge", "join parts of a render (--samples, --crop) bit-exactly", merge, fh::add_merge_options,
+            "fredholm merge parts/part_*.exr -o cornell.exr --png cornell.png");
     fh::ViewCommand view;
-    fh::add_view_options(*app.add_subcommand("view", "interactive viewer: progressive path tracing in a window"), view);
+    command("view", "interactive viewer: progressive path tracing in a window", view, fh::add_view_options,
+            "fredholm view scenes/cornell.gltf --env scenes/environments/courtyard.exr", {"frames"});
     try {
         app.parse(argc, argv);
     } catch (const CLI::Success& e) {

@@ -1,4 +1,4 @@
-// What a render leaves to the device, chosen per device by measurement (README "Speed"): how many paths a wave holds
+// What a render leaves to the device, chosen per device by measurement (tests/bench/RESULTS.md "Speed"): how many paths a wave holds
 // when --wave-paths is not given, and whether the rays are sorted under --sort-rays auto.
 #pragma once
 #include <cstdint>
@@ -35,7 +35,7 @@ uint32_t choose_wave_paths(const vk::Context& context, const PackedScene& scene,
                            uint32_t film_width, uint32_t film_height, const PathStore& store = {});
 
 // Whether --sort-rays auto sorts: on a GPU for scenes of at least MIN_AUTO_SORT_TRIANGLES stored triangles, never on
-// a CPU device. Measured (README "Ray order", bench --compare-ray-order, 1024 x 1024): on an H100 the sort saved 5 to
+// a CPU device. Measured (tests/bench/RESULTS.md "Ray order", bench --compare-ray-order, 1024 x 1024): on an H100 the sort saved 5 to
 // 13% of the render time from 1,290 to 1,310,730 triangles (path, light and BDPT) and cost 6 to 12% on the Cornell box
 // (42) and the door gap (20); on lavapipe it costs about what it saves at every size.
 constexpr size_t MIN_AUTO_SORT_TRIANGLES = 1024;

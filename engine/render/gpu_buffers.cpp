@@ -13,10 +13,10 @@
 
 namespace fh {
 namespace tables {
-#include "lib/ggx_albedo_table.glsl"
-#include "lib/sheen_albedo_table.glsl"
-#include "lib/spectral_table.glsl"
-#include "lib/glass_albedo_table.glsl"
+#include "lib/tables/ggx_albedo_table.glsl"
+#include "lib/tables/sheen_albedo_table.glsl"
+#include "lib/tables/spectral_table.glsl"
+#include "lib/tables/glass_albedo_table.glsl"
 }  // namespace tables
 namespace {
 
@@ -27,14 +27,14 @@ std::vector<float> concatenate(std::initializer_list<std::span<const float>> par
     return words;
 }
 
-// The GGX albedo table in the order shaders/lib/ggx_albedo_table.glsl documents, then the sheen lobe's, then the
+// The GGX albedo table in the order shaders/lib/tables/ggx_albedo_table.glsl documents, then the sheen lobe's, then the
 // spectral path's (bindings.glsl reads all three from one uniform buffer).
 std::vector<float> flatten_albedo_tables() {
     return concatenate({tables::GGX_ALBEDO_A, tables::GGX_ALBEDO_B, tables::GGX_ALBEDO_AVERAGE_A,
                         tables::GGX_ALBEDO_AVERAGE_B, tables::SHEEN_ALBEDO, tables::SPECTRAL_TABLE});
 }
 
-// The glass albedo table in the order shaders/lib/glass_albedo_table.glsl documents (EFFECT_GLASS_MULTISCATTER),
+// The glass albedo table in the order shaders/lib/tables/glass_albedo_table.glsl documents (EFFECT_GLASS_MULTISCATTER),
 // else one word.
 std::vector<float> flatten_glass_albedo_table(uint32_t effects) {
     if (!(effects & gpu::EFFECT_GLASS_MULTISCATTER)) return {0.0f};

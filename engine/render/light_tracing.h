@@ -1,7 +1,7 @@
-// What light tracing (`--integrator light`, README "Light tracing") can render today, checked before any pipeline is
+// What light tracing (`--integrator light`, shaders/lib/integrator/README.md "Light tracing") can render today, checked before any pipeline is
 // built: a scene or setting it does not handle yet is refused with the reason. One case is not detected: light
 // subpaths start outside every volume, so a light inside a closed glass volume (KHR_materials_volume) is refracted as
-// if it stood outside it (README "Light tracing"; thin-walled glass around a lamp is right).
+// if it stood outside it (shaders/lib/integrator/README.md "Light tracing"; thin-walled glass around a lamp is right).
 #pragma once
 #include <cstdint>
 #include <string>

@@ -10,10 +10,10 @@
 
 namespace fh {
 namespace tables {
-#include "lib/ggx_albedo_table.glsl"
-#include "lib/sheen_albedo_table.glsl"
-#include "lib/spectral_table.glsl"
-#include "lib/glass_albedo_table.glsl"
+#include "lib/tables/ggx_albedo_table.glsl"
+#include "lib/tables/sheen_albedo_table.glsl"
+#include "lib/tables/spectral_table.glsl"
+#include "lib/tables/glass_albedo_table.glsl"
 }  // namespace tables
 namespace {
 

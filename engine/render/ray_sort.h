@@ -1,4 +1,4 @@
-// The ray sort before extend (README "Ray order"): each bounce's queue counted into keys of direction and origin
+// The ray sort before extend (tests/bench/RESULTS.md "Ray order"): each bounce's queue counted into keys of direction and origin
 // (by shade as it pushes the rays, else bin_rays), the keys' starts (sum_ray_bins, then scan_ray_bins: a prefix sum
 // in blocks) and the queue's order by key (scatter_rays), which extend follows.
 #pragma once

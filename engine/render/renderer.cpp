@@ -7,8 +7,8 @@
 #include <cstddef>
 #include <stdexcept>
 
-#include "render/camera_setup.h"
-#include "render/camera_medium.h"
+#include "render/camera/camera_setup.h"
+#include "render/camera/camera_medium.h"
 #include "render/film.h"
 #include "render/light_tracing.h"
 #include "render/ray_sort.h"

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "io/image.h"
-#include "render/camera_medium.h"
+#include "render/camera/camera_medium.h"
 #include "render/gpu_buffers.h"
 #include "render/settings.h"
 #include "render/stage_table.h"
@@ -74,7 +74,7 @@ public:
     // The film buffer (gpu::FilmPixel[width * height]), e.g. for a display pass that reads it in place.
     const vk::Buffer& film_buffer() const { return buffers_.film; }
     // The volumes (material indices) the camera stands in, innermost first, where its paths start; INVALID_INDEX past
-    // the last (render/camera_medium.h; probed only when the scene has volumes).
+    // the last (render/camera/camera_medium.h; probed only when the scene has volumes).
     CameraMedia camera_media() const {
         return {frame_.camera_medium, frame_.camera_medium_outer, frame_.camera_medium_outermost};
     }

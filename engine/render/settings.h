@@ -5,13 +5,13 @@
 #include <string>
 
 #include "scene/instancing.h"
-#include "scene/light_sampler.h"
+#include "scene/light/light_sampler.h"
 
 namespace fh {
 
 enum class PixelFilter { box, gaussian };
 
-// The thin lens the command line asks for (README "Depth of field"); glTF cameras have none. All zero: a pinhole.
+// The thin lens the command line asks for (engine/render/README.md "Depth of field"); glTF cameras have none. All zero: a pinhole.
 struct LensSettings {
     double f_number = 0.0;          // --aperture N: radius = focal length / (2 N), focal length from yfov and the sensor
     double aperture_radius = 0.0;   // --aperture-radius R, world units (instead of --aperture)
@@ -23,14 +23,14 @@ struct LensSettings {
     double rotation_degrees = 0.0;  // --aperture-rotation
     bool on() const { return f_number > 0.0 || aperture_radius > 0.0; }
 };
-// How the light transport equation is solved (README "Light tracing", "Bidirectional path tracing"): path tracing from
+// How the light transport equation is solved (shaders/lib/integrator/README.md "Light tracing", "Bidirectional path tracing"): path tracing from
 // the camera with next-event estimation and MIS, light tracing (light subpaths splatted onto the film through the
 // camera; the t = 1 strategies of bidirectional path tracing alone), or bidirectional path tracing (every strategy
 // (s, t), combined by MIS).
 // `automatic` (--integrator auto, fredholm render only) is resolved by a pilot before any Renderer is built.
 enum class Integrator { path, light, bdpt, automatic };
 
-// Where a path's random numbers come from (shaders/lib/path_sampler.glsl).
+// Where a path's random numbers come from (shaders/lib/sampling/path_sampler.glsl).
 enum class Sampler { independent, sobol };
 
 struct RenderSettings {
@@ -52,16 +52,16 @@ struct RenderSettings {
     bool russian_roulette = true;
     uint32_t rr_start_depth = 3;   // roulette from this many segments on
     // A camera path survives roulette with probability min(0.95, this x its largest throughput component): 2, chosen
-    // by measured efficiency (README "Speed"; 1 is the textbook's and Mitsuba's).
+    // by measured efficiency (tests/bench/RESULTS.md "Speed"; 1 is the textbook's and Mitsuba's).
     float rr_survival_scale = 2.0f;
     // --light-pick reuse|separate: NEE picks the light with the first coordinate of its point's 2D sample and reuses the
-    // rest (up to 16 lights; shaders/lib/lights.glsl), or with a sampler dimension of its own (README "Sampling").
+    // rest (up to 16 lights; shaders/lib/light/lights.glsl), or with a sampler dimension of its own (shaders/lib/integrator/README.md "Sampling").
     bool light_pick_reuse = true;
-    // --light-sampler: how NEE picks a light (scene/light_sampler.h); auto: the tree where the lights differ.
+    // --light-sampler: how NEE picks a light (scene/light/light_sampler.h); auto: the tree where the lights differ.
     LightSampler light_sampler = LightSampler::automatic;
     uint32_t wave_paths = 0;  // paths in flight per wave; 0: chosen for the device (render/device_defaults.h)
     // --sort-rays: extend takes each bounce's rays sorted by direction and origin (render/ray_sort.h). Unset (auto):
-    // chosen for the device and scene by with_device_defaults (render/device_defaults.h; README "Ray order").
+    // chosen for the device and scene by with_device_defaults (render/device_defaults.h; tests/bench/RESULTS.md "Ray order").
     std::optional<bool> sort_rays;
     // --wide-stores: shade stores its structs a texel (uvec4) at a time; off: field by field (to measure what the
     // wide stores buy). The image is the same.
@@ -72,18 +72,18 @@ struct RenderSettings {
     uint32_t forced_effects = 0;       // --force-effect: EFFECT_* bits compiled in although unused (measurement)
     std::string variant;               // --variant: KHR_materials_variants name (empty: the file's default)
     Instancing instancing = Instancing::automatic;  // --instancing auto|on|off
-    // Light from outside the scene (README "Environment light"): an equirectangular map, or a constant.
+    // Light from outside the scene (engine/scene/README.md "Environment light"): an equirectangular map, or a constant.
     std::string environment_file;      // --env (OpenEXR or Radiance .hdr); empty: none
     float environment_intensity = 1.0f;   // --env-intensity: radiance scale
     float environment_rotation = 0.0f;    // --env-rotation, degrees about +Y
     bool has_background = false;          // --background R,G,B
     float background[3] = {0.0f, 0.0f, 0.0f};
     LensSettings lens;                    // depth of field (EFFECT_THIN_LENS when on())
-    // glTF animation (README "Animation"): --time poses the scene at that time by --animation (default the first).
+    // glTF animation (engine/scene/gltf/README.md "Animation"): --time poses the scene at that time by --animation (default the first).
     bool animate = false;
     std::string animation;
     double time = 0.0;                    // seconds
-    // Motion blur (README "Motion blur"): --shutter OPEN,CLOSE, seconds relative to `time`; equal: none.
+    // Motion blur (engine/render/README.md "Motion blur"): --shutter OPEN,CLOSE, seconds relative to `time`; equal: none.
     double shutter_open = 0.0, shutter_close = 0.0;
     bool has_shutter() const { return shutter_close > shutter_open; }
     // --crop: only pixels [crop_x0, crop_x1) x [crop_y0, crop_y1) of the width x height image are rendered, into a

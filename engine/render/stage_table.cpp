@@ -92,7 +92,7 @@ StageTable::StageTable(const vk::Context& context, const StageOptions& options)
     }
     if (options.integrator != Integrator::light) {
         make(Stage::generate, bdpt ? Spirv(spv_generate_bdpt) : Spirv(spv_generate));
-        // A uvec4 store is one per-lane loop on lavapipe where its four words are four (README "Speed"); with
+        // A uvec4 store is one per-lane loop on lavapipe where its four words are four (tests/bench/RESULTS.md "Speed"); with
         // --wide-stores off the same stage stores field by field, to the same bytes (kept to measure the difference).
         make(Stage::shade, bdpt                   ? Spirv(spv_shade_bdpt)
                            : options.wide_stores ? Spirv(spv_shade)

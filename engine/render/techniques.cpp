@@ -1,4 +1,4 @@
-// Names of the robustness techniques; README "Numerical stability" tabulates what each costs.
+// Names of the robustness techniques; tests/README.md "Numerical stability" tabulates what each costs.
 #include "render/techniques.h"
 
 #include <stdexcept>

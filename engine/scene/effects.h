@@ -39,7 +39,7 @@ SceneEffects analyse_effects(const Scene& scene, bool environment);
 void decide_light_effects(SceneEffects& effects, const std::set<uint32_t>& emitting_materials, size_t emitting_triangles,
                           size_t punctual_lights);
 
-// Sets the light tree's decision (light-tree: NEE picks lights from the tree; scene/light_sampler.h), replacing an earlier one.
+// Sets the light tree's decision (light-tree: NEE picks lights from the tree; scene/light/light_sampler.h), replacing an earlier one.
 void decide_light_tree_effect(SceneEffects& effects, bool tree, std::string why);
 
 // Sets the camera's decision (thin-lens: the render asks for an aperture above 0), replacing an earlier one.

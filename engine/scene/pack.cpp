@@ -12,13 +12,13 @@
 #include <glm/gtc/constants.hpp>
 #include <glm/gtc/packing.hpp>
 
-#include "lib/cpp_compat.h"
-#include "scene/alias_table.h"
-#include "scene/gltf_material.h"
+#include "lib/core/cpp_compat.h"
+#include "scene/light/alias_table.h"
+#include "scene/gltf/gltf_material.h"
 
 namespace fh {
 namespace glsl {
-#include "lib/texture_address.glsl"
+#include "lib/material/texture_address.glsl"
 }  // namespace glsl
 namespace {
 

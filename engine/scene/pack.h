@@ -4,10 +4,10 @@
 #include <string>
 #include <vector>
 
-#include "scene/bvh.h"
-#include "scene/scene_bvh.h"
+#include "scene/bvh/bvh.h"
+#include "scene/bvh/scene_bvh.h"
 #include "scene/effects.h"
-#include "scene/environment.h"
+#include "scene/light/environment.h"
 #include "scene/scene.h"
 #include "shared/layout.h"
 
@@ -23,7 +23,7 @@ struct PackedScene {
     std::vector<gpu::MaterialLayers> material_layers;  // one per material
     std::vector<gpu::Emitter> emitters;             // alias table over every light (may be empty)
     std::vector<double> emitter_power;              // the power of each entry's light (the alias table's weight)
-    // --light-sampler (scene/light_sampler.h): the tree, when NEE uses it, over entries [0, light_tree_lights).
+    // --light-sampler (scene/light/light_sampler.h): the tree, when NEE uses it, over entries [0, light_tree_lights).
     std::vector<gpu::LightTreeNode> light_tree;
     uint32_t light_tree_lights = 0;
     uint32_t light_tree_depth = 0;

@@ -52,7 +52,7 @@ struct SceneLight {
     float outer_cone = 0.7853982f;
 };
 
-// A decoded texture image (scene/image_decode.h); the GPU reads its texels as they are.
+// A decoded texture image (scene/gltf/image_decode.h); the GPU reads its texels as they are.
 struct SceneImage {
     std::string name;     // "image N 'name'" for messages
     uint32_t width = 0, height = 0;
@@ -72,7 +72,7 @@ struct SceneInstance {
     glm::dmat4 render_from_object{1.0};  // world transform with the render-space origin subtracted
     uint32_t material = gpu::INVALID_INDEX;  // replaces the mesh's material (glTF meshes that share geometry)
     // Motion blur: an instance whose node moves during the shutter has its transforms at shutter times k / K, k = 0..K
-    // (K = Scene::motion_segments), and moves linearly between them (shaders/lib/motion.glsl); render_from_object is
+    // (K = Scene::motion_segments), and moves linearly between them (shaders/lib/geometry/motion.glsl); render_from_object is
     // then where that path has it at the shutter's centre.
     std::vector<glm::dmat4> keys;  // empty: it stands still
     bool moves() const { return !keys.empty(); }

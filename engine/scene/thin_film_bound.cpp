@@ -5,12 +5,12 @@
 #include <cmath>
 #include <vector>
 
-#include "lib/cpp_compat.h"
+#include "lib/core/cpp_compat.h"
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wunused-function"  // the parts of the BSDF this file does not call
 namespace fh::glsl {
 namespace {  // internal linkage: test executables link this beside their own copy of the shared libraries
-#include "lib/bsdf.glsl"
+#include "lib/bsdf/bsdf.glsl"
 }  // namespace
 }  // namespace fh::glsl
 #pragma GCC diagnostic pop

@@ -1,4 +1,4 @@
-// The bound of a KHR_materials_iridescence film's Fresnel that the BSDF's albedo scaling needs (shaders/lib/bsdf.glsl).
+// The bound of a KHR_materials_iridescence film's Fresnel that the BSDF's albedo scaling needs (shaders/lib/bsdf/bsdf.glsl).
 #pragma once
 #include "shared/layout.h"
 

@@ -30,7 +30,7 @@ bool has_layer(const char* name) {
     return false;
 }
 
-// The stages' queues append with ballots and subgroup sums (shaders/lib/queue.glsl) and traversal votes
+// The stages' queues append with ballots and subgroup sums (shaders/lib/core/queue.glsl) and traversal votes
 // (traverse.glsl); Vulkan 1.1 only guarantees basic subgroup operations.
 bool has_stage_subgroup_operations(VkPhysicalDevice device) {
     VkPhysicalDeviceSubgroupProperties subgroup{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};

@@ -34,7 +34,7 @@ std::vector<uint32_t> run_optimiser(std::span<const uint32_t> spirv, std::span<c
     // traversal kept copies of the ray in its loops without it, test_spirv_specialise), and the code nothing reaches
     // any more. Nothing is contracted. The simplification's folding rules may reassociate float constants, as glslang's
     // -Os (the same rules) did at build time; specialisation makes only integers and booleans constant, and renders
-    // with it on and off (FREDHOLM_SPECIALISE_SPIRV=off) keep their bits (README "Speed").
+    // with it on and off (FREDHOLM_SPECIALISE_SPIRV=off) keep their bits (tests/bench/RESULTS.md "Speed").
     optimiser.RegisterPass(spvtools::CreateSetSpecConstantDefaultValuePass(values))
         .RegisterPass(spvtools::CreateFreezeSpecConstantValuePass())
         .RegisterPass(spvtools::CreateFoldSpecConstantOpAndCompositePass())

@@ -1,5 +1,5 @@
 // Buffer layouts, binding numbers and constants shared by the GLSL stages and the C++ host: the one place
-// where a struct crossing the host/device boundary is defined (tests/unit/test_layout.cpp checks offsets).
+// where a struct crossing the host/device boundary is defined (tests/unit/scene/test_layout.cpp checks offsets).
 //
 // Rules that keep GLSL std430 and C++ in agreement without padding surprises:
 // - structs hold only 32-bit scalars (float, uint, int) and vec4, with every vec4 before any scalar;
@@ -55,7 +55,7 @@ FH_CONST uint BINDING_INSTANCES = 20u;       // TEXELS Instance[] (two-level BVH
 FH_CONST uint BINDING_MATERIAL_LAYERS = 21u; // TEXELS MaterialLayers[] (KHR material extensions), parallel to Material[]
 FH_CONST uint BINDING_PATH_MEDIA = 22u;      // uvec4[wave capacity]: the volumes a path is in (EFFECT_VOLUME, _ABSORPTION)
 // A path remembers the volumes it is inside, innermost first (material indices, INVALID_INDEX past the last): entering
-// a volume puts it in front, leaving one takes it out (nested dielectrics, lib/transmission.glsl). A fifth is dropped.
+// a volume puts it in front, leaving one takes it out (nested dielectrics, lib/material/transmission.glsl). A fifth is dropped.
 FH_CONST uint MEDIUM_STACK_SIZE = 4u;
 FH_CONST uint BINDING_PATH_SPECTRA = 23u;    // PathSpectrum[wave capacity]: a path's wavelengths (EFFECT_SPECTRAL)
 FH_CONST uint BINDING_GLASS_ALBEDO = 24u;    // float[]: glass_albedo_table.glsl (EFFECT_GLASS_MULTISCATTER; else one word)
@@ -66,18 +66,18 @@ FH_CONST uint BINDING_LIGHT_VERTICES = 26u;
 FH_CONST uint BINDING_PATH_MIS = 27u;         // PathMis[wave capacity]
 // The ray queue's sorted order (`--sort-rays`; else one word): uint words, RAY_SORT_BINS counts, RAY_SORT_BINS
 // offsets and RAY_SORT_BLOCKS block sums, then per queued ray its key, then its rank within the key, then the queue
-// index of the i-th ray in key order (RAY_SORT_COUNTS .. RAY_SORT_WORDS_PER_RAY below; lib/ray_order.glsl).
+// index of the i-th ray in key order (RAY_SORT_COUNTS .. RAY_SORT_WORDS_PER_RAY below; lib/core/ray_order.glsl).
 FH_CONST uint BINDING_RAY_SORT = 28u;
 // The wave's arrays again, as RGBA32UI uniform texel buffers over the same memory, for the stages that read what an
 // earlier dispatch wrote (TEXELS loaders load_path_state, load_ray_item, load_hit_item, load_shadow_ray). Writes stay
 // storage-buffer stores. On lavapipe a storage-buffer load runs a loop over the 8 lanes per 32-bit word; a texel
-// fetch loads 16 bytes for all lanes without one (README "Speed": shade read 21 words per path vertex so).
+// fetch loads 16 bytes for all lanes without one (tests/bench/RESULTS.md "Speed": shade read 21 words per path vertex so).
 FH_CONST uint BINDING_PATH_TEXELS = 29u;        // TEXELS PathState[wave capacity] (BINDING_PATHS' memory)
 FH_CONST uint BINDING_RAY_TEXELS = 30u;         // TEXELS RayItem[2 * wave capacity] (BINDING_RAYS' memory)
 FH_CONST uint BINDING_HIT_TEXELS = 31u;         // TEXELS HitItem[wave capacity] (BINDING_HITS' memory)
 FH_CONST uint BINDING_SHADOW_RAY_TEXELS = 32u;  // TEXELS ShadowRayItem[wave capacity] (BINDING_SHADOW_RAYS' memory)
 // The light tree (`--light-sampler tree`, EFFECT_LIGHT_TREE; else one node each): its nodes, and per path the shading
-// point whose tree probabilities NEE used, for the MIS weight of the emitter the path's next ray hits (lib/light_tree.glsl).
+// point whose tree probabilities NEE used, for the MIS weight of the emitter the path's next ray hits (lib/light/light_tree.glsl).
 FH_CONST uint BINDING_LIGHT_TREE = 33u;       // TEXELS LightTreeNode[]: interior nodes, then one leaf per tree light
 FH_CONST uint BINDING_PATH_LIGHT_POINTS = 34u;  // uvec4[wave capacity]: position bits and packed normal (light_tree.glsl)
 FH_CONST uint BINDING_COUNT = 35u;
@@ -116,19 +116,19 @@ FH_CONST uint EFFECT_ANISOTROPY_TEXTURE = 1048576u;  // anisotropyTexture
 FH_CONST uint EFFECT_IRIDESCENCE = 2097152u;       // KHR_materials_iridescence: a thin film's Fresnel on the specular
 FH_CONST uint EFFECT_IRIDESCENCE_TEXTURE = 4194304u;  // iridescenceTexture, iridescenceThicknessTexture
 FH_CONST uint EFFECT_SPECTRAL = 8388608u;          // KHR_materials_dispersion: paths carry four wavelengths (hero
-                                                   // wavelength sampling), not RGB; shaders/lib/spectrum.glsl
+                                                   // wavelength sampling), not RGB; shaders/lib/spectral/spectrum.glsl
 FH_CONST uint EFFECT_EMISSIVE_TRIANGLES = 16777216u;  // some triangle emits (NEE picks it; rays that hit it see it)
 FH_CONST uint EFFECT_PUNCTUAL_LIGHTS = 33554432u;     // KHR_lights_punctual lights of non-zero power (NEE only)
 FH_CONST uint EFFECT_GLASS_MULTISCATTER = 67108864u;  // rough glass: the energy single scattering loses, given
-                                                      // back (shaders/lib/glass_multiscatter.glsl)
+                                                      // back (shaders/lib/bsdf/glass_multiscatter.glsl)
 FH_CONST uint EFFECT_SPECULAR = 134217728u;  // the base's GGX reflection (dielectric specular layer, metal): off when
                                              // every visible material is Lambertian (metallic 0, specularFactor 0)
 FH_CONST uint EFFECT_THIN_LENS = 268435456u;  // --aperture / --aperture-radius > 0: camera rays from a lens disk or
-                                              // polygon, focused on a plane (lib/camera.glsl); else the pinhole
+                                              // polygon, focused on a plane (lib/geometry/camera.glsl); else the pinhole
 FH_CONST uint EFFECT_MOTION_BLUR = 536870912u;  // --shutter over which an instance or the camera moves: each path has
-                                                // a time, and moving transforms are interpolated (lib/motion.glsl)
+                                                // a time, and moving transforms are interpolated (lib/geometry/motion.glsl)
 FH_CONST uint EFFECT_LIGHT_TREE = 1073741824u;  // --light-sampler tree: NEE picks lights by their importance at the
-                                                // shading point (lib/light_tree.glsl), not from the power alias table
+                                                // shading point (lib/light/light_tree.glsl), not from the power alias table
 FH_CONST uint EFFECT_ATTRIBUTES = EFFECT_BASE_COLOR_TEXTURE | EFFECT_METALLIC_ROUGHNESS_TEXTURE |
                                   EFFECT_NORMAL_TEXTURE | EFFECT_EMISSIVE_TEXTURE | EFFECT_VERTEX_COLORS |
                                   EFFECT_ALPHA | EFFECT_TRANSMISSION_TEXTURE | EFFECT_CLEARCOAT_TEXTURE |
@@ -148,7 +148,7 @@ FH_CONST uint EFFECT_LIGHTS = EFFECT_EMISSIVE_TRIANGLES | EFFECT_PUNCTUAL_LIGHTS
 FH_CONST uint EFFECT_SWITCHABLE = EFFECT_MATERIAL | EFFECT_LIGHTS | EFFECT_MOTION_BLUR;
 
 // ---- Robustness techniques (all on by default; `--disable-technique` turns one off to measure its cost and
-// to show what goes wrong without it). README "Numerical stability" has the table.
+// to show what goes wrong without it). tests/README.md "Numerical stability" has the table.
 FH_CONST uint TECHNIQUE_WATERTIGHT = 1u;        // Woop et al. 2013 triangle test (off: Moller-Trumbore 1997)
 FH_CONST uint TECHNIQUE_CONSERVATIVE_BOX = 2u;  // padded slab test without 0 x inf (off: plain slab test)
 FH_CONST uint TECHNIQUE_ERROR_OFFSETS = 4u;     // error-bound ray origins (off: fixed epsilon along the normal)
@@ -163,9 +163,9 @@ FH_CONST uint CAMERA_PERSPECTIVE = 0u;
 FH_CONST uint CAMERA_ORTHOGRAPHIC = 1u;
 FH_CONST uint FILTER_BOX = 0u;             // one pixel wide
 FH_CONST uint FILTER_GAUSSIAN = 1u;        // truncated Gaussian, importance sampled (weight 1)
-FH_CONST uint SAMPLER_INDEPENDENT = 0u;    // each path's own PCG stream (lib/rng.glsl)
-FH_CONST uint SAMPLER_SOBOL = 1u;          // Owen-scrambled Sobol', four dimensions per block (lib/sobol.glsl)
-FH_CONST uint INTEGRATOR_PATH = 0u;        // FH_INTEGRATOR (lib/bindings.glsl): path tracing (NEE and MIS)
+FH_CONST uint SAMPLER_INDEPENDENT = 0u;    // each path's own PCG stream (lib/sampling/rng.glsl)
+FH_CONST uint SAMPLER_SOBOL = 1u;          // Owen-scrambled Sobol', four dimensions per block (lib/sampling/sobol.glsl)
+FH_CONST uint INTEGRATOR_PATH = 0u;        // FH_INTEGRATOR (lib/core/bindings.glsl): path tracing (NEE and MIS)
 FH_CONST uint INTEGRATOR_LIGHT = 1u;       // light tracing: the t = 1 strategies alone
 FH_CONST uint INTEGRATOR_BDPT = 2u;        // bidirectional path tracing, every (s, t) combined by MIS
 FH_CONST uint PATH_MIS_LIGHT_AT_INFINITY = 1u;  // PathMis.flags: the light subpath left a directional light or the
@@ -228,7 +228,7 @@ struct BvhNode {
 // What the GPU traverses: a 4-wide BVH with quantised child boxes, 48 bytes (three texels) for four children where
 // two-child nodes of full floats took 128 (Ylitie et al. 2017, "Efficient Incoherent Ray Traversal on GPUs Through
 // Compressed Wide BVHs", with four children). One visit tests four boxes: half the visits and half the node words of
-// the binary tree (scene/wide_bvh.h collapses the binary BVH into it).
+// the binary tree (scene/bvh/wide_bvh.h collapses the binary BVH into it).
 // Child k's box along an axis is [origin + lo * step, origin + hi * step] with lo, hi byte k of lo_x.. / hi_x..
 // and step = 2^(exponent - 127), rounded outwards on the host so that the float sums the shader computes contain the
 // child's exact box. Each slot has a 4-bit kind: 0 another wide node, 1 .. WIDE_MAX_LEAF a leaf of that many
@@ -259,7 +259,7 @@ struct Instance {
     uint material;          // replaces the triangles' material (meshes sharing geometry), else INVALID_INDEX
     // Motion blur: INVALID_INDEX for an instance that stands still; else the first of FrameParams.motion_segments + 1
     // Instance records (past those the BVH names) whose render_from_object rows hold its transform at shutter times
-    // k / motion_segments; between two, it moves linearly (lib/motion.glsl). The rows above are then its transform
+    // k / motion_segments; between two, it moves linearly (lib/geometry/motion.glsl). The rows above are then its transform
     // at the shutter's centre on that path.
     uint motion;
 };
@@ -380,9 +380,9 @@ struct Emitter {
 
 // A node of the light tree over the lights that have a place (emissive triangles, point and spot lights; Conty
 // Estevez & Kulla 2018, pbrt-v4's BVHLightSampler): what bounds the light of everything below it, from which NEE
-// weighs the two children of a node at a shading point (lib/light_tree.glsl light_importance). Nodes are
+// weighs the two children of a node at a shading point (lib/light/light_tree.glsl light_importance). Nodes are
 // [interior nodes in depth-first order, root at 0][one leaf per tree light, leaf k = node (tree lights - 1) + k for
-// Emitter entry k]; a tree of one light is its leaf alone. Built on the host (scene/light_tree.h).
+// Emitter entry k]; a tree of one light is its leaf alone. Built on the host (scene/light/light_tree.h).
 struct LightTreeNode {
     float min_x, min_y, min_z;
     float power;            // emitted power of the lights below (the alias table's weight)
@@ -428,7 +428,7 @@ struct FrameParams {
     uint rr_start_depth;    // Russian roulette starts at this segment count
     uint wave_capacity;     // paths per wave = length of PathState, HitItem, ShadowRayItem; half of RayItem
     uint triangle_count;
-    // Environment (EFFECT_ENVIRONMENT): an equirectangular map, +Y up (mapping: shaders/lib/environment.glsl).
+    // Environment (EFFECT_ENVIRONMENT): an equirectangular map, +Y up (mapping: shaders/lib/light/environment.glsl).
     uint env_width;
     uint env_height;
     float env_rotation;     // radians about +Y (--env-rotation)
@@ -449,7 +449,7 @@ struct FrameParams {
     // image (--crop; else all of it). Film pixel p is image pixel (crop_y + p / film_width, crop_x + p % film_width).
     uint crop_x, crop_y, film_width, film_height;
     // The volumes (material indices) the camera stands in, innermost first, where paths start
-    // (render/camera_medium.h); INVALID_INDEX past the last: outside every volume, and always without EFFECT_VOLUME.
+    // (render/camera/camera_medium.h); INVALID_INDEX past the last: outside every volume, and always without EFFECT_VOLUME.
     uint camera_medium;
     uint camera_medium_outer, camera_medium_outermost;
     uint light_vertex_slots;  // `--integrator bdpt`: light-subpath vertices stored per path (max_depth - 2), else 0
@@ -458,7 +458,7 @@ struct FrameParams {
     // component) (--rr-survival-scale; shade.comp).
     float rr_survival_scale;
     // EFFECT_LIGHT_TREE: Emitter entries [0, light_tree_lights) are the tree's leaves, the rest (the environment,
-    // directional lights) are picked uniformly, each as often as the whole tree (lib/light_tree.glsl).
+    // directional lights) are picked uniformly, each as often as the whole tree (lib/light/light_tree.glsl).
     uint light_tree_lights;
 };
 
@@ -470,14 +470,14 @@ struct StagePush {
     uint sample_begin;      // and sample indices [sample_begin, sample_begin + sample_count)
     uint sample_count;
     uint ray_order;         // RAY_ORDER_*: extend takes the queue as it is, or through the sorted order
-    uint bin_pushed_rays;   // 1: shade bins the rays it pushes for the next extend's sort (lib/ray_order.glsl)
+    uint bin_pushed_rays;   // 1: shade bins the rays it pushes for the next extend's sort (lib/core/ray_order.glsl)
     uint count_handed_shadow_rays;  // 1: advance counts the shadow queue it hands on as traced (connect traces it all)
     uint count_escaped_rays;  // 1: extend counts the rays that left the scene (the ray tracer); 0: shade counts them
 };
 
 // Ray order for extend (StagePush.ray_order): the queue as shade filled it, or sorted by a key of each ray's direction
-// and origin (lib/ray_order.glsl): rays that start close and point the same way visit the same BVH nodes, so the 8
-// lanes of a SIMD group diverge less (README "Speed", "Ray order").
+// and origin (lib/core/ray_order.glsl): rays that start close and point the same way visit the same BVH nodes, so the 8
+// lanes of a SIMD group diverge less (tests/bench/RESULTS.md "Speed", "Ray order").
 FH_CONST uint RAY_ORDER_QUEUE = 0u;
 FH_CONST uint RAY_ORDER_SORTED = 1u;
 FH_CONST uint RAY_SORT_DIRECTION_BITS = 3u;  // per axis of the octahedral map: 8 x 8 direction cells
@@ -525,7 +525,7 @@ struct PathState {
 };
 
 // What a path carries besides PathState when the scene is rendered spectrally (EFFECT_SPECTRAL): its four
-// wavelengths follow from wavelength_u (shaders/lib/spectrum.glsl); PathState's throughput_r, _g, _b hold the
+// wavelengths follow from wavelength_u (shaders/lib/spectral/spectrum.glsl); PathState's throughput_r, _g, _b hold the
 // throughput at wavelengths 0 (the hero), 1 and 2, and throughput_3 the fourth's.
 struct PathSpectrum {
     float wavelength_u;         // in [0, 1): the hero wavelength's sample
@@ -535,7 +535,7 @@ struct PathSpectrum {
 };
 
 // Bidirectional path tracing: what a path carries for the MIS weights of every strategy (the recursive quantities of
-// Georgiev 2012, "Implementing vertex connection and merging", for connections only; lib/bdpt.glsl), and how many of
+// Georgiev 2012, "Implementing vertex connection and merging", for connections only; lib/integrator/bdpt.glsl), and how many of
 // its light subpath's vertices are stored.
 struct PathMis {
     float dvcm;
@@ -590,7 +590,7 @@ struct ShadowRayItem {
 // Accumulated film pixel: per channel the sum of the samples' radiance in fixed point, radiance x 2^FILM_FRACTION_BITS
 // rounded to the nearest integer, as a 128-bit two's complement integer (FILM_WORDS words, least significant first).
 // Integer sums are associative, so parts of a render (sample ranges, resumed runs, machines) add up to the same bits
-// in any order (shaders/lib/film.glsl, engine/render/film.h). A sample must have |radiance| < 2^FILM_MAX_LOG2 to be
+// in any order (shaders/lib/core/film.glsl, engine/render/film.h). A sample must have |radiance| < 2^FILM_MAX_LOG2 to be
 // added: 2^24 samples of that fit with the sign bit to spare.
 FH_CONST uint FILM_WORDS = 4u;
 FH_CONST int FILM_FRACTION_BITS = 56;

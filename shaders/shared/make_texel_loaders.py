@@ -36,9 +36,9 @@ TEXEL_STRUCTS = [
 ]
 
 # Stores of the wave's arrays: struct, store function, its index parameter, binding constant, the storage-buffer array
-# lib/bindings.glsl declares, and which of the struct's texels the function stores (None: all). Each texel is one
+# lib/core/bindings.glsl declares, and which of the struct's texels the function stores (None: all). Each texel is one
 # uvec4 store: on lavapipe every storage-buffer store instruction runs a loop over the 8 lanes, and one loop stores all
-# the components of a vector, so a uvec4 takes one loop where four 32-bit words take four (README "Speed"). With
+# the components of a vector, so a uvec4 takes one loop where four 32-bit words take four (tests/bench/RESULTS.md "Speed"). With
 # FH_STRUCT_STORES (the stage `shade_struct_stores`, `--wide-stores off`, kept to measure this) the fields are stored
 # one by one. Either way the memory holds the same bytes.
 STORE_STRUCTS = [

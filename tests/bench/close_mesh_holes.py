@@ -3,7 +3,7 @@
 
 A volume (KHR_materials_volume) needs a closed surface, and modelled assets often lack one (Blender's Suzanne has
 holes at its eyes, plugged by eyeballs that are open hemispheres). This makes a closed variant of such a mesh, to
-compare renderers on it (README "Glass", "Open meshes"):
+compare renderers on it (shaders/lib/bsdf/README.md "Glass", "Open meshes"):
 
   /opt/refbench/cycles-venv/bin/python tests/bench/close_mesh_holes.py \\
       ../shared/scenes-thirdparty/IridescenceSuzanne/glTF/IridescenceSuzanne.gltf Suzanne3 /tmp/head.gltf --keep-largest

@@ -15,7 +15,7 @@ The same scene for both renderers:
 - light only from the environment map (a model's KHR_lights_punctual lights are left out of both: Blender's importer
   converts their candela and lux to watts, Fredholm takes them as radiometric units; `--keep-punctual-lights` keeps
   them), Fredholm --env, Blender's world Environment Texture (equirectangular,
-  strength 1); Fredholm's mapping is Blender's (shaders/lib/environment.glsl), so no rotation is needed;
+  strength 1); Fredholm's mapping is Blender's (shaders/lib/light/environment.glsl), so no rotation is needed;
 - a box pixel filter one pixel wide, no denoising, clamping or adaptive sampling, Standard view transform, 64
   bounces in Cycles and unlimited depth (Russian roulette) in Fredholm; linear Rec.709 EXR from both.
 

@@ -7,7 +7,7 @@ pairs of B's time over A's (below 1: B faster), with how many pairs B won. A sta
 control: its ratio shows the pairs' own noise.
 
 Each command is a `fredholm bench ... --repeats 1` (its one size row is parsed) or a `fredholm render ...` (run with
---stats; its render_seconds and stage_seconds are read). Standard library only. Example (README "Speed"):
+--stats; its render_seconds and stage_seconds are read). Standard library only. Example (tests/bench/RESULTS.md "Speed"):
 
   python3 tests/bench/compare_builds.py --pairs 12 \\
       "/tmp/old/fredholm bench scenes/cornell.gltf --sizes 256 --spp 32 --max-depth 10 --repeats 1" \\

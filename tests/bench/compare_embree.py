@@ -17,7 +17,7 @@ opaque, do the same work and agree on every ray.
 --order sorts the rays on the host before either tracer sees them (the sort is not timed), to measure what a coherent
 ray order would buy: by the Morton code of the origin, or by a direction cell (16 x 16 x 16 over the unit cube) and
 then the origin's Morton code. --sort-rays has Fredholm sort the rays on the device first (`--sort-rays on`, as a
-render would; README "Ray order"), the sort's time counted in its rate; Embree traces them as given.
+render would; tests/bench/RESULTS.md "Ray order"), the sort's time counted in its rate; Embree traces them as given.
 --any-hit traces shadow rays instead, as next-event estimation does: from a point uniform by area over the triangles
 that do not emit, lifted off the surface towards the target, to a point uniform by area over the emitting triangles
 (over all triangles in a scene without emission), ending 1e-4 of the distance short of it (the renderer's shadow

@@ -7,7 +7,7 @@ direction. The base has no specular (Specular IOR Level 0) and is black, so only
 
   /opt/refbench/cycles-venv/bin/python tests/bench/cycles_layer_albedo.py --layer sheen --roughness 0.8 --degrees 0
 
-Prints the mean over the image; compare with Fredholm's lobe (for the sheen: tests/unit/test_bsdf_sheen prints
+Prints the mean over the image; compare with Fredholm's lobe (for the sheen: tests/unit/bsdf/test_bsdf_sheen prints
 the reference albedo of the glTF lobe, `[furnace] white sheen ...`).
 """
 import argparse

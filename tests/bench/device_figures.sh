@@ -65,7 +65,7 @@ for s in 3 4 5 6 7 8; do
     "$python" tests/bench/make_displaced_sphere.py --subdivisions $s -o "$scene" >/dev/null || { say "sphere $s: failed"; continue; }
     write_rays "$scene" "$out/rays_$s.bin" 500000
     run "$fredholm" bench "$scene" --trace-rays "$out/rays_$s.bin" --repeats 3 --json "$out/trace_$s.json"
-    if [ $s = 8 ]; then  # enough rays to fill a GPU, in both orders (README "On a GPU": a figure that varied 4.5x)
+    if [ $s = 8 ]; then  # enough rays to fill a GPU, in both orders (tests/bench/RESULTS.md "On a GPU": a figure that varied 4.5x)
         write_rays "$scene" "$out/rays_8_4m.bin" 4000000
         for order in on off; do
             run "$fredholm" bench "$scene" --trace-rays "$out/rays_8_4m.bin" --sort-rays $order --repeats 5 \

@@ -7,7 +7,7 @@
 # DIR/build/fredholm. For ctest, first run `DIR/setup.sh` (as root) from the repository's root there: it makes the paths
 # this build was configured with lead to that checkout, DIR/build, REFERENCES (default ../shared/references) and that
 # machine's cmake and python3 (with numpy); it prints the exports above.
-# README "On a GPU" reports what came of it.
+# tests/bench/RESULTS.md "On a GPU" reports what came of it.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 out=$(realpath -m "${1:?usage: pack_device_bundle.sh OUT.tar.xz [BUILD_DIR]}")

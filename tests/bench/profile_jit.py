@@ -10,7 +10,7 @@ compiled, samples it with `perf record`, copies the anonymous executable mapping
   scratch array entry, an atomic or a subgroup operation is a loop over the 8 lanes of a 256-bit llvmpipe) it holds;
 - the hottest instructions, each with the instructions before it (--context).
 With --out DIR it keeps the annotated disassembly (DIR/jit_*.asm, each instruction prefixed by its sample share).
-README "Speed" ("The wave's arrays as texels, and stores a texel at a time") says what this found.
+tests/bench/RESULTS.md "Speed" ("The wave's arrays as texels, and stores a texel at a time") says what this found.
 
   python3 tests/bench/profile_jit.py [--wait 5] [--seconds 4] [--top 12] [--out DIR] -- \\
       build/fredholm render scenes/cornell.gltf -o /tmp/p.exr --width 256 --height 256 --spp 512 --quiet

@@ -17,7 +17,7 @@ Then prints:
 - what Mitsuba's render has left besides tracing Fredholm's ray counts at its own rates (an upper bound if it traces
   at least as many rays per sample), against Fredholm's rest.
 Both are estimates: the standalone rays are uniform diffuse bounces and shadow rays towards the lights, not the
-render's own. README "Speed" ("Against Mitsuba's own tracer, and what parity with Mitsuba would take") has the figures.
+render's own. tests/bench/RESULTS.md "Speed" ("Against Mitsuba's own tracer, and what parity with Mitsuba would take") has the figures.
 Needs the Mitsuba venv with embreex (tests/bench/README.md).
 """
 import argparse

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <random>
 
-#include "app/converge_metrics.h"
+#include "app/converge/converge_metrics.h"
 
 namespace fh {
 namespace {

@@ -1,5 +1,5 @@
 // What picking the light with its point's 2D sample buys (`--light-pick reuse`, the default, against `separate`;
-// shaders/lib/lights.glsl, README "Sampling"), against an analytic image: a diffuse floor under a quad light of two
+// shaders/lib/light/lights.glsl, shaders/lib/integrator/README.md "Sampling"), against an analytic image: a diffuse floor under a quad light of two
 // triangles (make_asset_scenes.py quad_light_floor.gltf). With --max-depth 2 a floor point reads
 // rho x L x F, F its form factor to the light's rectangle (the parallel-rectangle formula below), and a box-filtered
 // pixel the mean of that over its square. Both modes must converge to it, and reuse must have less error at equal

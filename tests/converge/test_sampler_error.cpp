@@ -1,6 +1,6 @@
 // What the stratified sampler buys, on the Cornell box against Mitsuba 3's converged image (../shared/references):
 // at equal samples, `--sampler sobol` has several times less error than `--sampler independent` (about 6x at
-// 256 x 256 and 64 spp; README "Sampling"), and neither is biased (image means agree with the reference).
+// 256 x 256 and 64 spp; shaders/lib/integrator/README.md "Sampling"), and neither is biased (image means agree with the reference).
 #include <gtest/gtest.h>
 
 #include <cstdio>

@@ -12,7 +12,7 @@
 #include "scene/pack.h"
 #include "scene/scene.h"
 #include "vk/commands.h"
-#include "../unit/test_meshes.h"
+#include "../unit/scene/test_meshes.h"
 
 namespace fh::test {
 namespace {

@@ -6,7 +6,7 @@
 
 #include <glm/glm.hpp>
 
-#include "scene/bvh.h"
+#include "scene/bvh/bvh.h"
 #include "shared/layout.h"
 #include "vk/context.h"
 

@@ -8,7 +8,7 @@
 #include <cstring>
 #include <limits>
 
-#include "../unit/test_meshes.h"
+#include "../unit/scene/test_meshes.h"
 #include "extend_harness.h"
 
 namespace fh::test {

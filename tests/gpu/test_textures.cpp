@@ -7,9 +7,9 @@
 #include <cmath>
 #include <random>
 
-#include "../unit/gltf_builder.h"
+#include "../unit/scene/gltf_builder.h"
 #include "render/renderer.h"
-#include "scene/bvh.h"
+#include "scene/bvh/bvh.h"
 #include "scene/pack.h"
 #include "vk/context.h"
 

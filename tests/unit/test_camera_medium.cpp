@@ -1,8 +1,8 @@
 // Which volumes the camera stands in, from probe rays walking out through the volumes' surfaces
-// (render/camera_medium.h). The tracer is scripted: each call returns the next list of hits.
+// (render/camera/camera_medium.h). The tracer is scripted: each call returns the next list of hits.
 #include <gtest/gtest.h>
 
-#include "render/camera_medium.h"
+#include "render/camera/camera_medium.h"
 
 namespace {
 

@@ -1,4 +1,4 @@
-// Checks shaders/lib/sampling.glsl on the CPU: each warp against its density by a chi-square test
+// Checks shaders/lib/sampling/sampling.glsl on the CPU: each warp against its density by a chi-square test
 // (Mitsuba 3 style), the frame's orthonormality, the MIS weight's limits, and finiteness at the edges of u.
 #include <gtest/gtest.h>
 
@@ -9,9 +9,9 @@
 #include <random>
 
 #include "chi_square.h"
-#include "lib/cpp_compat.h"
+#include "lib/core/cpp_compat.h"
 namespace fh::glsl {
-#include "lib/sampling.glsl"
+#include "lib/sampling/sampling.glsl"
 }  // namespace fh::glsl
 
 namespace {

@@ -1,4 +1,4 @@
-// The Owen-scrambled Sobol' sampler (shaders/lib/sobol.glsl) on the CPU: its two Sobol' dimensions against the
+// The Owen-scrambled Sobol' sampler (shaders/lib/sampling/sobol.glsl) on the CPU: its two Sobol' dimensions against the
 // textbook construction (Joe & Kuo's direction numbers), the nets its points form (every power-of-two prefix is a
 // (0, m, 2)-net in 2D and stratified in 1D), uniform marginals over seeds (unbiased), dimensions and pixels that do
 // not correlate, and a lower integration error than independent points on a smooth and a discontinuous integrand.
@@ -8,9 +8,9 @@
 #include <random>
 #include <vector>
 
-#include "lib/cpp_compat.h"
+#include "lib/core/cpp_compat.h"
 namespace fh::glsl {
-#include "lib/sobol.glsl"
+#include "lib/sampling/sobol.glsl"
 }  // namespace fh::glsl
 
 namespace {

@@ -98,7 +98,7 @@ TEST(SpirvSpecialise, CornellShadeKeepsOnlyItsEffectsAndNoSpecConstants) {
     EXPECT_EQ(out[0], 0x07230203u);
     EXPECT_EQ(count_spec_constants(out), 0u);
     EXPECT_TRUE(is_valid_vulkan_spirv(out));
-    // The material extensions are gone: 50 KB of 866 KB when this was written (README "Time to first pixel").
+    // The material extensions are gone: 50 KB of 866 KB when this was written (tests/bench/RESULTS.md "Time to first pixel").
     std::printf("shade for the Cornell box's effects: %zu of %zu bytes\n", out.size() * 4, std::size(spv_shade) * 4);
     EXPECT_LT(out.size() * 5, std::size(spv_shade)) << out.size() << " of " << std::size(spv_shade) << " words";
 }
@@ -117,7 +117,7 @@ TEST(SpirvSpecialise, MoreEffectsKeepMoreCode) {
 // Returning from an instance (traverse.glsl LEAVE_INSTANCE_BELOW_BASE) sets the ray back to its world-space origin and
 // direction. glslang turns that branch into selects, and a one-level scene's specialisation must fold them away, with
 // the loop-carried copies of the ray they made: on lavapipe those cost 120 of the node loop's 800 instructions and 9%
-// of the Cornell box's traced rays per second (README "Speed"). Only the origin triangle's normal is merged after a
+// of the Cornell box's traced rays per second (tests/bench/RESULTS.md "Speed"). Only the origin triangle's normal is merged after a
 // branch then.
 TEST(SpirvSpecialise, OneLevelTraversalCarriesNoRayCopiesThroughItsLoops) {
     const SpirvCache no_cache({});

@@ -16,19 +16,19 @@ looks straight down (-Z) at a white emitter of radiance 1 on the plane z = 0 thr
   glass_furnace_dispersive.gltf  a smooth glass sphere of dispersion 1 in perspective: under --background 1,1,1
                              white in every pixel (a spectral path that splits light by wavelength loses none).
   glass_prism.gltf           a 60-degree prism of dispersion 1 in front of a white emissive slit, seen by a
-                             perspective camera: the slit's image is spread into a spectrum (README "Dispersion").
+                             perspective camera: the slit's image is spread into a spectrum (shaders/lib/bsdf/README.md "Dispersion").
   glass_furnace_rNN.gltf     a glass sphere of ior 1.5 and roughness 0.NN (0, 0.3, 1), seen in perspective: under
                              --background 1,1,1 white in every pixel, rough or not (the multiple-scattering lobe gives
-                             back what single scattering loses; without it roughness 1 reads 0.64, README "Glass").
+                             back what single scattering loses; without it roughness 1 reads 0.64, shaders/lib/bsdf/README.md "Glass").
   glass_furnace_thin_r100.gltf  the same sphere thin-walled (no volume), roughness 1: white too.
   glass_furnace_absorbing.gltf  the sphere at roughness 0.5, absorbing (attenuationColor 0.5 at distance 1): not
                              white; BDPT must agree with path tracing (light subpaths absorbed inside it).
   glass_furnace_tube.gltf    a smooth glass tube with walls 0.05 thick and flat rims, its vertex normals smooth around
                              it and bent 45 degrees at the rims (as modelled glassware): white too, although light
                              guided along the walls by total internal reflection meets bent normals at every bounce
-                             (README "Glass", "Interpolated normals on glass").
+                             (shaders/lib/bsdf/README.md "Glass", "Interpolated normals on glass").
   glass_furnace_open.gltf    a glass box without its top face, seen from below (an open mesh, as modelled assets have
-                             them): white too, although light leaves the volume through the hole (README "Open meshes").
+                             them): white too, although light leaves the volume through the hole (shaders/lib/bsdf/README.md "Open meshes").
   glass_camera_inside.gltf   the camera at z = 3 inside a glass block (ior 1.5, attenuationColor 0.5 at distance 1)
                              from z = 0.5 to 5: the emitter is seen through 2.5 units of glass and one interface,
                              where radiance gains ior^2 (radiance / n^2 is what a ray conserves):

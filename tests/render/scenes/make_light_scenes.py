@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the scenes of the light-tracing tests (standard library only; README "Light tracing").
+"""Writes the scenes of the light-tracing tests (standard library only; shaders/lib/integrator/README.md "Light tracing").
 
 lamp_room.gltf   a closed room (Lambertian walls of three colours) lit by a small ceiling quad, with three low-poly
                  spheres whose interpolated normals differ from their facets by up to 30 degrees: a clear coat over a
@@ -7,14 +7,14 @@ lamp_room.gltf   a closed room (Lambertian walls of three colours) lit by a smal
                  room. Light tracing must agree with path tracing: the adjoint BSDF and the shading-normal correction
                  are wrong there first.
 door_gap.gltf    (shipped in scenes/) two rooms joined by a door ajar by 20 cm; the lamp is in the far one, the camera in
-                 the near one: everything it sees is lit through the gap (README "Light tracing", the hard scenes).
+                 the near one: everything it sees is lit through the gap (shaders/lib/integrator/README.md "Light tracing", the hard scenes).
 lamp_shade.gltf  (shipped in scenes/) a room lit only by a small lamp inside a closed-top cylindrical shade, open
                  below: the camera sees the room lit by the pool of light under the shade.
 glass_room.gltf  the lamp room with four spheres that light passes through: smooth glass and rough glass (both volumes,
                  ior 1.5, smooth normals), thin-walled glass and a diffuse transmitter: light and camera subpaths must
                  cross surfaces, keep their volumes' indices and agree with the path tracer.
 glass_caustic.gltf (shipped in scenes/) a smooth glass sphere hanging over the floor of the room under a small lamp,
-                 which it focuses to a caustic on the floor (README "Bidirectional path tracing").
+                 which it focuses to a caustic on the floor (shaders/lib/integrator/README.md "Bidirectional path tracing").
 unlit_room.gltf  the lamp room with an unlit sphere (KHR_materials_unlit, base colour (0.9, 0.5, 0.1)): the camera sees
                  its colour, every other ray finds it black (light subpaths end there).
 smooth_room.gltf the same room with one large Lambertian sphere of 6 x 4 facets: the shading normals alone (light subpaths must also

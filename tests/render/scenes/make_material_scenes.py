@@ -15,7 +15,7 @@ criterion, stated beside its test in tests/render/CMakeLists.txt:
                         sphere and background alike, reads 1 (a white furnace).
   sheen_black_quad.gltf a white sheen of roughness 1 over a black base without specular (specularFactor 0), seen
                         head-on: only the sheen reflects, its directional albedo at normal incidence, 0.1638 (the
-                        Charlie lobe integrated in double precision: tests/unit/sheen_albedo_reference.h).
+                        Charlie lobe integrated in double precision: tests/unit/bsdf/sheen_albedo_reference.h).
   diffuse_sheet.gltf    a sheet that transmits all of its diffuse lobe (diffuseTransmissionFactor 1, colour 0.6;
                         black base, no specular) seen head-on, over a large emitter of radiance 1 facing it, no
                         environment: the camera sees only light sent through, 0.6 x the emitter's share of the

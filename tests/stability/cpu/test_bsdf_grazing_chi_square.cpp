@@ -1,4 +1,4 @@
-// Chi-square tests (Mitsuba 3 style) of sample_bsdf (shaders/lib/bsdf.glsl) where tests/unit's do not go:
+// Chi-square tests (Mitsuba 3 style) of sample_bsdf (shaders/lib/bsdf/bsdf.glsl) where tests/unit's do not go:
 // roughness 0 (alpha clamped to BSDF_MIN_ALPHA = 1e-3) and 0.1, and outgoing directions at 85 and 89.9
 // degrees (also 0, 60 and 89 for the smooth ones). The expected cell masses integrate a pdf written in double
 // from the papers (GGX visible normals, stability_cpu.h, mixed with the cosine lobe by the renderer's own

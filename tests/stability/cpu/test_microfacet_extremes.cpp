@@ -1,4 +1,4 @@
-// The BSDF of shaders/lib/bsdf.glsl at its extremes: roughness 0, 1e-4, 1e-2, 0.1, 0.5 and 1, white GGX
+// The BSDF of shaders/lib/bsdf/bsdf.glsl at its extremes: roughness 0, 1e-4, 1e-2, 0.1, 0.5 and 1, white GGX
 // conductor (metallic 1, F = 1) and white dielectric (metallic 0, specular 1, ior 1.5), outgoing directions
 // from the normal to 89.9 degrees. (a) every sample finite, down to u = 0 and u = 1 - 2^-24; (b) white
 // furnace: the mean sample weight never exceeds 1 beyond 4 standard errors; (c) the GGX lobe's directional

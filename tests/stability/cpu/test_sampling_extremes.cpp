@@ -1,4 +1,4 @@
-// Chi-square tests (Mitsuba 3 style) of the warps of shaders/lib/sampling.glsl and ggx.glsl that
+// Chi-square tests (Mitsuba 3 style) of the warps of shaders/lib/sampling/sampling.glsl and ggx.glsl that
 // tests/unit does not test on their own: the concentric disk, and GGX visible-normal sampling down to
 // alpha = 1e-3 and wo at 89.9 degrees, histogrammed in the stretched space where every lobe is wide;
 // and every warp finite at the edges of u (0, 2^-24, 1 - 2^-24, ...). The cosine hemisphere, the uniform
@@ -12,9 +12,9 @@
 
 #include "chi_square.h"
 #include "stability_cpu.h"
-#include "lib/cpp_compat.h"
+#include "lib/core/cpp_compat.h"
 namespace fh::glsl {
-#include "lib/ggx.glsl"
+#include "lib/bsdf/ggx.glsl"
 }  // namespace fh::glsl
 
 namespace {

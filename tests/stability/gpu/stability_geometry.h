@@ -13,7 +13,7 @@
 
 #include <glm/glm.hpp>
 
-#include "../../unit/test_meshes.h"
+#include "../../unit/scene/test_meshes.h"
 
 namespace fh::test {
 

@@ -1,9 +1,9 @@
 // Stability case 4a, self-intersection: rays spawned from random points of random triangles at every scale
 // from 1e-8 to 1e8 must never hit the triangle they leave, when traced by the real extend stage on lavapipe.
 //
-// The spawn is computed on the CPU by the shade stage's own code, shaders/lib/surface.glsl (load_surface:
+// The spawn is computed on the CPU by the shade stage's own code, shaders/lib/geometry/surface.glsl (load_surface:
 // p = b0 p0 + b1 p1 + b2 p2, its error bound, the geometric normal cross(p1 - p0, p2 - p0)) and
-// shaders/lib/ray_offset.glsl (offset_ray_origin), compiled as C++ through cpp_compat.h with
+// shaders/lib/geometry/ray_offset.glsl (offset_ray_origin), compiled as C++ through cpp_compat.h with
 // -ffp-contract=off. The GPU may fuse the interpolation into FMAs (shade.comp does not mark it `precise`);
 // that changes p by a few ulps, all inside the same error bound, so the CPU spawn stands for any of them.
 //
@@ -17,7 +17,7 @@
 #include <cstdio>
 
 #include "extend_harness.h"
-#include "lib/cpp_compat.h"
+#include "lib/core/cpp_compat.h"
 #include "stability_geometry.h"
 
 namespace fh::glsl {
@@ -38,7 +38,7 @@ static TrianglePositions load_triangle_positions(uint triangle) {
     return tp;
 }
 static TriangleShading load_triangle_shading(uint) { return TriangleShading{}; }
-#include "lib/surface.glsl"
+#include "lib/geometry/surface.glsl"
 }  // namespace fh::glsl
 
 namespace fh::test {

@@ -1,0 +1,448 @@
+// Runs a render end to end: validate outputs, load, build, render with progress, write atomically.
+#include "app/cli/render_options.h"
+#include "app/render/render_command.h"
+
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+
+#include "app/cli/interrupt.h"
+#include "app/cli/integrator_choice.h"
+#include "app/cli/progress.h"
+#include "app/cli/resume.h"
+#include "app/cli/session.h"
+#include "io/atomic_write.h"
+#include "io/exr.h"
+#include "io/png.h"
+#include "render/camera/camera_setup.h"
+#include "render/camera/lens.h"
+#include "render/memory_estimate.h"
+#include "render/techniques.h"
+#include "render/device_defaults.h"
+
+namespace fh {
+namespace {
+
+const char* VERSION = "fredholm 0.1.0";
+
+// "none", "background R,G,B" or "FILE intensity I rotation D".
+std::string describe_environment(const RenderSettings& s) {
+    char text[128];
+    if (s.has_background) {
+        std::snprintf(text, sizeof text, "background %.9g,%.9g,%.9g", double(s.background[0]), double(s.background[1]),
+                      double(s.background[2]));
+        return text;
+    }
+    if (s.environment_file.empty()) return "none";
+    std::snprintf(text, sizeof text, " intensity %.9g rotation %.9g", double(s.environment_intensity),
+                  double(s.environment_rotation));
+    return std::filesystem::path(s.environment_file).filename().string() + text;
+}
+
+// The time the scene is posed at ("static": the file's transforms).
+std::string format_seconds(const RenderSettings& s) {
+    if (!s.animate) return "static";
+    char text[32];
+    std::snprintf(text, sizeof text, "%.9g", s.time);
+    return text;
+}
+
+// The settings that decide every sample's value (what a resume must match), plus the samples done.
+ImageMetadata make_metadata(const RenderCommand& c, const std::string& scene_hash, uint32_t spp_done, uint32_t effects) {
+    const RenderSettings& s = c.settings;
+    char radius[32];
+    std::snprintf(radius, sizeof radius, "%.9g", double(s.filter_radius));
+    char survival[32];
+    std::snprintf(survival, sizeof survival, "%.9g", double(s.rr_survival_scale));
+    return {{"fredholm:renderer", VERSION},
+            {"fredholm:scene", c.scene.filename().string()},
+            {"fredholm:scene_hash", scene_hash},
+            {"fredholm:image_size", std::to_string(s.width) + "x" + std::to_string(s.height)},
+            {"fredholm:crop", describe_crop(s.crop_x0, s.crop_y0, s.crop_x1, s.crop_y1)},
+            {"fredholm:first_sample", std::to_string(c.first_sample)},
+            {"fredholm:spp", std::to_string(spp_done)},
+            {"fredholm:seed", std::to_string(s.seed)},
+            {"fredholm:max_depth", std::to_string(s.max_depth)},
+            {"fredholm:camera", std::to_string(s.camera)},
+            {"fredholm:filter", to_string(s.filter)},
+            {"fredholm:filter_radius", radius},
+            {"fredholm:sampler", to_string(s.sampler)},
+            {"fredholm:integrator", to_string(s.integrator)},
+            {"fredholm:bdpt_strategy", s.bdpt_strategy_t ? std::to_string(s.bdpt_strategy_s) + "," + std::to_string(s.bdpt_strategy_t) : "all"},
+            {"fredholm:nee", s.nee ? "on" : "off"},
+            {"fredholm:mis", s.mis ? "on" : "off"},
+            {"fredholm:rr", s.russian_roulette ? "on" : "off"},
+            {"fredholm:rr_start_depth", std::to_string(s.rr_start_depth)},
+            {"fredholm:rr_survival_scale", survival},
+            {"fredholm:light_pick", s.light_pick_reuse ? "reuse" : "separate"},
+            {"fredholm:light_sampler", light_sampler_name(s.light_sampler)},
+            {"fredholm:disabled_techniques", name_techniques(s.disabled_techniques)},
+            {"fredholm:bvh_leaf_size", std::to_string(s.bvh_max_leaf_size)},
+            {"fredholm:effects", describe_effects(select_effects(effects, s.forced_effects, s.disabled_effects))},
+            {"fredholm:disabled_effects", describe_effects(s.disabled_effects)},
+            {"fredholm:forced_effects", describe_effects(s.forced_effects)},
+            {"fredholm:environment", describe_environment(s)},
+            {"fredholm:lens", describe_lens(s.lens)},
+            {"fredholm:animation", !s.animate ? "none" : s.animation.empty() ? "first" : s.animation},
+            {"fredholm:time", format_seconds(s)},
+            {"fredholm:shutter", describe_shutter(s)},
+            {"fredholm:variant", s.variant.empty() ? "default" : s.variant},
+            {"fredholm:colorspace", "scene-linear Rec.709"}};
+}
+
+void write_stats(const std::filesystem::path& file, const RenderCommand& c, const PreparedScene& prepared,
+                 const SceneCamera& camera, const RenderStats& stats, uint32_t first_sample, const std::string& device,
+                 const CameraMedia& camera_media) {
+    const RenderSettings& s = c.settings;
+    double samples = double(s.film_width()) * s.film_height() * (stats.spp_done - first_sample);
+    double rays = double(stats.traced_rays + stats.traced_shadow_rays);
+    nlohmann::json j;
+    j["scene"] = c.scene.string();
+    j["device"] = device;
+    j["width"] = s.width;
+    j["height"] = s.height;
+    j["spp"] = stats.spp_done;
+    j["first_sample"] = first_sample;  // where this run started (resumed or --samples); rates count its samples only
+    j["crop"] = describe_crop(s.crop_x0, s.crop_y0, s.crop_x1, s.crop_y1);
+    j["seed"] = s.seed;
+    j["wave_paths"] = s.wave_paths;
+    j["sort_rays"] = s.sort_rays.value_or(false);
+    j["wide_stores"] = s.wide_stores;  // shade's 128-bit stores (--wide-stores)
+    j["max_depth"] = s.max_depth;
+    j["render_seconds"] = stats.render_seconds;
+    j["samples_per_second"] = stats.render_seconds > 0 ? samples / stats.render_seconds : 0.0;
+    j["rays_per_second"] = stats.render_seconds > 0 ? rays / stats.render_seconds : 0.0;
+    j["traced_rays"] = stats.traced_rays;
+    j["traced_shadow_rays"] = stats.traced_shadow_rays;
+    j["nonfinite_samples"] = stats.nonfinite_samples;
+    j["escaped_rays"] = stats.escaped_rays;
+    j["load_seconds"] = prepared.load_seconds;
+    j["bvh_build_seconds"] = prepared.bvh_build_seconds;
+    j["bvh_nodes"] = prepared.bvh_nodes;
+    j["bvh_depth"] = prepared.bvh_depth;
+    j["bvh_sah_cost"] = prepared.sah_cost;
+    j["bvh_wide_sah_cost"] = prepared.wide_sah_cost;
+    j["triangles"] = prepared.scene.rendered_triangle_count();  // rendered (every instance)
+    j["triangles_stored"] = prepared.scene.triangle_count();    // in device memory (instanced meshes once)
+    j["instances"] = prepared.scene.instances.size();
+    j["triangles_unique"] = prepared.scene.unique_triangle_count;
+    j["emitters"] = prepared.packed.emitters.size();
+    j["punctual_lights"] = prepared.packed.punctual_lights.size();
+    j["sampler"] = to_string(s.sampler);
+    j["light_pick"] = s.light_pick_reuse ? "reuse" : "separate";
+    j["light_sampler"] = prepared.packed.light_sampler;  // as chosen (--light-sampler auto resolved)
+    j["light_tree_lights"] = prepared.packed.light_tree_lights;
+    j["light_tree_depth"] = prepared.packed.light_tree_depth;
+    j["light_tree_build_seconds"] = prepared.packed.light_tree_build_seconds;
+    j["rr_start_depth"] = s.rr_start_depth;
+    j["rr_survival_scale"] = s.rr_survival_scale;
+    j["integrator"] = to_string(s.integrator);
+    j["effects"] = describe_effects(select_effects(prepared.packed.effects.bits, s.forced_effects, s.disabled_effects));
+    j["disabled_effects"] = describe_effects(s.disabled_effects);
+    j["forced_effects"] = describe_effects(s.forced_effects);
+    j["environment"] = describe_environment(s);
+    // The volumes the camera stands in (glTF material indices, innermost first), where its paths start.
+    std::string media;
+    for (uint32_t m : camera_media)
+        if (m != gpu::INVALID_INDEX) media += (media.empty() ? "material " : " in material ") + std::to_string(m);
+    j["camera_medium"] = media.empty() ? std::string("none") : media;
+    j["lens"] = describe_lens(s.lens);
+    j["animations"] = prepared.scene.animations;
+    j["shutter"] = describe_shutter(s);
+    j["moving_instances"] = prepared.scene.moving_instances;
+    j["motion_segments"] = prepared.scene.motion_segments;  // keys of moving instances: this + 1
+    if (s.animate || s.has_shutter()) {
+        j["animation"] = prepared.scene.animation;
+        j["time"] = s.time;
+        j["animation_start"] = prepared.scene.animation_start;
+        j["animation_end"] = prepared.scene.animation_end;
+    }
+    if (camera.has_lens()) {  // as resolved: the f-number's radius, the distance --focus-on or the centre found
+        j["aperture_radius"] = camera.aperture_radius;
+        j["focus_distance"] = camera.focus_distance;
+    }
+    j["variant"] = s.variant.empty() ? "default" : s.variant;
+    j["variants"] = prepared.scene.variants;
+    j["textures"] = prepared.packed.texture_images.size();
+    j["texels"] = prepared.packed.texels.size();
+    j["texture_bytes"] = prepared.packed.texels.size() * 4;
+    j["disabled_techniques"] = name_techniques(s.disabled_techniques);
+    j["render_origin"] = {prepared.scene.origin.x, prepared.scene.origin.y, prepared.scene.origin.z};
+    j["stage_seconds"] = stats.stage_seconds;
+    write_file_atomically(file, [&](const std::filesystem::path& temp) {
+        std::ofstream out(temp);
+        out << j.dump(2) << "\n";
+        if (!out) throw IoError(temp.string() + ": cannot write statistics");
+    });
+}
+
+void parse_sample_range(const std::string& text, uint32_t& first, uint32_t& end) {
+    unsigned long a = 0, b = 0;
+    char tail = 0;
+    if (std::sscanf(text.c_str(), "%lu:%lu%c", &a, &b, &tail) != 2 || text.find('-') != std::string::npos)
+        throw CLI::ValidationError("--samples", "'" + text + "' is not A:B (sample indices, B exclusive)");
+    if (a >= b || b > (1ul << 24))
+        throw CLI::ValidationError("--samples", "'" + text + "' needs 0 <= A < B <= 16777216");
+    first = uint32_t(a);
+    end = uint32_t(b);
+}
+
+// --crop against the image size: one usage error naming what is wrong.
+void apply_crop(const std::string& text, RenderSettings& s) {
+    if (text.empty()) return;
+    unsigned x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    char tail = 0;
+    if (std::sscanf(text.c_str(), "%u,%u,%u,%u%c", &x0, &y0, &x1, &y1, &tail) != 4 ||
+        text.find('-') != std::string::npos)
+        throw CLI::ValidationError("--crop", "'" + text + "' is not X0,Y0,X1,Y1 (pixels, X1 and Y1 exclusive)");
+    if (x0 >= x1 || y0 >= y1 || x1 > s.width || y1 > s.height)
+        throw CLI::ValidationError("--crop", "'" + text + "' is not a non-empty region inside the " +
+                                                 std::to_string(s.width) + "x" + std::to_string(s.height) + " image");
+    s.crop_x0 = x0, s.crop_y0 = y0, s.crop_x1 = x1, s.crop_y1 = y1;
+}
+
+}  // namespace
+
+void add_render_options(CLI::App& app, RenderCommand& c) {
+    add_camera_pose_options(app, c.pose);
+    RenderSettings& s = c.settings;
+    app.add_option("scene", c.scene, "glTF 2.0 scene (.gltf or .glb)")->required();
+    app.add_option("-o,--output", c.output, "output OpenEXR image (scene-linear Rec.709, float32)")->required();
+    app.add_option("--width", s.width, "image width in pixels")->check(CLI::Range(1u, 16384u));
+    app.add_option("--height", s.height, "image height in pixels")->check(CLI::Range(1u, 16384u));
+    auto* spp = app.add_option("--spp", s.spp, "samples per pixel")->check(CLI::Range(1u, 1u << 24));
+    app.add_option_function<std::string>(
+           "--samples", [&c](const std::string& text) { parse_sample_range(text, c.first_sample, c.settings.spp); },
+           "render only sample indices A..B-1 of every pixel (A:B), a part for fredholm merge (replaces --spp)")
+        ->excludes(spp);
+    app.add_option("--crop", c.crop, "render only pixels X0..X1-1 by Y0..Y1-1 (X0,Y0,X1,Y1) of the image, a part for "
+                                     "fredholm merge");
+    app.add_option("--max-depth", s.max_depth, "longest path in segments after the camera (0 = unlimited)")
+        ->check(CLI::Range(0u, 100000u));
+    app.add_option("--seed", s.seed, "random seed");
+    app.add_option("--camera", s.camera, "glTF camera index (default: first camera, or a framing camera)")
+        ->check(CLI::NonNegativeNumber);
+    app.add_option("--png", c.png, "also write a tone-mapped sRGB PNG preview");
+    add_tone_options(app, c.exposure_ev, c.tone_curve, "PNG");
+    app.add_option("--stats", c.stats, "write render statistics as JSON");
+    add_sampling_options(app, s);
+    app.add_option_function<std::string>(
+        "--bdpt-strategy",
+        [&s](const std::string& text) {
+            unsigned a = 0, b = 0;
+            char extra = 0;
+            if (std::sscanf(text.c_str(), "%u,%u%c", &a, &b, &extra) != 2 || b < 1 || a > 1000 || b > 1000)
+                throw CLI::ValidationError("--bdpt-strategy", "'" + text + "' is not S,T (light and camera vertices, T >= 1)");
+            s.bdpt_strategy_s = a;
+            s.bdpt_strategy_t = b;
+        },
+        "with --integrator bdpt: only the strategy with S light and T camera vertices, unweighted (a check of one "
+        "strategy)");
+    add_robustness_options(app, s);
+    add_environment_options(app, s);
+    add_lens_options(app, s);
+    add_animation_options(app, s);
+    auto* frames = app.add_option("--frames", c.frames,
+                                  "render frames A:B of the animation, frame f at time f / --fps; -o, --png and --stats "
+                                  "need a run of # for the frame number (out_####.exr)");
+    app.add_option("--fps", c.fps, "frames per second of --frames (default 24)")->check(CLI::Range(1e-3, 1e6));
+    app.add_flag("--validate", c.validation, "enable Vulkan validation layers (also FREDHOLM_VALIDATION=1)");
+    app.add_option("--device", c.device, "use the first Vulkan device whose name contains this");
+    app.add_flag("-q,--quiet", c.quiet, "no summary line");
+    // "--resume" alone continues the output file itself; "--resume FILE" continues FILE into the output.
+    app.add_option_function<std::string>(
+           "--resume", [&c](const std::string& file) {
+               c.resume = true;
+               c.resume_file = file;
+           },
+           "continue a render written by fredholm render (default: the -o file) up to --spp samples")
+        ->expected(0, 1)
+        ->excludes(frames);
+}
+
+namespace {
+
+struct FrameRange {
+    long first = 0, last = 0;
+};
+
+FrameRange parse_frames(const std::string& text) {
+    FrameRange r;
+    const size_t colon = text.find(':');
+    try {
+        size_t used_a = 0, used_b = 0;
+        r.first = std::stol(text.substr(0, colon), &used_a);
+        r.last = colon == std::string::npos ? r.first : std::stol(text.substr(colon + 1), &used_b);
+        if (used_a != (colon == std::string::npos ? text.size() : colon) ||
+            (colon != std::string::npos && used_b != text.size() - colon - 1))
+            throw std::invalid_argument(text);
+    } catch (const std::exception&) {
+        throw CLI::ValidationError("--frames", "'" + text + "' is not A:B (frame numbers)");
+    }
+    if (r.first < 0 || r.last < r.first || r.last > 10000000)
+        throw CLI::ValidationError("--frames", "'" + text + "' needs 0 <= A <= B <= 10000000");
+    return r;
+}
+
+// The file of frame `frame`: the last run of '#' in the file name replaced by the number, zero-padded to its length.
+std::filesystem::path frame_file(const std::filesystem::path& pattern, long frame, const char* option) {
+    std::string name = pattern.filename().string();
+    const size_t end = name.find_last_of('#');
+    if (end == std::string::npos)
+        throw CLI::ValidationError(option, pattern.string() + " has no # for the frame number (e.g. out_####.exr)");
+    size_t begin = end;
+    while (begin > 0 && name[begin - 1] == '#') --begin;
+    std::string number = std::to_string(frame);
+    if (number.size() < end + 1 - begin) number.insert(0, end + 1 - begin - number.size(), '0');
+    name.replace(begin, end + 1 - begin, number);
+    return pattern.parent_path() / name;
+}
+
+// One image; `shared_context`: the Vulkan device a sequence keeps for all its frames (null: its own).
+int run_frame(const RenderCommand& c, vk::Context* shared_context = nullptr);
+
+}  // namespace
+
+int run_render(const RenderCommand& c) {
+    if (c.frames.empty()) return run_frame(c);
+    const FrameRange range = parse_frames(c.frames);
+    // Every output name is checked before the first frame renders.
+    for (long f : {range.first, range.last}) {
+        check_writable(frame_file(c.output, f, "-o"));
+        if (!c.png.empty()) check_writable(frame_file(c.png, f, "--png"));
+        if (!c.stats.empty()) check_writable(frame_file(c.stats, f, "--stats"));
+    }
+    const auto start = std::chrono::steady_clock::now();
+    const auto context = make_compute_context(c.validation, c.device);  // one device for every frame
+    for (long f = range.first; f <= range.last; ++f) {
+        RenderCommand frame = c;
+        frame.frames.clear();
+        frame.settings.animate = true;
+        frame.settings.time = double(f) / c.fps;
+        frame.output = frame_file(c.output, f, "-o");
+        if (!c.png.empty()) frame.png = frame_file(c.png, f, "--png");
+        if (!c.stats.empty()) frame.stats = frame_file(c.stats, f, "--stats");
+        const int rc = run_frame(frame, context.get());
+        if (rc != 0) return rc;
+        if (!c.quiet)
+            std::fprintf(stderr, "fredholm: frame %ld (%ld of %ld, t = %.6g s) done, %.1f s elapsed\n", f, f - range.first + 1,
+                         range.last - range.first + 1, frame.settings.time,
+                         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+        if (interrupt_requested()) return 130;
+    }
+    return 0;
+}
+
+namespace {
+
+int run_frame(const RenderCommand& command, vk::Context* shared_context) {
+    RenderCommand c = command;
+    apply_crop(c.crop, c.settings);
+    // Without roulette and without a depth limit a path in a closed scene never ends.
+    if (!c.settings.russian_roulette && c.settings.max_depth == 0) {
+        std::fprintf(stderr, "fredholm: usage error: --rr off needs a finite --max-depth (paths that never escape "
+                             "would never end)\n");
+        return 2;
+    }
+    // A pilot could choose differently for another part of the same image.
+    if (c.settings.integrator == Integrator::automatic && (c.resume || c.first_sample != 0 || c.settings.has_crop())) {
+        std::fprintf(stderr, "fredholm: usage error: --integrator auto cannot continue or split a render (--resume, "
+                             "--samples, --crop): name the integrator for every part\n");
+        return 2;
+    }
+    if (c.settings.integrator == Integrator::automatic && c.settings.bdpt_strategy_t != 0) {
+        std::fprintf(stderr, "fredholm: usage error: --bdpt-strategy needs --integrator bdpt, not auto\n");
+        return 2;
+    }
+    // Fail before any work if an output cannot be written or the render to continue does not match.
+    check_writable(c.output);
+    if (!c.png.empty()) check_writable(c.png);
+    if (!c.stats.empty()) check_writable(c.stats);
+    const RenderSettings& settings = c.settings;
+    const std::string scene_hash = hash_file(c.scene);
+    FilmFile saved;
+    saved.first_sample = saved.end_sample = c.first_sample;
+    if (c.resume) {
+        const std::filesystem::path& file = c.resume_file.empty() ? c.output : c.resume_file;
+        saved = read_saved_film(file, make_metadata(c, scene_hash, 0, 0));
+        if (saved.end_sample > settings.spp)
+            throw std::runtime_error(file.string() + ": cannot resume: it already has " +
+                                     std::to_string(saved.end_sample) + " spp, more than --spp " +
+                                     std::to_string(settings.spp));
+    }
+    // From here on Ctrl-C and SIGTERM finish the sample index in progress, then write what they have.
+    install_interrupt_handlers();
+
+    PreparedScene prepared = prepare_scene(c.scene, settings);
+    std::unique_ptr<vk::Context> owned;
+    if (!shared_context) owned = make_compute_context(c.validation, c.device);
+    vk::Context* context = shared_context ? shared_context : owned.get();
+    const SceneCamera camera = apply_lens(*context, prepared.packed,
+                                          apply_camera_pose(choose_camera(prepared.scene, settings.camera), c.pose),
+                                          settings);
+    if (c.settings.integrator == Integrator::automatic) {
+        const IntegratorChoice choice = choose_integrator_by_pilot(*context, prepared.packed, camera, c.settings);
+        if (!c.quiet) std::fprintf(stderr, "fredholm: %s\n", choice.report.c_str());
+        c.settings.integrator = choice.integrator;
+        apply_light_sampler(prepared, c.scene, c.settings);
+    }
+    c.settings = with_device_defaults(c.settings, *context, prepared.packed);
+    try {
+        check_render_memory(estimate_render_memory(prepared.packed, settings), query_memory_limits(*context));
+    } catch (const std::runtime_error& e) {
+        throw std::runtime_error(c.scene.string() + ": " + std::to_string(settings.width) + "x" +
+                                 std::to_string(settings.height) + " on " + context->device_name() + ": " + e.what());
+    }
+    Renderer renderer(*context, prepared.packed, camera, settings);
+    if (!c.resume) renderer.clear_film();
+    else renderer.write_film_state(saved.film);
+
+    // Stop only once a wave has finished a sample index for every pixel (the film then holds samples
+    // [0, spp_done) everywhere, so it can be resumed exactly); waves that cover part of the pixels continue.
+    ProgressLine progress;
+    uint32_t reached = saved.end_sample;
+    RenderStats stats = renderer.render_samples(saved.end_sample, settings.spp, [&](uint32_t done, uint32_t total) {
+        progress.update(done, total);
+        const bool at_sample_boundary = done != reached;
+        reached = done;
+        return !(interrupt_requested() && at_sample_boundary);
+    });
+    progress.finish();
+
+    const Image image = renderer.read_film();
+    ImageWindow window;
+    if (settings.has_crop())
+        window = {int(settings.crop_x0), int(settings.crop_y0), int(settings.width), int(settings.height)};
+    write_exr(c.output, image, make_metadata(c, scene_hash, stats.spp_done, prepared.packed.effects.bits),
+              film_channels(renderer.read_film_state()), window);
+    if (!c.png.empty()) write_png(c.png, image, c.exposure_ev, c.tone_curve);
+    if (!c.stats.empty()) write_stats(c.stats, c, prepared, camera, stats, saved.end_sample, context->device_name(),
+                                         renderer.camera_media());
+
+    const uint32_t rendered = stats.spp_done - saved.end_sample;
+    if (!c.quiet)
+        std::fprintf(stderr, "fredholm: %s: %ux%u, %u spp (%u new) in %.3f s (%.2f Msamples/s) on %s; %llu non-finite samples\n",
+                     c.output.string().c_str(), settings.film_width(), settings.film_height(), stats.spp_done, rendered,
+                     stats.render_seconds,
+                     stats.render_seconds > 0
+                         ? double(settings.film_width()) * settings.film_height() * rendered / stats.render_seconds * 1e-6
+                         : 0.0,
+                     context->device_name().c_str(), (unsigned long long)stats.nonfinite_samples);
+    if (context->validation_message_count() > 0) {
+        std::fprintf(stderr, "fredholm: error: %u Vulkan validation message(s)\n", context->validation_message_count());
+        return 1;
+    }
+    if (interrupt_requested()) {
+        std::fprintf(stderr, "fredholm: interrupted: wrote %s with %u spp (continue with --resume)\n",
+                     c.output.string().c_str(), stats.spp_done);
+        return 130;
+    }
+    return 0;
+}
+
+}  // namespace
+
+}  // namespace fh

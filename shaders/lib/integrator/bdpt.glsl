@@ -1,0 +1,102 @@
+// Bidirectional path tracing (`--integrator bdpt`): the MIS weights of every strategy (s, t), power heuristic, without
+// storing whole paths. Each subpath carries two running quantities, dvcm and dvc (Georgiev 2012, "Implementing vertex
+// connection and merging", tech. report, with merging left out; cf. SmallVCM), from which the weight of a strategy
+// follows at the vertex where it joins the subpaths: the sum, over every other strategy making the same path, of its
+// density squared over this one's. The densities are the samplers' without Russian roulette and in area measure
+// (geometric cosines): the weights then sum to one over the strategies that can make each path, so the estimate stays
+// unbiased, and roulette only changes how often a strategy runs. Strategies BDPT runs (Veach 1997 notation, s light
+// vertices and t camera vertices): s = 0 (a camera path hits a light, shade.comp), s = 1 (next-event estimation,
+// shade.comp), t = 1 (a light vertex splatted onto the film, light_shade.comp), s, t >= 2 (connect_subpaths.comp).
+// A camera ray that sees a light directly (path of one segment) is s = 0 alone: the light's own vertex is not splatted.
+#ifndef FH_BDPT_GLSL
+#define FH_BDPT_GLSL
+#include "lib/integrator/light_tracing.glsl"
+#include "lib/light/lights.glsl"
+
+float mis_power(float ratio) { return ratio * ratio; }
+
+// The weight of a strategy whose competitors add up to `others` (relative to it); 0 where a density overflowed.
+float mis_weight(float others) {
+    float w = 1.0f / (1.0f + others);
+    return w >= 0.0f ? w : 0.0f;
+}
+
+// What strategy (s, t) counts with MIS weight `mis`: --bdpt-strategy S,T keeps that strategy alone, unweighted.
+float weight_strategy(uint s, uint t, float mis) {
+    if (params.bdpt_strategy == 0u) return mis;
+    return params.bdpt_strategy == (s << 16u | t) ? 1.0f : 0.0f;
+}
+
+// The subpath arrived at a surface after a segment of length dist, at geometric cosine cos_g to the arriving direction
+// (no distance for the first segment from a light at infinity: its densities are per area already).
+void account_segment(inout PathMis m, float dist, float cos_g, bool with_distance) {
+    if (with_distance) m.dvcm *= mis_power(dist * dist);
+    m.dvcm /= mis_power(cos_g);
+    m.dvc /= mis_power(cos_g);
+}
+
+// The subpath left a surface along a direction drawn with solid-angle pdf `forward`, at geometric cosine cos_out;
+// `reverse`: the pdf with which the other side's sampler, arriving along that direction, would draw the arriving one.
+void account_scattering(inout PathMis m, float cos_out, float forward, float reverse) {
+    m.dvc = mis_power(cos_out / forward) * (m.dvc * mis_power(reverse) + m.dvcm);
+    m.dvcm = mis_power(1.0f / forward);
+}
+
+// A camera subpath's quantities at the pinhole, for a ray along dir: the light subpaths per sample index (the film's
+// pixels) over the ray's solid-angle pdf, 1 / (pixel area x cos^3). An orthographic camera's rays are drawn per unit
+// area of the image plane (1 / pixel area): its first segment has no distance to convert (camera_segment_has_distance).
+PathMis start_camera_mis(vec3 dir) {
+    float c = params.camera_type == CAMERA_ORTHOGRAPHIC ? 1.0f : dot(dir, params.camera_forward.xyz);
+    PathMis m;
+    m.dvcm = mis_power(c * c * c / film_importance_scale());
+    m.dvc = 0.0f;
+    m.light_vertices = 0u;
+    m.flags = 0u;
+    return m;
+}
+
+bool camera_segment_has_distance(uint segments) {
+    return segments > 1u || params.camera_type != CAMERA_ORTHOGRAPHIC;
+}
+
+// s = 0 on an emissive triangle: the camera subpath (quantities at the hit) found light it could have reached by NEE
+// (area density pdf_area) or by a light subpath leaving that point (cosine-weighted, on either side of a double-sided
+// emitter at 1/2 each).
+float weight_emission_hit(PathMis m, float pdf_area, float cos_light, bool double_sided) {
+    float emission_pdf = pdf_area * cos_light * INV_PI * (double_sided ? 0.5f : 1.0f);
+    return mis_weight(mis_power(pdf_area) * m.dvcm + mis_power(emission_pdf) * m.dvc);
+}
+
+// s = 0 on the environment: direct_pdf is NEE's solid-angle pdf of that direction; a light subpath from the
+// environment also draws a point on the scene's disk.
+float weight_environment_hit(PathMis m, float direct_pdf) {
+    return mis_weight(mis_power(direct_pdf) * m.dvcm + mis_power(direct_pdf / scene_disk_area()) * m.dvc);
+}
+
+// s = 1: NEE from a camera vertex to a light along wi. bsdf_pdf: the camera side's pdf of drawing wi (0 for a delta
+// light); light_pdf: NEE's; emission_over_direct (lights.glsl) times cos_g: a light subpath's density of reaching the
+// vertex over NEE's; reverse: the light side's pdf of drawing wo there.
+float weight_light_connection(PathMis m, float bsdf_pdf, float light_pdf, float emission_over_direct, float cos_g,
+                              float reverse) {
+    float others = light_pdf > 0.0f ? mis_power(bsdf_pdf / light_pdf) : 0.0f;
+    others += mis_power(emission_over_direct * cos_g) * (m.dvcm + m.dvc * mis_power(reverse));
+    return mis_weight(others);
+}
+
+// t = 1: a light vertex (quantities at it) seen by the camera. importance_area: the splat's importance (the camera's
+// density over the light subpaths per sample index) times the geometric cosine towards the camera; reverse: the camera
+// side's pdf of drawing the light-side direction there.
+float weight_camera_connection(PathMis m, float importance_area, float reverse) {
+    return mis_weight(mis_power(importance_area) * (m.dvcm + m.dvc * mis_power(reverse)));
+}
+
+// s, t >= 2: camera vertex y and light vertex z joined by a segment of squared length dist2. Per side: the area density
+// with which the other side's sampler reaches this vertex (its forward pdf times this vertex's cosine / dist2), and
+// the pdf this side's sampler has of drawing its previous vertex's direction from the joint (reverse).
+float weight_subpath_connection(PathMis camera, float camera_reverse, float light_forward_area, PathMis light,
+                                float light_reverse, float camera_forward_area) {
+    float w_light = mis_power(camera_forward_area) * (light.dvcm + light.dvc * mis_power(light_reverse));
+    float w_camera = mis_power(light_forward_area) * (camera.dvcm + camera.dvc * mis_power(camera_reverse));
+    return mis_weight(w_light + w_camera);
+}
+#endif
