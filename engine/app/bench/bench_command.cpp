@@ -10,6 +10,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
+#include "app/cli/setting_table.h"
 #include "app/cli/render_options.h"
 #include "app/cli/session.h"
 #include "scene/instancing.h"
@@ -38,7 +39,7 @@ void add_bench_options(CLI::App& app, BenchCommand& c) {
     app.add_option("scene", c.scene, "glTF scene (default: the shipped Cornell box)");
     app.add_option("--sizes", c.sizes, "square image sizes to time")->check(CLI::Range(16u, 8192u));
     app.add_option("--spp", c.spp, "samples per pixel")->check(CLI::Range(1u, 1u << 16));
-    app.add_option("--max-depth", c.max_depth, "path length in segments (0 = unlimited)");
+    add_setting_option(app, "max-depth", [&c](const RenderSettings& s) { c.max_depth = s.max_depth; });
     std::map<std::string, Integrator> integrators{
         {"path", Integrator::path}, {"light", Integrator::light}, {"bdpt", Integrator::bdpt}};
     app.add_option("--integrator", c.integrator, "integrator to time: path (default), light or bdpt")
@@ -80,7 +81,7 @@ void add_bench_options(CLI::App& app, BenchCommand& c) {
         ->needs(trace);
     app.add_option("--json", c.json, "also write the figures as JSON");
     app.add_option("--device", c.device, "use the first Vulkan device whose name contains this");
-    app.add_option("--bvh-leaf-size", c.bvh_leaf_size, "most triangles per BVH leaf")->check(CLI::Range(1u, gpu::WIDE_MAX_LEAF));
+    add_setting_option(app, "bvh-leaf-size", [&c](const RenderSettings& s) { c.bvh_leaf_size = s.bvh_max_leaf_size; });
     add_ray_sort_option(app, c.sort_rays);
     add_disable_effect_option(app, c.disabled_effects);
     app.add_flag("--compare-ray-order", c.compare_ray_order,

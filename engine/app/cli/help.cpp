@@ -69,8 +69,12 @@ std::string value_words(const std::string& type_name) {
 const char* const GROUP_ORDER[] = {"Output", "Quality", "Camera and lens", "Lighting", "Scene and animation",
                                    "Splitting a render", "Options", "Device", DIAGNOSTICS, "Help"};
 
+// Hidden options (group "") would lose their names in CLI11's error messages, so the measurement switches keep their
+// group and the formatter leaves it out unless asked for everything.
 class CompactFormatter : public CLI::Formatter {
   public:
+    explicit CompactFormatter(bool show_all) : show_all_(show_all) {}
+
     std::string make_help(const CLI::App* app, std::string name, CLI::AppFormatMode mode) const override {
         if (mode == CLI::AppFormatMode::Sub) return make_expanded(app);
         std::string out = make_description(app) + make_usage(app, name) + make_positionals(app);
@@ -80,7 +84,7 @@ class CompactFormatter : public CLI::Formatter {
         for (const std::string& group : order) {
             auto opts = app->get_options(
                 [&group](const CLI::Option* opt) { return opt->get_group() == group && opt->nonpositional(); });
-            if (group.empty() || opts.empty()) continue;
+            if (group.empty() || opts.empty() || (group == DIAGNOSTICS && !show_all_)) continue;
             out += make_group(group, false, opts);
         }
         return out + make_subcommands(app, mode) + "\n" + make_footer(app);
@@ -95,6 +99,9 @@ class CompactFormatter : public CLI::Formatter {
         if (opt->get_required()) out += " REQUIRED";
         return out;
     }
+
+  private:
+    bool show_all_;
 };
 
 }  // namespace
@@ -111,7 +118,7 @@ bool take_help_all(int argc, char** argv) {
 
 void arrange_help(CLI::App& command, bool show_all, const std::string& example,
                   const std::set<std::string>& keep_group) {
-    auto formatter = std::make_shared<CompactFormatter>();
+    auto formatter = std::make_shared<CompactFormatter>(show_all);
     formatter->column_width(42);
     command.formatter(formatter);
     command.get_help_ptr()->group("Help");
@@ -121,8 +128,7 @@ void arrange_help(CLI::App& command, bool show_all, const std::string& example,
         const std::string name = opt->get_lnames().empty() ? "" : opt->get_lnames().front();
         auto found = help_groups().find(name);
         if (found == help_groups().end() || keep_group.count(name)) continue;
-        const bool diagnostic = found->second == DIAGNOSTICS;
-        opt->group(diagnostic && !show_all ? "" : found->second);
+        opt->group(found->second);
     }
     command.footer("Example: " + example);
 }

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "app/cli/setting_table.h"
 #include "render/techniques.h"
 #include "scene/effects.h"
 #include "shared/layout.h"
@@ -22,77 +23,16 @@ void add_tone_options(CLI::App& app, float& exposure_ev, ToneCurve& tone_curve, 
         ->transform(CLI::CheckedTransformer(curves, CLI::ignore_case));
 }
 
-void add_integrator_option(CLI::App& app, RenderSettings& s) {
-    std::map<std::string, Integrator> integrators{
-        {"path", Integrator::path}, {"light", Integrator::light}, {"bdpt", Integrator::bdpt},
-        {"auto", Integrator::automatic}};
-    app.add_option("--integrator", s.integrator,
-                   "path: path tracing from the camera with next-event estimation and MIS (default); light: light "
-                   "tracing, light subpaths splatted onto the film through the camera; bdpt: bidirectional path "
-                   "tracing, every strategy combined by MIS (needs --max-depth); auto (render only): a short pilot of "
-                   "each, the least error per second chosen")
-        ->transform(CLI::CheckedTransformer(integrators, CLI::ignore_case));
-}
+void add_integrator_option(CLI::App& app, RenderSettings& s) { add_setting_options(app, s, {"integrator"}); }
 
 void add_sampling_options(CLI::App& app, RenderSettings& s) {
-    std::map<std::string, PixelFilter> filters{{"box", PixelFilter::box}, {"gaussian", PixelFilter::gaussian}};
-    app.add_option("--filter", s.filter, "pixel filter: box (1 pixel) or gaussian (importance sampled)")
-        ->transform(CLI::CheckedTransformer(filters, CLI::ignore_case));
-    app.add_option("--filter-radius", s.filter_radius, "Gaussian truncation radius in pixels")
-        ->check(CLI::Range(0.5f, 8.0f));
-    std::map<std::string, Sampler> samplers{{"independent", Sampler::independent}, {"sobol", Sampler::sobol}};
-    app.add_option("--sampler", s.sampler,
-                   "sobol: Owen-scrambled Sobol' points, stratified (default); independent: a PCG stream per path")
-        ->transform(CLI::CheckedTransformer(samplers, CLI::ignore_case));
-    add_integrator_option(app, s);
-    std::map<std::string, bool> on_off{{"on", true}, {"off", false}};
-    app.add_option("--nee", s.nee, "next-event estimation: on/off")->transform(CLI::CheckedTransformer(on_off));
-    app.add_option("--mis", s.mis, "multiple importance sampling: on/off")->transform(CLI::CheckedTransformer(on_off));
-    app.add_option("--rr", s.russian_roulette, "Russian roulette: on/off")->transform(CLI::CheckedTransformer(on_off));
-    app.add_option("--rr-start-depth", s.rr_start_depth, "Russian roulette from this many segments on")
-        ->check(CLI::Range(1u, 1000u));
-    app.add_option("--rr-survival-scale", s.rr_survival_scale,
-                   "Russian roulette keeps a camera path with probability min(0.95, this x its largest throughput "
-                   "component) (default 2, chosen by measured efficiency; 1: the textbook's)")
-        ->check(CLI::Range(0.01f, 1000.0f));
-    std::map<std::string, bool> picks{{"reuse", true}, {"separate", false}};
-    app.add_option("--light-pick", s.light_pick_reuse,
-                   "how next-event estimation picks the light in scenes of up to 16 lights: reuse (default) the first "
-                   "coordinate of the light point's 2D sample, so a quad's points stay stratified over the whole quad; "
-                   "separate: a sample dimension of its own")
-        ->transform(CLI::CheckedTransformer(picks, CLI::ignore_case));
-    app.add_option("--light-sampler", s.light_sampler,
-                   "how next-event estimation picks a light: tree (by each light's importance at the shading point: "
-                   "power, distance, orientation), power (one table for the whole scene), uniform; auto (default): the "
-                   "tree where the scene's lights differ in kind or material, number more than 16 or share the scene "
-                   "with --env or a directional light, else power")
-        ->transform(CLI::CheckedTransformer(std::map<std::string, LightSampler>{{"auto", LightSampler::automatic},
-                                                                                {"tree", LightSampler::tree},
-                                                                                {"power", LightSampler::power},
-                                                                                {"uniform", LightSampler::uniform}},
-                                            CLI::ignore_case));
-    app.add_option("--wave-paths", s.wave_paths,
-                   "paths in flight per wave (default: 524288 on a CPU device such as lavapipe, 4194304 on a GPU, "
-                   "halved until the wave fits the device's buffer limits and a quarter of its memory)")
-        ->check(CLI::Range(1024u, 1u << 22));
-    add_ray_sort_option(app, s.sort_rays);
-    app.add_option("--wide-stores", s.wide_stores,
-                   "shade stores its structs a texel (uvec4) at a time (on, the default) or field by field (off: to "
-                   "measure the difference); the image is the same")
-        ->transform(CLI::CheckedTransformer(on_off));
+    add_setting_options(app, s,
+                        {"filter", "filter-radius", "sampler", "integrator", "nee", "mis", "rr", "rr-start-depth",
+                         "rr-survival-scale", "light-pick", "light-sampler", "wave-paths", "sort-rays", "wide-stores"});
 }
 
 void add_ray_sort_option(CLI::App& app, std::optional<bool>& sort_rays) {
-    app.add_option_function<std::string>(
-           "--sort-rays",
-           [&sort_rays](const std::string& v) {
-               if (v == "auto") sort_rays.reset();
-               else sort_rays = v == "on";
-           },
-           "sort each bounce's rays by direction and origin before tracing them: auto/on/off (default auto: on for a "
-           "GPU and a scene of at least 1024 triangles, off on a CPU device such as lavapipe, where the sort costs "
-           "about what it saves); the image is the same")
-        ->check(CLI::IsMember({"auto", "on", "off"}));
+    add_setting_option(app, "sort-rays", [&sort_rays](const RenderSettings& s) { sort_rays = s.sort_rays; });
 }
 
 void add_robustness_options(CLI::App& app, RenderSettings& s) {
@@ -113,8 +53,7 @@ void add_robustness_options(CLI::App& app, RenderSettings& s) {
                 return std::string(e.what());
             }
         });
-    app.add_option("--bvh-leaf-size", s.bvh_max_leaf_size, "most triangles per BVH leaf")
-        ->check(CLI::Range(1u, gpu::WIDE_MAX_LEAF));
+    add_setting_options(app, s, {"bvh-leaf-size"});
     add_effect_options(app, s);
 }
 
@@ -156,14 +95,7 @@ void add_effect_options(CLI::App& app, RenderSettings& s) {
 }
 
 void add_environment_options(CLI::App& app, RenderSettings& s) {
-    app.add_option("--variant", s.variant, "KHR_materials_variants: render the materials of this variant");
-    const std::map<std::string, Instancing> instancing{{"auto", Instancing::automatic},
-                                                                    {"on", Instancing::always},
-                                                                    {"off", Instancing::never}};
-    app.add_option("--instancing", s.instancing,
-                   "meshes drawn by several nodes: auto (stored once when that saves >= 16384 triangles), on (always), "
-                   "off (copied into world space)")
-        ->transform(CLI::CheckedTransformer(instancing, CLI::ignore_case));
+    add_setting_options(app, s, {"variant", "instancing"});
     auto* env = app.add_option("--env", s.environment_file,
                                "environment light: equirectangular OpenEXR or Radiance .hdr map around the scene")
                     ->check(CLI::ExistingFile);

@@ -6,6 +6,8 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "app/cli/setting_table.h"
+
 namespace fh {
 namespace {
 
@@ -62,12 +64,12 @@ const std::vector<std::string>& film_channel_names() {
 }
 
 const std::vector<std::string>& matching_film_keys() {
-    static const std::vector<std::string> keys = {
-        "fredholm:renderer", "fredholm:scene", "fredholm:scene_hash", "fredholm:image_size", "fredholm:seed",
-        "fredholm:max_depth", "fredholm:camera", "fredholm:filter", "fredholm:filter_radius", "fredholm:sampler",
-        "fredholm:integrator", "fredholm:bdpt_strategy", "fredholm:nee", "fredholm:mis", "fredholm:rr", "fredholm:rr_start_depth", "fredholm:rr_survival_scale", "fredholm:light_pick", "fredholm:light_sampler", "fredholm:disabled_techniques",
-        "fredholm:environment", "fredholm:lens", "fredholm:animation", "fredholm:time", "fredholm:shutter",
-        "fredholm:variant", "fredholm:disabled_effects", "fredholm:forced_effects"};
+    static const std::vector<std::string> keys = [] {
+        std::vector<std::string> k = {"fredholm:renderer", "fredholm:scene", "fredholm:scene_hash", "fredholm:image_size"};
+        for (const SettingInfo& e : setting_table())
+            if (e.must_match) k.push_back(e.metadata_key);
+        return k;
+    }();
     return keys;
 }
 
@@ -94,10 +96,10 @@ FilmFile read_film_file(const std::filesystem::path& file, const std::string& wh
     const std::string prefix = file.string() + ": " + why + ": ";
     FilmFile f;
     const Image image = read_exr(file, &f.metadata);
-    // Films written before --integrator (and --bdpt-strategy) existed were path traced, all strategies.
-    f.metadata.emplace("fredholm:integrator", "path");
-    f.metadata.emplace("fredholm:bdpt_strategy", "all");
-    f.metadata.emplace("fredholm:light_sampler", "power");  // before --light-sampler, NEE picked by power
+    // A film written before a setting existed was rendered as that setting's value then (path tracing, all BDPT
+    // strategies, NEE picking lights by power).
+    for (const SettingInfo& e : setting_table())
+        if (e.before_it_existed) f.metadata.emplace(e.metadata_key, e.before_it_existed);
     f.end_sample = read_count(f.metadata, "fredholm:spp", prefix);
     f.first_sample = read_count(f.metadata, "fredholm:first_sample", prefix);
     if (f.first_sample > f.end_sample) throw std::runtime_error(prefix + "fredholm:first_sample is above fredholm:spp");

@@ -13,6 +13,7 @@
 #include "app/converge/converge_report.h"
 #include "app/cli/interrupt.h"
 #include "app/cli/session.h"
+#include "app/cli/setting_table.h"
 #include "io/atomic_write.h"
 #include "io/exr.h"
 #include "io/png.h"
@@ -25,101 +26,6 @@ namespace {
 
 constexpr uint32_t REFERENCE_SEED_OFFSET = 0x5bd1e995u;  // independent streams (rng.glsl hashes the seed)
 constexpr uint32_t SECOND_SEED_OFFSET = 0x9e3779b9u;
-
-bool parse_on_off(const std::string& key, const std::string& v) {
-    if (v == "on") return true;
-    if (v == "off") return false;
-    throw std::invalid_argument(key + ": '" + v + "' is not on or off");
-}
-
-double parse_number(const std::string& key, const std::string& v) {
-    size_t used = 0;
-    double x = 0.0;
-    try {
-        x = std::stod(v, &used);
-    } catch (const std::exception&) {
-        used = 0;
-    }
-    if (used != v.size() || v.empty()) throw std::invalid_argument(key + ": '" + v + "' is not a number");
-    return x;
-}
-
-void apply_vary(const std::string& key, const std::string& v, RenderSettings& s) {
-    if (key == "max-depth") {
-        size_t used = 0;
-        unsigned long depth = 0;
-        try {
-            depth = std::stoul(v, &used);
-        } catch (const std::exception&) {
-            used = 0;
-        }
-        if (used != v.size() || v.empty() || depth > 100000)
-            throw std::invalid_argument("max-depth: '" + v + "' is not a depth in 0..100000");
-        s.max_depth = uint32_t(depth);
-    } else if (key == "nee") {
-        s.nee = parse_on_off(key, v);
-    } else if (key == "mis") {
-        s.mis = parse_on_off(key, v);
-    } else if (key == "rr") {
-        s.russian_roulette = parse_on_off(key, v);
-    } else if (key == "sort-rays") {
-        if (v == "auto") s.sort_rays.reset();
-        else s.sort_rays = parse_on_off(key, v);
-    } else if (key == "filter") {
-        if (v != "box" && v != "gaussian") throw std::invalid_argument("filter: '" + v + "' is not box or gaussian");
-        s.filter = v == "box" ? PixelFilter::box : PixelFilter::gaussian;
-    } else if (key == "rr-start-depth") {
-        const int depth = std::stoi(v);
-        if (depth < 1 || depth > 1000) throw std::invalid_argument("rr-start-depth: '" + v + "' is not in [1, 1000]");
-        s.rr_start_depth = uint32_t(depth);
-    } else if (key == "rr-survival-scale") {
-        const double k = parse_number(key, v);
-        if (!(k >= 0.01 && k <= 1000.0)) throw std::invalid_argument("rr-survival-scale: '" + v + "' is not in [0.01, 1000]");
-        s.rr_survival_scale = float(k);
-    } else if (key == "light-pick") {
-        if (v != "reuse" && v != "separate") throw std::invalid_argument("light-pick: '" + v + "' is not reuse or separate");
-        s.light_pick_reuse = v == "reuse";
-    } else if (key == "light-sampler") {
-        s.light_sampler = parse_light_sampler(v);
-    } else if (key == "sampler") {
-        if (v != "independent" && v != "sobol") throw std::invalid_argument("sampler: '" + v + "' is not independent or sobol");
-        s.sampler = v == "sobol" ? Sampler::sobol : Sampler::independent;
-    } else if (key == "integrator") {
-        if (v != "path" && v != "light" && v != "bdpt")
-            throw std::invalid_argument("integrator: '" + v + "' is not path, light or bdpt");
-        s.integrator = v == "light" ? Integrator::light : v == "bdpt" ? Integrator::bdpt : Integrator::path;
-    } else if (key == "aperture") {  // an f-number; 0: the pinhole
-        const double n = parse_number(key, v);
-        if (!(n == 0.0 || (n >= 0.1 && n <= 1e6))) throw std::invalid_argument("aperture: '" + v + "' is not 0 or an f-number");
-        s.lens.f_number = n;
-        s.lens.aperture_radius = 0.0;
-    } else if (key == "aperture-radius") {
-        const double r = parse_number(key, v);
-        if (!(r >= 0.0 && r <= 1e30)) throw std::invalid_argument("aperture-radius: '" + v + "' is not a radius >= 0");
-        s.lens.aperture_radius = r;
-        s.lens.f_number = 0.0;
-    } else if (key.rfind("effect:", 0) == 0) {
-        // on: compiled in whether or not the scene uses it; off: compiled out although the scene uses it.
-        const uint32_t bit = find_switchable_effect(key.substr(7));
-        const bool on = parse_on_off(key, v);
-        s.forced_effects = on ? s.forced_effects | bit : s.forced_effects & ~bit;
-        s.disabled_effects = on ? s.disabled_effects & ~bit : s.disabled_effects | bit;
-    } else {
-        throw std::invalid_argument("unknown key '" + key + "' (max-depth, nee, mis, rr, rr-start-depth, rr-survival-scale, sort-rays, filter, sampler, light-pick, light-sampler, "
-                                    "integrator, "
-                                    "aperture, aperture-radius, effect:NAME)");
-    }
-}
-
-bool same_settings(const RenderSettings& a, const RenderSettings& b) {
-    return a.max_depth == b.max_depth && a.nee == b.nee && a.mis == b.mis &&
-           a.russian_roulette == b.russian_roulette && a.rr_start_depth == b.rr_start_depth &&
-           a.rr_survival_scale == b.rr_survival_scale && a.filter == b.filter &&
-           a.sampler == b.sampler && a.light_pick_reuse == b.light_pick_reuse &&
-           a.light_sampler == b.light_sampler && a.integrator == b.integrator && a.sort_rays == b.sort_rays &&
-           a.forced_effects == b.forced_effects &&
-           a.disabled_effects == b.disabled_effects && describe_lens(a.lens) == describe_lens(b.lens);
-}
 
 std::string slug(const std::string& name) {
     std::string s = name;
@@ -263,22 +169,8 @@ std::string describe_command(const ConvergeCommand& c) {
     std::snprintf(budget, sizeof budget, "%g", c.max_seconds);
     line += " --max-seconds " + std::string(budget) + " --max-spp " + std::to_string(c.max_spp);
     for (const std::string& v : c.vary) line += " --vary " + v;
-    line += " --width " + std::to_string(s.width) + " --height " + std::to_string(s.height) + " --max-depth " +
-            std::to_string(s.max_depth) + " --seed " + std::to_string(s.seed) + " --filter " + to_string(s.filter);
-    if (s.camera >= 0) line += " --camera " + std::to_string(s.camera);
-    if (s.sampler != Sampler::sobol) line += std::string(" --sampler ") + to_string(s.sampler);
-    if (!s.nee) line += " --nee off";
-    if (!s.mis) line += " --mis off";
-    if (!s.light_pick_reuse) line += " --light-pick separate";
-    if (s.light_sampler != LightSampler::automatic) line += std::string(" --light-sampler ") + light_sampler_name(s.light_sampler);
-    if (!s.russian_roulette) line += " --rr off";
-    if (s.sort_rays) line += std::string(" --sort-rays ") + (*s.sort_rays ? "on" : "off");
-    if (s.rr_start_depth != RenderSettings{}.rr_start_depth) line += " --rr-start-depth " + std::to_string(s.rr_start_depth);
-    if (s.rr_survival_scale != RenderSettings{}.rr_survival_scale) {
-        char scale[32];
-        std::snprintf(scale, sizeof scale, "%g", double(s.rr_survival_scale));
-        line += std::string(" --rr-survival-scale ") + scale;
-    }
+    line += " --width " + std::to_string(s.width) + " --height " + std::to_string(s.height) +
+            describe_changed_options(s);
     if (s.forced_effects) line += " --force-effect " + describe_effects(s.forced_effects);
     if (s.disabled_effects) line += " --disable-effect " + describe_effects(s.disabled_effects);
     if (s.lens.on()) line += " " + format_lens_options(s.lens);
@@ -331,8 +223,10 @@ void add_converge_options(CLI::App& app, ConvergeCommand& c) {
     two->excludes(ref_spp);
     app.add_option("--max-seconds", c.max_seconds, "render-time budget per configuration")->check(CLI::PositiveNumber);
     app.add_option("--max-spp", c.max_spp, "largest spp of the doubling sequence")->check(CLI::Range(1u, 1u << 20));
-    app.add_option("--vary", c.vary, "KEY=V1,V2,...: one curve per value (max-depth, nee, mis, rr, rr-start-depth, rr-survival-scale, sort-rays, filter, sampler, light-pick (reuse, separate), light-sampler (auto, tree, power, uniform), integrator (path, light, bdpt), aperture (0: pinhole), aperture-radius; effect:NAME=on,off compiles "
-                   "an effect in or out (a material or light effect, or motion-blur), e.g. effect:transmission=on,off)")
+    app.add_option("--vary", c.vary,
+                   "KEY=V1,V2,...: one curve per value, KEY one of " + vary_keys() +
+                       " (effect:NAME=on,off compiles an effect in or out: a material or light effect, or "
+                       "motion-blur, e.g. effect:transmission=on,off)")
         ->check(CLI::Validator(
             [](std::string& spec) {
                 try {
@@ -346,10 +240,7 @@ void add_converge_options(CLI::App& app, ConvergeCommand& c) {
     app.add_flag("--keep-images", c.keep_images, "write every step's image to REPORT_DIR/images/");
     app.add_option("--width", s.width, "image width in pixels")->check(CLI::Range(1u, 16384u));
     app.add_option("--height", s.height, "image height in pixels")->check(CLI::Range(1u, 16384u));
-    app.add_option("--max-depth", s.max_depth, "default configuration: path segments (0 = unlimited)")
-        ->check(CLI::Range(0u, 100000u));
-    app.add_option("--seed", s.seed, "random seed");
-    app.add_option("--camera", s.camera, "glTF camera index")->check(CLI::NonNegativeNumber);
+    add_setting_options(app, s, {"max-depth", "seed", "camera"});
     add_sampling_options(app, s);
     add_robustness_options(app, s);
     add_environment_options(app, s);

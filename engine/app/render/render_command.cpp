@@ -14,6 +14,7 @@
 #include "app/cli/progress.h"
 #include "app/cli/resume.h"
 #include "app/cli/session.h"
+#include "app/cli/setting_table.h"
 #include "io/atomic_write.h"
 #include "io/exr.h"
 #include "io/png.h"
@@ -28,69 +29,22 @@ namespace {
 
 const char* VERSION = "fredholm 0.1.0";
 
-// "none", "background R,G,B" or "FILE intensity I rotation D".
-std::string describe_environment(const RenderSettings& s) {
-    char text[128];
-    if (s.has_background) {
-        std::snprintf(text, sizeof text, "background %.9g,%.9g,%.9g", double(s.background[0]), double(s.background[1]),
-                      double(s.background[2]));
-        return text;
-    }
-    if (s.environment_file.empty()) return "none";
-    std::snprintf(text, sizeof text, " intensity %.9g rotation %.9g", double(s.environment_intensity),
-                  double(s.environment_rotation));
-    return std::filesystem::path(s.environment_file).filename().string() + text;
-}
-
-// The time the scene is posed at ("static": the file's transforms).
-std::string format_seconds(const RenderSettings& s) {
-    if (!s.animate) return "static";
-    char text[32];
-    std::snprintf(text, sizeof text, "%.9g", s.time);
-    return text;
-}
-
 // The settings that decide every sample's value (what a resume must match), plus the samples done.
 ImageMetadata make_metadata(const RenderCommand& c, const std::string& scene_hash, uint32_t spp_done, uint32_t effects) {
     const RenderSettings& s = c.settings;
-    char radius[32];
-    std::snprintf(radius, sizeof radius, "%.9g", double(s.filter_radius));
-    char survival[32];
-    std::snprintf(survival, sizeof survival, "%.9g", double(s.rr_survival_scale));
-    return {{"fredholm:renderer", VERSION},
-            {"fredholm:scene", c.scene.filename().string()},
-            {"fredholm:scene_hash", scene_hash},
-            {"fredholm:image_size", std::to_string(s.width) + "x" + std::to_string(s.height)},
-            {"fredholm:crop", describe_crop(s.crop_x0, s.crop_y0, s.crop_x1, s.crop_y1)},
-            {"fredholm:first_sample", std::to_string(c.first_sample)},
-            {"fredholm:spp", std::to_string(spp_done)},
-            {"fredholm:seed", std::to_string(s.seed)},
-            {"fredholm:max_depth", std::to_string(s.max_depth)},
-            {"fredholm:camera", std::to_string(s.camera)},
-            {"fredholm:filter", to_string(s.filter)},
-            {"fredholm:filter_radius", radius},
-            {"fredholm:sampler", to_string(s.sampler)},
-            {"fredholm:integrator", to_string(s.integrator)},
-            {"fredholm:bdpt_strategy", s.bdpt_strategy_t ? std::to_string(s.bdpt_strategy_s) + "," + std::to_string(s.bdpt_strategy_t) : "all"},
-            {"fredholm:nee", s.nee ? "on" : "off"},
-            {"fredholm:mis", s.mis ? "on" : "off"},
-            {"fredholm:rr", s.russian_roulette ? "on" : "off"},
-            {"fredholm:rr_start_depth", std::to_string(s.rr_start_depth)},
-            {"fredholm:rr_survival_scale", survival},
-            {"fredholm:light_pick", s.light_pick_reuse ? "reuse" : "separate"},
-            {"fredholm:light_sampler", light_sampler_name(s.light_sampler)},
-            {"fredholm:disabled_techniques", name_techniques(s.disabled_techniques)},
-            {"fredholm:bvh_leaf_size", std::to_string(s.bvh_max_leaf_size)},
-            {"fredholm:effects", describe_effects(select_effects(effects, s.forced_effects, s.disabled_effects))},
-            {"fredholm:disabled_effects", describe_effects(s.disabled_effects)},
-            {"fredholm:forced_effects", describe_effects(s.forced_effects)},
-            {"fredholm:environment", describe_environment(s)},
-            {"fredholm:lens", describe_lens(s.lens)},
-            {"fredholm:animation", !s.animate ? "none" : s.animation.empty() ? "first" : s.animation},
-            {"fredholm:time", format_seconds(s)},
-            {"fredholm:shutter", describe_shutter(s)},
-            {"fredholm:variant", s.variant.empty() ? "default" : s.variant},
-            {"fredholm:colorspace", "scene-linear Rec.709"}};
+    ImageMetadata metadata{
+        {"fredholm:renderer", VERSION},
+        {"fredholm:scene", c.scene.filename().string()},
+        {"fredholm:scene_hash", scene_hash},
+        {"fredholm:image_size", std::to_string(s.width) + "x" + std::to_string(s.height)},
+        {"fredholm:crop", describe_crop(s.crop_x0, s.crop_y0, s.crop_x1, s.crop_y1)},
+        {"fredholm:first_sample", std::to_string(c.first_sample)},
+        {"fredholm:spp", std::to_string(spp_done)},
+        {"fredholm:effects", describe_effects(select_effects(effects, s.forced_effects, s.disabled_effects))},
+        {"fredholm:colorspace", "scene-linear Rec.709"}};
+    for (const SettingInfo& e : setting_table())
+        if (e.metadata_key) metadata.emplace(e.metadata_key, e.describe(s));
+    return metadata;
 }
 
 void write_stats(const std::filesystem::path& file, const RenderCommand& c, const PreparedScene& prepared,
@@ -107,11 +61,6 @@ void write_stats(const std::filesystem::path& file, const RenderCommand& c, cons
     j["spp"] = stats.spp_done;
     j["first_sample"] = first_sample;  // where this run started (resumed or --samples); rates count its samples only
     j["crop"] = describe_crop(s.crop_x0, s.crop_y0, s.crop_x1, s.crop_y1);
-    j["seed"] = s.seed;
-    j["wave_paths"] = s.wave_paths;
-    j["sort_rays"] = s.sort_rays.value_or(false);
-    j["wide_stores"] = s.wide_stores;  // shade's 128-bit stores (--wide-stores)
-    j["max_depth"] = s.max_depth;
     j["render_seconds"] = stats.render_seconds;
     j["samples_per_second"] = stats.render_seconds > 0 ? samples / stats.render_seconds : 0.0;
     j["rays_per_second"] = stats.render_seconds > 0 ? rays / stats.render_seconds : 0.0;
@@ -131,27 +80,17 @@ void write_stats(const std::filesystem::path& file, const RenderCommand& c, cons
     j["triangles_unique"] = prepared.scene.unique_triangle_count;
     j["emitters"] = prepared.packed.emitters.size();
     j["punctual_lights"] = prepared.packed.punctual_lights.size();
-    j["sampler"] = to_string(s.sampler);
-    j["light_pick"] = s.light_pick_reuse ? "reuse" : "separate";
     j["light_sampler"] = prepared.packed.light_sampler;  // as chosen (--light-sampler auto resolved)
     j["light_tree_lights"] = prepared.packed.light_tree_lights;
     j["light_tree_depth"] = prepared.packed.light_tree_depth;
     j["light_tree_build_seconds"] = prepared.packed.light_tree_build_seconds;
-    j["rr_start_depth"] = s.rr_start_depth;
-    j["rr_survival_scale"] = s.rr_survival_scale;
-    j["integrator"] = to_string(s.integrator);
     j["effects"] = describe_effects(select_effects(prepared.packed.effects.bits, s.forced_effects, s.disabled_effects));
-    j["disabled_effects"] = describe_effects(s.disabled_effects);
-    j["forced_effects"] = describe_effects(s.forced_effects);
-    j["environment"] = describe_environment(s);
     // The volumes the camera stands in (glTF material indices, innermost first), where its paths start.
     std::string media;
     for (uint32_t m : camera_media)
         if (m != gpu::INVALID_INDEX) media += (media.empty() ? "material " : " in material ") + std::to_string(m);
     j["camera_medium"] = media.empty() ? std::string("none") : media;
-    j["lens"] = describe_lens(s.lens);
     j["animations"] = prepared.scene.animations;
-    j["shutter"] = describe_shutter(s);
     j["moving_instances"] = prepared.scene.moving_instances;
     j["motion_segments"] = prepared.scene.motion_segments;  // keys of moving instances: this + 1
     if (s.animate || s.has_shutter()) {
@@ -164,14 +103,14 @@ void write_stats(const std::filesystem::path& file, const RenderCommand& c, cons
         j["aperture_radius"] = camera.aperture_radius;
         j["focus_distance"] = camera.focus_distance;
     }
-    j["variant"] = s.variant.empty() ? "default" : s.variant;
     j["variants"] = prepared.scene.variants;
     j["textures"] = prepared.packed.texture_images.size();
     j["texels"] = prepared.packed.texels.size();
     j["texture_bytes"] = prepared.packed.texels.size() * 4;
-    j["disabled_techniques"] = name_techniques(s.disabled_techniques);
     j["render_origin"] = {prepared.scene.origin.x, prepared.scene.origin.y, prepared.scene.origin.z};
     j["stage_seconds"] = stats.stage_seconds;
+    for (const SettingInfo& e : setting_table())  // the settings as asked for
+        if (e.stats_key) j[e.stats_key] = e.stats ? e.stats(s) : nlohmann::json(e.describe(s));
     write_file_atomically(file, [&](const std::filesystem::path& temp) {
         std::ofstream out(temp);
         out << j.dump(2) << "\n";
@@ -220,11 +159,7 @@ void add_render_options(CLI::App& app, RenderCommand& c) {
         ->excludes(spp);
     app.add_option("--crop", c.crop, "render only pixels X0..X1-1 by Y0..Y1-1 (X0,Y0,X1,Y1) of the image, a part for "
                                      "fredholm merge");
-    app.add_option("--max-depth", s.max_depth, "longest path in segments after the camera (0 = unlimited)")
-        ->check(CLI::Range(0u, 100000u));
-    app.add_option("--seed", s.seed, "random seed");
-    app.add_option("--camera", s.camera, "glTF camera index (default: first camera, or a framing camera)")
-        ->check(CLI::NonNegativeNumber);
+    add_setting_options(app, s, {"max-depth", "seed", "camera"});
     app.add_option("--png", c.png, "also write a tone-mapped sRGB PNG preview");
     add_tone_options(app, c.exposure_ev, c.tone_curve, "PNG");
     app.add_option("--stats", c.stats, "write render statistics as JSON");

@@ -2,6 +2,7 @@
 #include "app/view/viewer_command.h"
 
 #include "app/cli/render_options.h"
+#include "app/cli/setting_table.h"
 
 #include <CLI/CLI.hpp>
 #include <GLFW/glfw3.h>
@@ -95,12 +96,9 @@ void write_screenshot(const std::filesystem::path& exr, const Renderer& renderer
     ImageMetadata metadata{{"fredholm:renderer", "fredholm view"},
                            {"fredholm:scene", c.scene.filename().string()},
                            {"fredholm:spp", std::to_string(s.spp)},
-                           {"fredholm:max_depth", std::to_string(s.settings.max_depth)},
-                           {"fredholm:nee", s.settings.nee ? "on" : "off"},
-                           {"fredholm:rr", s.settings.russian_roulette ? "on" : "off"},
-                           {"fredholm:lens", describe_lens(s.settings.lens)},
-                           {"fredholm:shutter", describe_shutter(s.settings)},
                            {"fredholm:colorspace", "scene-linear Rec.709"}};
+    for (const SettingInfo& e : setting_table())  // the settings as the viewer has them now
+        if (e.metadata_key) metadata.emplace(e.metadata_key, e.describe(s.settings));
     write_exr(exr, image, metadata);
     std::filesystem::path png = exr;
     png.replace_extension(".png");
@@ -134,12 +132,9 @@ void add_view_options(CLI::App& app, ViewCommand& c) {
     app.add_option("scene", c.scene, "glTF 2.0 scene (.gltf or .glb)")->required();
     app.add_option("--width", s.width, "initial window width")->check(CLI::Range(16u, 8192u));
     app.add_option("--height", s.height, "initial window height")->check(CLI::Range(16u, 8192u));
-    app.add_option("--camera", s.camera, "glTF camera index to start from (default: first camera, or a framing camera)")
-        ->check(CLI::NonNegativeNumber);
+    add_setting_options(app, s, {"camera"});  // the camera to start from
     add_camera_pose_options(app, c.pose);
-    app.add_option("--max-depth", s.max_depth, "longest path in segments after the camera (0 = unlimited)")
-        ->check(CLI::Range(0u, 100000u));
-    app.add_option("--seed", s.seed, "random seed");
+    add_setting_options(app, s, {"max-depth", "seed"});
     add_integrator_option(app, s);
     add_environment_options(app, s);  // --env, --background, --variant, --instancing: as render
     add_lens_options(app, s);

@@ -8,6 +8,7 @@
 #include "lib/bsdf/bsdf_layers.glsl"
 #include "lib/sampling/sampling.glsl"
 #include "lib/material/transmission.glsl"
+#include "lib/geometry/motion.glsl"
 
 // Whether direction w (local frame: w_local) may leave here. A reflection (w_local.z > 0) must stay above the
 // geometric surface ng, or light leaks through it. A transmission (w_local.z < 0) below it crosses the surface; one
@@ -39,31 +40,47 @@ struct ShadingPoint {
     float eta_front;     // a volume's n behind the front face (against s.ng) / n in front of it (set_media)
 };
 
-ShadingPoint load_shading_point(uint triangle, float b1, float b2, uint instance) {
+// The first half of a shading point, what every vertex needs: the surface at a hit and its material, the instance
+// placed at the path's shutter time (motion blur; 0.5 without). `inst` is the placed instance, for
+// finish_shading_point.
+ShadingPoint begin_shading_point(uint triangle, float b1, float b2, uint instance, float time, out Instance inst) {
     ShadingPoint sp;
     sp.triangle = triangle;
     sp.b1 = b1;
     sp.b2 = b2;
-    sp.s = load_surface(triangle, b1, b2);
-    bool instanced = scene_has_instances && instance != INVALID_INDEX;
-    Instance inst;
-    if (instanced) {
-        inst = load_instance(instance);
+    sp.s = load_surface(triangle, b1, b2);  // object space for an instance
+    if (scene_has_instances && instance != INVALID_INDEX) {
+        inst = move_instance(load_instance(instance), time);
         if (inst.material != INVALID_INDEX) sp.s.material = inst.material;
     }
     sp.m = resolve_material(load_material(sp.s.material), triangle, b1, b2);
+    return sp;
+}
+
+// The second half: the anisotropy's direction (in the mesh's tangent frame, before the instance places it), normal
+// textures, the surface placed by its instance, and the transmission. A point that does not scatter (an unlit
+// surface, or the last vertex --max-depth allows) skips what only scattering reads: the anisotropy and the glass.
+void finish_shading_point(inout ShadingPoint sp, uint instance, Instance inst, bool scatters) {
     sp.anisotropy.strength = 0.0f;
     sp.anisotropy.direction = vec3(0.0f);
-    if (effect_on(EFFECT_ANISOTROPY)) {
-        sp.anisotropy = eval_anisotropy_layer(sp.s.material, triangle, b1, b2, sp.s.ns);
+    if (effect_on(EFFECT_ANISOTROPY) && scatters) {
+        sp.anisotropy = eval_anisotropy_layer(sp.s.material, sp.triangle, sp.b1, sp.b2, sp.s.ns);
         sp.s.ta = sp.anisotropy.direction;
     }
-    sp.s.ns = apply_normal_texture(sp.m, triangle, b1, b2, sp.s.ns);
-    sp.s.nc = apply_clearcoat_normal_texture(sp.s.material, triangle, b1, b2, sp.s.nc);
-    if (instanced) sp.s = place_surface(sp.s, inst);
-    sp.transmission = eval_transmission(sp.s.material, triangle, b1, b2);
-    sp.volume = effect_on(EFFECT_TRANSMISSION) && encloses_volume(sp.s.material);  // as shade.comp gates it
+    sp.s.ns = apply_normal_texture(sp.m, sp.triangle, sp.b1, sp.b2, sp.s.ns);
+    sp.s.nc = apply_clearcoat_normal_texture(sp.s.material, sp.triangle, sp.b1, sp.b2, sp.s.nc);
+    if (scene_has_instances && instance != INVALID_INDEX) sp.s = place_surface(sp.s, inst);
+    sp.transmission = scatters ? eval_transmission(sp.s.material, sp.triangle, sp.b1, sp.b2) : 0.0f;
+    sp.volume = scatters && effect_on(EFFECT_TRANSMISSION) && encloses_volume(sp.s.material);
     sp.eta_front = 1.0f;
+}
+
+// The whole shading point of a vertex that scatters, as the stages joining subpaths load it (they refuse motion
+// blur; shade.comp builds its points with the same two halves).
+ShadingPoint load_shading_point(uint triangle, float b1, float b2, uint instance) {
+    Instance inst;
+    ShadingPoint sp = begin_shading_point(triangle, b1, b2, instance, 0.5f, inst);
+    finish_shading_point(sp, instance, inst, true);
     return sp;
 }
 
