@@ -30,6 +30,10 @@ struct LensSettings {
 // `automatic` (--integrator auto, fredholm render only) is resolved by a pilot before any Renderer is built.
 enum class Integrator { path, light, bdpt, automatic };
 
+// --microfacet: rough metals give back the energy single-scattering GGX loses (shaders/lib/bsdf/ggx_multiscatter.glsl),
+// or keep the glTF spec's single scattering.
+enum class Microfacet { compensated, single };
+
 // Where a path's random numbers come from (shaders/lib/sampling/path_sampler.glsl).
 enum class Sampler { independent, sobol };
 
@@ -66,6 +70,7 @@ struct RenderSettings {
     // --wide-stores: shade stores its structs a texel (uvec4) at a time; off: field by field (to measure what the
     // wide stores buy). The image is the same.
     bool wide_stores = true;
+    Microfacet microfacet = Microfacet::compensated;
     uint32_t disabled_techniques = 0;  // layout.h TECHNIQUE_* bits switched off (cost measurements only)
     uint32_t bvh_max_leaf_size = 4;    // triangles per BVH leaf at most
     uint32_t disabled_effects = 0;     // --disable-effect: layout.h EFFECT_* bits compiled out (measurement only)

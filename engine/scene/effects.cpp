@@ -81,6 +81,7 @@ const std::vector<EffectInfo>& list_effects() {
         {gpu::EFFECT_VOLUME, "volume"},
         {gpu::EFFECT_ABSORPTION, "absorption"},
         {gpu::EFFECT_GLASS_MULTISCATTER, "glass-multiscatter"},
+        {gpu::EFFECT_GGX_MULTISCATTER, "ggx-multiscatter"},
         {gpu::EFFECT_CLEARCOAT, "clearcoat"},
         {gpu::EFFECT_CLEARCOAT_TEXTURE, "clearcoat-texture"},
         {gpu::EFFECT_CLEARCOAT_NORMAL_TEXTURE, "clearcoat-normal-texture"},
@@ -138,7 +139,7 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
 
     std::set<uint32_t> base, metal_rough, normal, emissive, alpha, glass, glass_texture, volume, absorbing, rough_glass;
     std::set<uint32_t> coat, coat_texture, coat_normal, unlit, sheen, sheen_texture, diffuse, diffuse_texture;
-    std::set<uint32_t> anisotropic, anisotropy_texture, film, film_texture, dispersive, specular;
+    std::set<uint32_t> anisotropic, anisotropy_texture, film, film_texture, dispersive, specular, rough_metal;
     for (uint32_t m : used) {
         const gpu::Material& mat = scene.materials[m];
         // An unlit material shows its base colour only: none of its layers is ever evaluated.
@@ -211,6 +212,9 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
         // The base's GGX reflection shows unless the material is Lambertian: metallic 0 (a metallicRoughnessTexture
         // only multiplies the factor) and specularFactor 0 (no specular layer: f0 = f90 = 0). Unlit: never evaluated.
         if (!(mat.flags & gpu::MATERIAL_UNLIT) && (mat.metallic > 0.0f || mat.specular_color.w > 0.0f)) specular.insert(m);
+        // Rough metal loses energy between its microfacets, given back by the multiple-scattering lobe (--microfacet
+        // compensated); textures only multiply the factors, so a factor of 0 keeps the product 0.
+        if (!(mat.flags & gpu::MATERIAL_UNLIT) && mat.metallic > 0.0f && mat.roughness > 0.0f) rough_metal.insert(m);
         const bool black_emission = mat.emission.r == 0.0f && mat.emission.g == 0.0f && mat.emission.b == 0.0f;
         if (slot_valid(mat.base_color_texture)) base.insert(m);
         // Metallic and roughness textures multiply their factors; a factor of 0 keeps the product 0.
@@ -256,6 +260,7 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
     by_materials(gpu::EFFECT_ABSORPTION, absorbing,
                  "no volume has a finite attenuationDistance with an attenuationColor below 1");
     by_materials(gpu::EFFECT_GLASS_MULTISCATTER, rough_glass, "no glass material has a roughness above 0");
+    by_materials(gpu::EFFECT_GGX_MULTISCATTER, rough_metal, "no visible material is a metal with a roughness above 0");
     by_materials(gpu::EFFECT_CLEARCOAT, coat, "no visible material has KHR_materials_clearcoat clearcoatFactor > 0");
     by_materials(gpu::EFFECT_CLEARCOAT_TEXTURE, coat_texture,
                  "no coated material has a clearcoatTexture or a clearcoatRoughnessTexture with a non-zero factor");
@@ -298,6 +303,14 @@ void decide_light_tree_effect(SceneEffects& effects, bool tree, std::string why)
     effects.bits &= ~gpu::EFFECT_LIGHT_TREE;
     std::erase_if(effects.decisions, [](const EffectDecision& d) { return d.bit == gpu::EFFECT_LIGHT_TREE; });
     add_decision(effects, gpu::EFFECT_LIGHT_TREE, tree, std::move(why));
+    sort_decisions(effects);
+}
+
+void decide_microfacet_effects(SceneEffects& effects, bool compensated) {
+    if (compensated || !(effects.bits & gpu::EFFECT_GGX_MULTISCATTER)) return;
+    effects.bits &= ~gpu::EFFECT_GGX_MULTISCATTER;
+    std::erase_if(effects.decisions, [](const EffectDecision& d) { return d.bit == gpu::EFFECT_GGX_MULTISCATTER; });
+    add_decision(effects, gpu::EFFECT_GGX_MULTISCATTER, false, "--microfacet single (the spec's single scattering)");
     sort_decisions(effects);
 }
 

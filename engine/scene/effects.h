@@ -45,6 +45,9 @@ void decide_light_tree_effect(SceneEffects& effects, bool tree, std::string why)
 // Sets the camera's decision (thin-lens: the render asks for an aperture above 0), replacing an earlier one.
 void decide_camera_effects(SceneEffects& effects, bool thin_lens);
 
+// --microfacet single: the rough metals' multiple-scattering lobe (EFFECT_GGX_MULTISCATTER) off, with the reason.
+void decide_microfacet_effects(SceneEffects& effects, bool compensated);
+
 // Sets the motion decision (motion-blur: a --shutter over which instances or the camera move), replacing an earlier one.
 void decide_motion_effects(SceneEffects& effects, bool has_shutter, size_t moving_instances, bool camera_moves);
 

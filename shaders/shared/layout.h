@@ -129,6 +129,8 @@ FH_CONST uint EFFECT_MOTION_BLUR = 536870912u;  // --shutter over which an insta
                                                 // a time, and moving transforms are interpolated (lib/geometry/motion.glsl)
 FH_CONST uint EFFECT_LIGHT_TREE = 1073741824u;  // --light-sampler tree: NEE picks lights by their importance at the
                                                 // shading point (lib/light/light_tree.glsl), not from the power alias table
+FH_CONST uint EFFECT_GGX_MULTISCATTER = 2147483648u;  // --microfacet compensated and a rough metal: the energy its GGX
+                                                      // loses, given back (shaders/lib/bsdf/ggx_multiscatter.glsl)
 FH_CONST uint EFFECT_ATTRIBUTES = EFFECT_BASE_COLOR_TEXTURE | EFFECT_METALLIC_ROUGHNESS_TEXTURE |
                                   EFFECT_NORMAL_TEXTURE | EFFECT_EMISSIVE_TEXTURE | EFFECT_VERTEX_COLORS |
                                   EFFECT_ALPHA | EFFECT_TRANSMISSION_TEXTURE | EFFECT_CLEARCOAT_TEXTURE |
@@ -140,7 +142,8 @@ FH_CONST uint EFFECT_MATERIAL = EFFECT_ATTRIBUTES | EFFECT_TRANSMISSION | EFFECT
                                 EFFECT_DIFFUSE_TRANSMISSION | EFFECT_ANISOTROPY |
                                 EFFECT_ANISOTROPY_TEXTURE | EFFECT_IRIDESCENCE |
                                 EFFECT_IRIDESCENCE_TEXTURE | EFFECT_SPECTRAL |
-                                EFFECT_GLASS_MULTISCATTER | EFFECT_SPECULAR;  // decided by the materials
+                                EFFECT_GLASS_MULTISCATTER | EFFECT_SPECULAR |
+                                EFFECT_GGX_MULTISCATTER;  // decided by the materials
 FH_CONST uint EFFECT_LIGHTS = EFFECT_EMISSIVE_TRIANGLES | EFFECT_PUNCTUAL_LIGHTS;  // decided by the light table
 // What --force-effect / --disable-effect may switch (to measure an effect's cost): all but the environment,
 // which follows --env / --background.

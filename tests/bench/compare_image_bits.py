@@ -9,6 +9,7 @@ clear-coated car and instances. Pixels are compared bit for bit with `fh_compare
 Khronos models in ../shared are used where present; a missing one is reported and skipped. Standard library only.
 
   python3 tests/bench/compare_image_bits.py /tmp/before/fredholm build/fredholm
+  python3 tests/bench/compare_image_bits.py /tmp/before/fredholm build/fredholm --after-args "--microfacet single"
 """
 import argparse
 import os
@@ -63,6 +64,7 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument('before', help='fredholm binary before the change')
     parser.add_argument('after', help='fredholm binary after the change')
+    parser.add_argument('--after-args', default='', help='options added to every render of the after build')
     parser.add_argument('--compare', default=os.path.join(ROOT, 'build/tests/render/fh_compare'),
                         help='fh_compare (built with the tests)')
     args = parser.parse_args()
@@ -75,7 +77,7 @@ def main():
                 continue
             a, b = os.path.join(tmp, name + '_before.exr'), os.path.join(tmp, name + '_after.exr')
             render(before, scene, options, a)
-            render(after, scene, options, b)
+            render(after, scene, options + args.after_args.split(), b)
             same = subprocess.run([args.compare, b, '--identical', a], capture_output=True, text=True)
             compared += 1
             verdict = 'identical' if same.returncode == 0 else 'DIFFERENT: ' + same.stdout.strip().splitlines()[-1]

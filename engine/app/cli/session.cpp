@@ -67,6 +67,7 @@ PreparedScene prepare_scene(const std::filesystem::path& file, const RenderSetti
     // --integrator auto chooses by pilot renders first (render_command.cpp), then the light sampler.
     if (settings.integrator != Integrator::automatic) apply_light_sampler(prepared, file, settings);
     decide_camera_effects(prepared.packed.effects, settings.lens.on());
+    decide_microfacet_effects(prepared.packed.effects, settings.microfacet == Microfacet::compensated);
     decide_motion_effects(prepared.packed.effects, settings.has_shutter(), prepared.scene.moving_instances,
                           choose_camera(prepared.scene, settings.camera).moves);
     return prepared;

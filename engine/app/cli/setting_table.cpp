@@ -142,6 +142,14 @@ std::vector<SettingInfo> make_table() {
                                               : std::string("all");
                  },
                  nullptr, "add_render_options (render/render_command.cpp)"});
+    t.push_back({"microfacet", "compensated|single",
+                 "rough metals: compensated (default) gives back the light that bounces between microfacets, so a "
+                 "white rough metal reflects all it receives; single: the glTF spec's single-scattering GGX",
+                 "fredholm:microfacet", "microfacet", true, true, "single",
+                 [](S& s, W w) {
+                     s.microfacet = parse_choice(w, {"compensated", "single"}) ? Microfacet::single : Microfacet::compensated;
+                 },
+                 [](const S& s) { return std::string(s.microfacet == Microfacet::single ? "single" : "compensated"); }});
     t.push_back({"nee", "on|off", "next-event estimation: on/off", "fredholm:nee", nullptr, true, true, nullptr,
                  [](S& s, W w) { s.nee = parse_on_off(w); }, [](const S& s) { return on_off(s.nee); }});
     t.push_back({"mis", "on|off", "multiple importance sampling: on/off", "fredholm:mis", nullptr, true, true, nullptr,

@@ -67,14 +67,16 @@ struct Session {
     SceneCamera camera;
     std::unique_ptr<vk::Context> context;
     std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
-    // The scene's lights set up for another light sampler or integrator than the command's (--vary light-sampler=...,
-    // integrator=...): prepared again, once per combination.
+    // The scene set up for another light sampler, integrator or microfacet model than the command's (--vary
+    // light-sampler=..., integrator=..., microfacet=...): prepared again, once per combination.
     mutable std::map<std::string, PreparedScene> other_lights;
 
     const PackedScene& packed_for(const RenderSettings& settings) const {
-        if (settings.light_sampler == command.settings.light_sampler && settings.integrator == command.settings.integrator)
+        if (settings.light_sampler == command.settings.light_sampler &&
+            settings.integrator == command.settings.integrator && settings.microfacet == command.settings.microfacet)
             return prepared.packed;
-        const std::string key = std::string(light_sampler_name(settings.light_sampler)) + "/" + to_string(settings.integrator);
+        const std::string key = std::string(light_sampler_name(settings.light_sampler)) + "/" +
+                                to_string(settings.integrator) + (settings.microfacet == Microfacet::single ? "/single" : "");
         auto it = other_lights.find(key);
         if (it == other_lights.end()) it = other_lights.emplace(key, prepare_scene(command.scene, settings)).first;
         return it->second.packed;

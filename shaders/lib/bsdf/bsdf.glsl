@@ -17,7 +17,12 @@
 // Standard Surface, OpenPBR and Dassault Enterprise PBR): E(mu) = max_value(f0) A(mu) + f90 B(mu) is the
 // specular layer's albedo, E_avg = 2 int E mu dmu (ggx_albedo.glsl). The albedo is then E_c(mu_o) +
 // base_color (1 - E(mu_o)) <= 1 per channel, and f stays reciprocal. specularFactor 0 (f0 = f90 = 0, E = 0)
-// gives exactly Lambert; metallic 1 gives exactly the spec's metal.
+// gives exactly Lambert; metallic 1 gives exactly the spec's metal with --microfacet single.
+//
+// DEVIATION (--microfacet compensated, the default): the spec's metal is single-scattering GGX, which loses the light
+// that bounces between microfacets (a white metal of roughness 1 reflects 0.4 of it at normal incidence). A lobe of
+// ggx_multiscatter.glsl gives it back (Kulla & Conty 2017; Cycles' multiscatter GGX and Filament do the same), so a
+// white rough metal conserves energy; reciprocal (shaders/lib/bsdf/README.md "Rough metal conserves energy").
 //
 // KHR_materials_transmission replaces a fraction `transmission` of the dielectric by the glass lobe of
 // dielectric.glsl (its own exact-Fresnel reflection and the refraction or thin-walled pass-through):
@@ -100,8 +105,14 @@ using fh::gpu::Material;  // C++: include shaders/shared/layout.h at global scop
 #define BSDF_HAS_GLASS_MULTISCATTER true
 #endif
 #define GLASS_HAS_MULTISCATTER BSDF_HAS_GLASS_MULTISCATTER
+// --microfacet compensated: the metal's multiple-scattering lobe (ggx_multiscatter.glsl, EFFECT_GGX_MULTISCATTER);
+// false (--microfacet single) leaves the spec's single-scattering metal, bit for bit.
+#ifndef BSDF_HAS_GGX_MULTISCATTER
+#define BSDF_HAS_GGX_MULTISCATTER true
+#endif
 #include "lib/bsdf/ggx.glsl"
 #include "lib/bsdf/ggx_albedo.glsl"
+#include "lib/bsdf/ggx_multiscatter.glsl"
 #include "lib/bsdf/dielectric.glsl"
 #include "lib/bsdf/sheen.glsl"
 
@@ -153,10 +164,16 @@ struct BsdfParams {
     vec3 diffuse_transmission_color;  // the colour it takes on the way
     // KHR_materials_iridescence: the film is glass.film (the glass lobe's and the opaque lobes' alike), and
     vec2 film_albedo_bound; // (a, b) of its Fresnel envelope a (1 - w) + b w (see the top of the file)
+    vec3 metal_multiscatter;  // F_ms of the metal's multiple-scattering lobe (ggx_multiscatter.glsl); 0: none
+    float multiscatter_norm;  // its 1 / (pi (1 - E_avg))
 };
 
 // Floor of 1 - E_avg (approached only by f0 = f90 = 1 at small alpha): loses energy, never adds it.
 const float BSDF_MIN_DIFFUSE_TRANSMITTANCE = 1.0e-4f;
+
+bool has_ggx_multiscatter(BsdfParams p) {
+    return BSDF_HAS_GGX_MULTISCATTER && p.multiscatter_norm > 0.0f;
+}
 
 bool has_iridescence(BsdfParams p) {
     return BSDF_HAS_IRIDESCENCE && p.glass.film.weight > 0.0f;
@@ -211,6 +228,8 @@ BsdfParams make_bsdf_params(Material m) {
     p.diffuse_transmission_color = vec3(1.0f);
     p.film_albedo_bound = vec2(0.0f);
     p.glass.film = make_no_film();
+    p.metal_multiscatter = vec3(0.0f);
+    p.multiscatter_norm = 0.0f;
     if (!BSDF_HAS_SPECULAR) {
         // Lambert alone (--disable-effect specular on a scene with a specular lobe leaves it out: metal is black).
         p.f0_dielectric = vec3(0.0f);
@@ -218,7 +237,16 @@ BsdfParams make_bsdf_params(Material m) {
         p.diffuse_scale = 1.0f;
         return p;
     }
-    return normalise_diffuse(p, ggx_albedo_average(p.alpha));
+    vec2 average = ggx_albedo_average(p.alpha);
+    if (BSDF_HAS_GGX_MULTISCATTER && p.metallic > 0.0f && p.alpha > BSDF_MIN_ALPHA) {
+        // The metal's multiple-scattering lobe; roughness 0 (alpha at its minimum) loses nothing and gets none.
+        float e_average = min(average.x + average.y, 1.0f);
+        if (1.0f - e_average > GGX_MULTISCATTER_MIN_LOSS) {
+            p.metal_multiscatter = ggx_multiscatter_fresnel(p.base_color, e_average);
+            p.multiscatter_norm = INV_PI / (1.0f - e_average);
+        }
+    }
+    return normalise_diffuse(p, average);
 }
 
 // Schlick 1994's weight (1 - cos)^5.
@@ -382,6 +410,7 @@ struct LobeAlbedos {
     float specular;
     float diffuse;
     float through;  // the diffusely transmitted share (KHR_materials_diffuse_transmission)
+    float multiscatter;  // the metal's multiple-scattering lobe (exact: F_ms (1 - E(cos_o)))
 };
 
 LobeAlbedos estimate_lobe_albedos(BsdfParams p, float cos_o, float opaque) {
@@ -398,6 +427,9 @@ LobeAlbedos estimate_lobe_albedos(BsdfParams p, float cos_o, float opaque) {
     vec3 e_dielectric = p.f0_dielectric * albedo.x + vec3(p.f90_dielectric * albedo.y);
     vec3 e_metal = p.base_color * albedo.x + vec3(albedo.y);
     a.specular = BSDF_HAS_SPECULAR ? luminance(mix(e_dielectric * opaque, e_metal, p.metallic)) : 0.0f;
+    a.multiscatter = 0.0f;
+    if (has_ggx_multiscatter(p))
+        a.multiscatter = p.metallic * luminance(p.metal_multiscatter) * (1.0f - min(albedo.x + albedo.y, 1.0f));
     return a;
 }
 
@@ -461,6 +493,8 @@ vec3 eval_base_bsdf(BsdfParams p, vec3 wo, vec3 wi) {
         dielectric = mix(dielectric, eval_glass(p.glass, wo, wi), p.transmission);
     }
     vec3 metal = f_metal * specular;
+    if (has_ggx_multiscatter(p))
+        metal += p.metal_multiscatter * eval_ggx_multiscatter(wo.z, wi.z, p.alpha, p.multiscatter_norm);
     return mix(dielectric, metal, p.metallic);
 }
 
@@ -469,7 +503,8 @@ vec3 eval_base_bsdf(BsdfParams p, vec3 wo, vec3 wi) {
 struct LobeChoice {
     float specular;
     float glass;
-    float through;  // Lambert through the surface (KHR_materials_diffuse_transmission)
+    float through;       // Lambert through the surface (KHR_materials_diffuse_transmission)
+    float multiscatter;  // uniform over the hemisphere: the metal's multiple-scattering lobe
 };
 
 // The glass lobe's share of the albedo, estimated as F(cos_o) + (1 - F) luminance(base_color).
@@ -486,8 +521,9 @@ LobeChoice choose_lobes(BsdfParams p, float cos_o) {
     LobeChoice c;
     c.glass = 0.0f;
     c.through = 0.0f;
+    c.multiscatter = 0.0f;
     bool glassy = has_glass(p);
-    if (!glassy && !has_sheen(p) && !has_diffuse_transmission(p)) {
+    if (!glassy && !has_sheen(p) && !has_diffuse_transmission(p) && !has_ggx_multiscatter(p)) {
         c.specular = specular_probability(p, cos_o);
         return c;
     }
@@ -497,11 +533,12 @@ LobeChoice choose_lobes(BsdfParams p, float cos_o) {
         // The sheen is sampled as the diffuse lobe is (cosine-weighted): its share joins the diffuse one.
         float below = sheen_transmittance(p, cos_o);
         a.specular *= below;
+        a.multiscatter *= below;
         glass *= below;
         a.diffuse = a.diffuse * below + estimate_sheen_albedo(p, cos_o);
         a.through *= below;
     }
-    float total = a.specular + a.diffuse + glass + a.through;
+    float total = a.specular + a.diffuse + glass + a.through + a.multiscatter;
     if (!(total > 0.0f)) {
         c.specular = 0.0f;
         c.glass = glassy ? 1.0f : 0.0f;
@@ -512,10 +549,12 @@ LobeChoice choose_lobes(BsdfParams p, float cos_o) {
     float q_diffuse = a.diffuse > 0.0f ? max(a.diffuse / total, BSDF_MIN_LOBE_PROBABILITY) : 0.0f;
     float q_glass = glass > 0.0f ? max(glass / total, BSDF_MIN_LOBE_PROBABILITY) : 0.0f;
     float q_through = a.through > 0.0f ? max(a.through / total, BSDF_MIN_LOBE_PROBABILITY) : 0.0f;
-    float norm = q_specular + q_diffuse + q_glass + q_through;
+    float q_multiscatter = a.multiscatter / total;  // its albedo is exact: no floor
+    float norm = q_specular + q_diffuse + q_glass + q_through + q_multiscatter;
     c.specular = q_specular / norm;
     c.glass = q_glass / norm;
     c.through = q_through / norm;
+    c.multiscatter = q_multiscatter / norm;
     return c;
 }
 
@@ -536,6 +575,9 @@ float pdf_bsdf_lobes(BsdfParams p, LobeChoice c, vec3 wo, vec3 wi) {
                              ? pdf_ggx_vndf_reflection_lobe(p.roughness, wo, normalize(wo + wi))
                              : 0.0f;
     float pdf = c.specular * pdf_specular + (1.0f - c.specular - c.glass - c.through) * pdf_cosine_hemisphere(wi.z);
+    if (BSDF_HAS_GGX_MULTISCATTER && c.multiscatter > 0.0f) {
+        pdf += c.multiscatter * (INV_TWO_PI - pdf_cosine_hemisphere(wi.z));  // its share taken from the cosine lobe
+    }
     if (c.glass > 0.0f) {
         pdf += c.glass * pdf_glass(p.glass, wo, wi);
     }
@@ -596,7 +638,8 @@ CoatChoice choose_coat(BsdfParams p, vec3 wo, LobeChoice c) {
         return coat;
     }
     LobeAlbedos a = estimate_lobe_albedos(p, wo.z, 1.0f - (c.glass > 0.0f ? p.transmission : 0.0f));
-    float base = a.specular + a.diffuse + a.through + (c.glass > 0.0f ? estimate_glass_albedo(p, wo.z) : 0.0f);
+    float base = a.specular + a.diffuse + a.through + a.multiscatter +
+                 (c.glass > 0.0f ? estimate_glass_albedo(p, wo.z) : 0.0f);
     if (has_sheen(p)) {
         base = base * sheen_transmittance(p, wo.z) + estimate_sheen_albedo(p, wo.z);
     }
@@ -629,7 +672,7 @@ float pdf_bsdf(BsdfParams p, vec3 wo, vec3 wi) {
 }
 
 // A direction from the base's lobes as `c` picks them with u.x (specular reflection, glass, Lambert through the
-// surface, Lambert), in xyz;
+// surface, the metal's multiple scattering, Lambert), in xyz;
 // w = 0 when there is none (a specular sample below the surface: not a reflection, nor, with glass, a
 // transmission of this lobe).
 vec4 sample_base_direction(BsdfParams p, LobeChoice c, vec3 wo, vec3 u) {
@@ -646,6 +689,8 @@ vec4 sample_base_direction(BsdfParams p, LobeChoice c, vec3 wo, vec3 u) {
     } else if (u.x < c.specular + c.glass + c.through) {
         wi = sample_cosine_hemisphere(vec2(u.y, u.z));
         wi.z = -wi.z;
+    } else if (BSDF_HAS_GGX_MULTISCATTER && u.x < c.specular + c.glass + c.through + c.multiscatter) {
+        wi = sample_uniform_hemisphere(vec2(u.y, u.z));
     } else {
         wi = sample_cosine_hemisphere(vec2(u.y, u.z));
     }

@@ -12,6 +12,7 @@
 #define BSDF_HAS_ANISOTROPY effect_on(EFFECT_ANISOTROPY)
 #define BSDF_HAS_IRIDESCENCE effect_on(EFFECT_IRIDESCENCE)
 #define BSDF_HAS_GLASS_MULTISCATTER effect_on(EFFECT_GLASS_MULTISCATTER)
+#define BSDF_HAS_GGX_MULTISCATTER effect_on(EFFECT_GGX_MULTISCATTER)
 #include "lib/bsdf/bsdf.glsl"
 #include "lib/material/clearcoat.glsl"
 #include "lib/material/sheen_layer.glsl"

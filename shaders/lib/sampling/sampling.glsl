@@ -69,6 +69,16 @@ float pdf_cosine_hemisphere(float cos_theta) {
     return max(cos_theta, 0.0f) * INV_PI;
 }
 
+const float INV_TWO_PI = 0.159154943091895f;
+
+// Uniform direction over the hemisphere around +z: pdf = 1 / (2 pi). z = 1 - u.x lies in (0, 1] for u.x in [0, 1).
+vec3 sample_uniform_hemisphere(vec2 u) {
+    float z = 1.0f - u.x;
+    float r = sqrt(max(0.0f, 1.0f - z * z));
+    float phi = TWO_PI * u.y;
+    return vec3(r * cos(phi), r * sin(phi), z);
+}
+
 // Uniform point on a triangle as barycentrics (b1, b2) of its second and third vertex (b0 = 1 - b1 - b2),
 // with the low-distortion square-to-triangle map of Heitz 2019 ("A Low-Distortion Map Between Triangle
 // and Square", as written in pbrt-v4 SampleUniformTriangle). b1 + b2 = max(u.x, u.y) < 1.

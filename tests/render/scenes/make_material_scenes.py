@@ -32,6 +32,10 @@ criterion, stated beside its test in tests/render/CMakeLists.txt:
                         300 nm thick (KHR_materials_iridescence, factor 1), seen head-on: the film's reflectance at
                         normal incidence, coloured by interference, (0.0949, 0.0432, 0.1217) in linear Rec.709 (the
                         extension's formula in double precision), where the bare base reflects a grey 0.04.
+  metal_furnace_r30.gltf, metal_furnace_r100.gltf
+                        a white metal sphere (metallic 1, roughness 0.3 or 1: the glTF default material), seen in
+                        perspective: with --microfacet compensated it keeps all the energy, so every pixel reads 1
+                        (a white furnace); the spec's single scattering keeps about 0.9 and 0.4 of it.
   unlit_quad.gltf       an unlit quad of base colour 0.5 (with an emissiveFactor of 1, which unlit ignores), seen
                         head-on: every camera ray sees exactly its base colour, 0.5, whatever lights the scene.
 """
@@ -50,6 +54,11 @@ def coated(base, roughness, clearcoat, clearcoat_roughness, specular=1.0):
             "extensions": {"KHR_materials_specular": {"specularFactor": specular},
                            "KHR_materials_clearcoat": {"clearcoatFactor": clearcoat,
                                                        "clearcoatRoughnessFactor": clearcoat_roughness}}}
+
+
+def white_metal(roughness):
+    return {"pbrMetallicRoughness": {"baseColorFactor": [1.0, 1.0, 1.0, 1.0], "metallicFactor": 1.0,
+                                     "roughnessFactor": roughness}}
 
 
 def scene(material, shape, camera):
@@ -140,6 +149,10 @@ def main():
         "isotropic_highlight": highlight(0.0, 0.0),
         "film_black_quad": film_black_quad(),
         "unlit_quad": unlit_quad(),
+        "metal_furnace_r30": scene(white_metal(0.3), icosphere(4),
+                                   lambda g: g.add_perspective_camera({"translation": [0.0, 0.0, 3.0]}, 0.8)),
+        "metal_furnace_r100": scene(white_metal(1.0), icosphere(4),
+                                    lambda g: g.add_perspective_camera({"translation": [0.0, 0.0, 3.0]}, 0.8)),
     }
     for name, g in scenes.items():
         g.write(out / f"{name}.gltf")

@@ -105,7 +105,8 @@ TEST(GltfTextures, ReadsSlotsSamplersTransformsAndTheImage) {
     const fh::SceneEffects effects = fh::analyse_effects(s, false);
     EXPECT_EQ(effects.bits, gpu::EFFECT_BASE_COLOR_TEXTURE | gpu::EFFECT_METALLIC_ROUGHNESS_TEXTURE |
                                 gpu::EFFECT_NORMAL_TEXTURE | gpu::EFFECT_VERTEX_COLORS | gpu::EFFECT_ALPHA |
-                                gpu::EFFECT_SPECULAR);  // glTF's default dielectric has a 4% specular layer
+                                gpu::EFFECT_SPECULAR |  // glTF's default material: metallic 1, roughness 1
+                                gpu::EFFECT_GGX_MULTISCATTER);  // a rough metal
 }
 
 // Effects are decided by value: a normal texture of scale 0, an opaque BLEND, white vertex colours and an
@@ -136,6 +137,27 @@ TEST(GltfTextures, SpecularLobeIsDecidedByValue) {
     EXPECT_EQ(fh::analyse_effects(s, false).bits & specular, specular);
     s.materials[0].flags |= gpu::MATERIAL_UNLIT;
     EXPECT_EQ(fh::analyse_effects(s, false).bits & specular, 0u);
+}
+
+// The metal's multiple-scattering lobe (--microfacet compensated) is an effect by value too: a metal of roughness above
+// 0 asks for it; roughness 0 (nothing lost), no metal or an unlit material do not; --microfacet single switches it off.
+TEST(GltfTextures, GgxMultiscatterIsDecidedByValue) {
+    Scene s = load_textured_triangle({{"pbrMetallicRoughness", {{"metallicFactor", 1.0}, {"roughnessFactor", 0.5}}}});
+    const uint32_t multiscatter = gpu::EFFECT_GGX_MULTISCATTER;
+    fh::SceneEffects effects = fh::analyse_effects(s, false);
+    EXPECT_EQ(effects.bits & multiscatter, multiscatter);
+    fh::decide_microfacet_effects(effects, true);
+    EXPECT_EQ(effects.bits & multiscatter, multiscatter);
+    fh::decide_microfacet_effects(effects, false);
+    EXPECT_EQ(effects.bits & multiscatter, 0u);
+    s.materials[0].roughness = 0.0f;
+    EXPECT_EQ(fh::analyse_effects(s, false).bits & multiscatter, 0u);
+    s.materials[0].roughness = 0.5f;
+    s.materials[0].metallic = 0.0f;
+    EXPECT_EQ(fh::analyse_effects(s, false).bits & multiscatter, 0u);
+    s.materials[0].metallic = 1.0f;
+    s.materials[0].flags |= gpu::MATERIAL_UNLIT;
+    EXPECT_EQ(fh::analyse_effects(s, false).bits & multiscatter, 0u);
 }
 
 TEST(GltfTextures, MirroringFlipsTheBitangentSign) {
