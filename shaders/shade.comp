@@ -316,7 +316,9 @@ void shade_vertex(uint i, uint parity, out bool push_ray, out RayItem next, out 
         // colour (times its texture and COLOR_0); every other ray finds a black surface that ends the path
         // (shaders/lib/bsdf/README.md "Unlit").
         Instance inst;
-        ShadingPoint sp = begin_shading_point(hit.triangle, hit.b1, hit.b2, hit.instance, load_path_time(v.path), inst);
+        // The path's shutter time places a moving instance; a hit on the world's own triangles never reads it.
+        float time = scene_has_instances && hit.instance != INVALID_INDEX ? load_path_time(v.path) : 0.5f;
+        ShadingPoint sp = begin_shading_point(hit.triangle, hit.b1, hit.b2, hit.instance, time, inst);
         bool unlit = effect_on(EFFECT_UNLIT) && (sp.m.flags & MATERIAL_UNLIT) != 0u;
         bool may_extend = !unlit && (params.max_depth == 0u || v.segments < params.max_depth);
         finish_shading_point(sp, hit.instance, inst, may_extend);

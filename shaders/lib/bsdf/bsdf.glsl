@@ -240,7 +240,7 @@ BsdfParams make_bsdf_params(Material m) {
     vec2 average = ggx_albedo_average(p.alpha);
     if (BSDF_HAS_GGX_MULTISCATTER && p.metallic > 0.0f && p.alpha > BSDF_MIN_ALPHA) {
         // The metal's multiple-scattering lobe; roughness 0 (alpha at its minimum) loses nothing and gets none.
-        float e_average = min(average.x + average.y, 1.0f);
+        float e_average = white_ggx_albedo(average);
         if (1.0f - e_average > GGX_MULTISCATTER_MIN_LOSS) {
             p.metal_multiscatter = ggx_multiscatter_fresnel(p.base_color, e_average);
             p.multiscatter_norm = INV_PI / (1.0f - e_average);
@@ -429,7 +429,7 @@ LobeAlbedos estimate_lobe_albedos(BsdfParams p, float cos_o, float opaque) {
     a.specular = BSDF_HAS_SPECULAR ? luminance(mix(e_dielectric * opaque, e_metal, p.metallic)) : 0.0f;
     a.multiscatter = 0.0f;
     if (has_ggx_multiscatter(p))
-        a.multiscatter = p.metallic * luminance(p.metal_multiscatter) * (1.0f - min(albedo.x + albedo.y, 1.0f));
+        a.multiscatter = p.metallic * luminance(p.metal_multiscatter) * (1.0f - white_ggx_albedo(albedo));
     return a;
 }
 

@@ -16,10 +16,14 @@
 #define FH_GGX_MULTISCATTER_GLSL
 #include "lib/bsdf/ggx_albedo.glsl"
 
+// The white lobe's single-scattering albedo A + B from the table's terms (ggx_albedo or ggx_albedo_average).
+float white_ggx_albedo(vec2 albedo) {
+    return min(albedo.x + albedo.y, 1.0f);
+}
+
 // The white GGX lobe's single-scattering albedo at cos theta = mu.
 float ggx_white_albedo(float mu, float alpha) {
-    vec2 albedo = ggx_albedo(mu, alpha);
-    return min(albedo.x + albedo.y, 1.0f);
+    return white_ggx_albedo(ggx_albedo(mu, alpha));
 }
 
 // F_ms of a metal of colour f0 (see the top of the file), given E_avg.
