@@ -6,7 +6,7 @@
 namespace fh {
 
 uint32_t choose_wave_paths(bool cpu_device, const DeviceMemoryLimits& limits, const PackedScene& scene,
-                           uint32_t effects, uint32_t film_width, uint32_t film_height, const PathStore& store) {
+                           EffectBits effects, uint32_t film_width, uint32_t film_height, const PathStore& store) {
     const double per_path = bytes_per_path(scene, effects, store);
     uint32_t paths = cpu_device ? CPU_WAVE_PATHS : GPU_WAVE_PATHS;
     for (;; paths /= 2) {
@@ -29,7 +29,7 @@ bool is_cpu_device(const vk::Context& context) {
 
 }  // namespace
 
-uint32_t choose_wave_paths(const vk::Context& context, const PackedScene& scene, uint32_t effects,
+uint32_t choose_wave_paths(const vk::Context& context, const PackedScene& scene, EffectBits effects,
                            uint32_t film_width, uint32_t film_height, const PathStore& store) {
     return choose_wave_paths(is_cpu_device(context), query_memory_limits(context), scene, effects, film_width,
                              film_height, store);

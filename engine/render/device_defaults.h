@@ -29,9 +29,9 @@ constexpr uint32_t MIN_FITTING_WAVE_PATHS = 1u << 10;
 // `cpu_device`: VK_PHYSICAL_DEVICE_TYPE_CPU.
 // The film (film_width x film_height) counts towards the device's memory with the wave.
 uint32_t choose_wave_paths(bool cpu_device, const DeviceMemoryLimits& limits, const PackedScene& scene,
-                           uint32_t effects, uint32_t film_width = 1, uint32_t film_height = 1,
+                           EffectBits effects, uint32_t film_width = 1, uint32_t film_height = 1,
                            const PathStore& store = {});
-uint32_t choose_wave_paths(const vk::Context& context, const PackedScene& scene, uint32_t effects,
+uint32_t choose_wave_paths(const vk::Context& context, const PackedScene& scene, EffectBits effects,
                            uint32_t film_width, uint32_t film_height, const PathStore& store = {});
 
 // Whether --sort-rays auto sorts: on a GPU for scenes of at least MIN_AUTO_SORT_TRIANGLES stored triangles, never on

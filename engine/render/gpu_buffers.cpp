@@ -36,7 +36,7 @@ std::vector<float> flatten_albedo_tables() {
 
 // The glass albedo table in the order shaders/lib/tables/glass_albedo_table.glsl documents (EFFECT_GLASS_MULTISCATTER),
 // else one word.
-std::vector<float> flatten_glass_albedo_table(uint32_t effects) {
+std::vector<float> flatten_glass_albedo_table(EffectBits effects) {
     if (!(effects & gpu::EFFECT_GLASS_MULTISCATTER)) return {0.0f};
     return concatenate({tables::GLASS_ALBEDO_OUT, tables::GLASS_ALBEDO_IN, tables::GLASS_ALBEDO_AVERAGE_OUT,
                         tables::GLASS_ALBEDO_AVERAGE_IN, tables::GLASS_ALBEDO_K, tables::GLASS_ALBEDO_F_AVERAGE});
@@ -86,7 +86,7 @@ gpu::TriangleAttributes make_default_attributes() {
 }  // namespace
 
 GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& scene, const gpu::FrameParams& frame,
-                              uint32_t effects, const PathStore& store) {
+                              EffectBits effects, const PathStore& store) {
     GpuBuffers b;
     b.params = make_buffer(context, std::vector<gpu::FrameParams>{frame}, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
     b.nodes = make_texel_buffer(context, scene.nodes);
@@ -108,7 +108,7 @@ GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& sce
     b.shadow_rays = make_state_buffer(context, capacity * sizeof(gpu::ShadowRayItem), TEXELS);
     b.film = make_state_buffer(context, size_t(frame.film_width) * frame.film_height * sizeof(gpu::FilmPixel));
     // --force-effect of an attribute effect on a scene without attributes: the stages read defaults.
-    if (scene.attributes.empty() && (effects & gpu::EFFECT_ATTRIBUTES))
+    if (scene.attributes.empty() && (effects & ATTRIBUTE_EFFECTS))
         b.tri_attributes = make_texel_buffer(
             context, std::vector<gpu::TriangleAttributes>(std::max<size_t>(scene.positions.size(), 1),
                                                           make_default_attributes()));

@@ -52,7 +52,7 @@ struct GpuBuffers {
 // `effects`: the EFFECT_* set the stages are compiled with (buffers that only some effects read are sized
 // for them: estimate_render_memory); `store`: what each path keeps besides its state (BDPT, the ray sort).
 GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& scene, const gpu::FrameParams& frame,
-                              uint32_t effects, const PathStore& store = {});
+                              EffectBits effects, const PathStore& store = {});
 void bind_gpu_buffers(vk::BindingTable& table, const GpuBuffers& buffers);
 
 }  // namespace fh

@@ -31,7 +31,7 @@ uint32_t count_light_vertex_slots(const RenderSettings& settings) {
 }
 
 std::string find_light_tracing_obstacle(const PackedScene& scene, const RenderSettings& settings,
-                                        const SceneCamera& camera, uint32_t effects) {
+                                        const SceneCamera& camera, EffectBits effects) {
     if (settings.integrator == Integrator::bdpt) {
         if (settings.max_depth == 0 || settings.max_depth > BDPT_MAX_DEPTH)
             return "bidirectional path tracing stores each light subpath's vertices, so it needs --max-depth between 1 "
@@ -63,7 +63,7 @@ std::string find_light_tracing_obstacle(const PackedScene& scene, const RenderSe
 }
 
 void check_light_tracing(const std::string& where, const PackedScene& scene, const RenderSettings& settings,
-                         const SceneCamera& camera, uint32_t effects) {
+                         const SceneCamera& camera, EffectBits effects) {
     if (settings.bdpt_strategy_t != 0 && settings.integrator != Integrator::bdpt)
         throw std::invalid_argument(where + ": --bdpt-strategy needs --integrator bdpt");
     if (settings.integrator == Integrator::automatic)

@@ -15,12 +15,12 @@ namespace fh {
 // Empty when light tracing can render `scene` with `settings` through `camera`, whose stages are compiled for
 // `effects` (layout.h EFFECT_*); else why not, as one phrase ("the scene has an environment light ...").
 std::string find_light_tracing_obstacle(const PackedScene& scene, const RenderSettings& settings,
-                                        const SceneCamera& camera, uint32_t effects);
+                                        const SceneCamera& camera, EffectBits effects);
 
 // Throws std::invalid_argument "WHERE: --integrator light: REASON" (or bdpt) when find_light_tracing_obstacle finds one
 // (and only with --integrator light or bdpt); `where` names the scene file.
 void check_light_tracing(const std::string& where, const PackedScene& scene, const RenderSettings& settings,
-                         const SceneCamera& camera, uint32_t effects);
+                         const SceneCamera& camera, EffectBits effects);
 
 // Bidirectional path tracing keeps the light subpath's vertices with 1 .. max_depth - 2 segments for the camera
 // subpath to connect to (longer ones only reach the camera directly): this many per path in flight; 0 for the other

@@ -30,31 +30,31 @@ uint64_t MemoryEstimate::device_bytes() const {
     return total;
 }
 
-uint64_t attribute_bytes(const PackedScene& scene, uint32_t effects) {
-    if (scene.attributes.empty() && (effects & gpu::EFFECT_ATTRIBUTES))
+uint64_t attribute_bytes(const PackedScene& scene, EffectBits effects) {
+    if (scene.attributes.empty() && (effects & ATTRIBUTE_EFFECTS))
         return std::max<uint64_t>(scene.positions.size(), 1) * sizeof(gpu::TriangleAttributes);
     return array_bytes(scene.attributes);
 }
 
-uint64_t path_media_bytes(uint32_t wave_capacity, uint32_t effects) {
+uint64_t path_media_bytes(uint32_t wave_capacity, EffectBits effects) {
     return (effects & (gpu::EFFECT_VOLUME | gpu::EFFECT_ABSORPTION))
                ? uint64_t(wave_capacity) * gpu::MEDIUM_STACK_SIZE * sizeof(uint32_t)
                : gpu::MEDIUM_STACK_SIZE * sizeof(uint32_t);
 }
 
-uint64_t path_light_points_bytes(uint32_t wave_capacity, uint32_t effects) {
+uint64_t path_light_points_bytes(uint32_t wave_capacity, EffectBits effects) {
     return uint64_t((effects & gpu::EFFECT_LIGHT_TREE) ? wave_capacity : 1u) * sizeof(gpu::uvec4);
 }
 
-uint64_t glass_albedo_bytes(uint32_t effects) {
+uint64_t glass_albedo_bytes(EffectBits effects) {
     return uint64_t((effects & gpu::EFFECT_GLASS_MULTISCATTER) ? tables::GLASS_ALBEDO_TABLE_SIZE : 1) * sizeof(float);
 }
 
-uint64_t path_times_bytes(uint32_t wave_capacity, uint32_t effects) {
+uint64_t path_times_bytes(uint32_t wave_capacity, EffectBits effects) {
     return uint64_t((effects & gpu::EFFECT_MOTION_BLUR) ? wave_capacity : 1u) * sizeof(float);
 }
 
-uint64_t path_spectra_bytes(uint32_t wave_capacity, uint32_t effects) {
+uint64_t path_spectra_bytes(uint32_t wave_capacity, EffectBits effects) {
     return uint64_t((effects & gpu::EFFECT_SPECTRAL) ? wave_capacity : 1u) * sizeof(gpu::PathSpectrum);
 }
 
@@ -83,7 +83,7 @@ uint64_t path_mis_bytes(uint32_t wave_capacity, const PathStore& store) {
 }
 
 MemoryEstimate estimate_render_memory(const PackedScene& scene, uint32_t width, uint32_t height,
-                                      uint32_t wave_capacity, uint32_t effects, const PathStore& store) {
+                                      uint32_t wave_capacity, EffectBits effects, const PathStore& store) {
     const uint64_t capacity = wave_capacity;
     const uint64_t film = uint64_t(width) * height * sizeof(gpu::FilmPixel);
     MemoryEstimate e;
@@ -214,7 +214,7 @@ void check_render_memory(const MemoryEstimate& estimate, const DeviceMemoryLimit
     if (!problem.empty()) throw std::runtime_error(problem);
 }
 
-double bytes_per_path(const PackedScene& scene, uint32_t effects, const PathStore& store) {
+double bytes_per_path(const PackedScene& scene, EffectBits effects, const PathStore& store) {
     const auto bytes = [&](uint32_t capacity) {
         return estimate_render_memory(scene, 16, 16, capacity, effects, store).device_bytes();
     };

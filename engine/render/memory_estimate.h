@@ -46,14 +46,14 @@ struct DeviceMemoryLimits {
 // `effects`: the EFFECT_* set the stages are compiled with (scene/effects.h select_effects).
 // Bytes of the tri_attributes buffer: the scene's, or defaults for every triangle when `effects` read
 // attributes the scene has none of (--force-effect); and of the path media and path spectra buffers.
-uint64_t attribute_bytes(const PackedScene& scene, uint32_t effects);
-uint64_t path_media_bytes(uint32_t wave_capacity, uint32_t effects);
+uint64_t attribute_bytes(const PackedScene& scene, EffectBits effects);
+uint64_t path_media_bytes(uint32_t wave_capacity, EffectBits effects);
 // The shading point of each path's last NEE (EFFECT_LIGHT_TREE; else one element).
-uint64_t path_light_points_bytes(uint32_t wave_capacity, uint32_t effects);
-uint64_t path_spectra_bytes(uint32_t wave_capacity, uint32_t effects);
-uint64_t path_times_bytes(uint32_t wave_capacity, uint32_t effects);  // EFFECT_MOTION_BLUR
+uint64_t path_light_points_bytes(uint32_t wave_capacity, EffectBits effects);
+uint64_t path_spectra_bytes(uint32_t wave_capacity, EffectBits effects);
+uint64_t path_times_bytes(uint32_t wave_capacity, EffectBits effects);  // EFFECT_MOTION_BLUR
 // The glass albedo table's buffer: the whole table with EFFECT_GLASS_MULTISCATTER, else one word.
-uint64_t glass_albedo_bytes(uint32_t effects);
+uint64_t glass_albedo_bytes(EffectBits effects);
 
 // What a path in flight keeps besides its state, by what the render does. Bidirectional path tracing: its MIS
 // quantities (PathMis) and light_vertex_slots stored light-subpath vertices (LightVertex, render/light_tracing.h
@@ -70,7 +70,7 @@ uint64_t path_mis_bytes(uint32_t wave_capacity, const PathStore& store);
 uint64_t ray_sort_bytes(uint32_t wave_capacity, const PathStore& store);
 
 MemoryEstimate estimate_render_memory(const PackedScene& scene, uint32_t width, uint32_t height,
-                                      uint32_t wave_capacity, uint32_t effects, const PathStore& store = {});
+                                      uint32_t wave_capacity, EffectBits effects, const PathStore& store = {});
 // The same for a render with these settings (wave capacity as the Renderer picks it; wave_paths must be chosen:
 // render/device_defaults.h with_device_defaults).
 MemoryEstimate estimate_render_memory(const PackedScene& scene, const RenderSettings& settings);
@@ -85,7 +85,7 @@ void check_render_memory(const MemoryEstimate& estimate, const DeviceMemoryLimit
 
 // Device bytes each path in flight adds (the wave's buffers: path state, queues, and the per-path arrays of
 // `effects`), from the estimate at two wave sizes.
-double bytes_per_path(const PackedScene& scene, uint32_t effects, const PathStore& store = {});
+double bytes_per_path(const PackedScene& scene, EffectBits effects, const PathStore& store = {});
 
 // "1.50 GiB (1610612736 bytes)"
 std::string format_bytes(uint64_t bytes);

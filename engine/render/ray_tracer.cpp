@@ -26,10 +26,10 @@ gpu::FrameParams make_ray_frame(const PackedScene& scene, uint32_t capacity) {
     return frame;
 }
 
-StageOptions make_ray_stage_options(const PackedScene& scene, bool sort_rays, uint32_t disabled_effects) {
+StageOptions make_ray_stage_options(const PackedScene& scene, bool sort_rays, EffectBits disabled_effects) {
     StageOptions options;
     options.sort_rays = sort_rays;
-    options.effects = scene.effects.bits & ~gpu::EFFECT_MOTION_BLUR & ~disabled_effects;  // rays at the shutter's centre
+    options.effects = scene.effects.bits & ~EffectBits(gpu::EFFECT_MOTION_BLUR) & ~disabled_effects;  // rays at the shutter's centre
     options.instances = !scene.instances.empty();
     return options;
 }
@@ -37,7 +37,7 @@ StageOptions make_ray_stage_options(const PackedScene& scene, bool sort_rays, ui
 }  // namespace
 
 RayTracer::RayTracer(const vk::Context& context, const PackedScene& scene, uint32_t capacity, bool sort_rays,
-                     uint32_t disabled_effects)
+                     EffectBits disabled_effects)
     : context_(context),
       capacity_(capacity),
       stages_(context, make_ray_stage_options(scene, sort_rays, disabled_effects)),

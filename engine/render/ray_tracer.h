@@ -41,7 +41,7 @@ public:
     // compiled out: every triangle opaque, as a tracer without an alpha test sees them); `sort_rays`: each trace sorts
     // the rays first (render/ray_sort.h), its time included.
     RayTracer(const vk::Context& context, const PackedScene& scene, uint32_t capacity, bool sort_rays = false,
-              uint32_t disabled_effects = 0);
+              EffectBits disabled_effects = 0);
 
     // Traces `rays` (RayItem::path is ignored; origin_triangle in BVH leaf order) `repeats` times (count_on_device:
     // trace_ray_queue).

@@ -116,7 +116,7 @@ StageOptions make_stage_options(const PackedScene& scene, const RenderSettings& 
     o.disabled_techniques = s.disabled_techniques;
     // The environment cannot be forced or switched off: it follows --env / --background. The thin lens follows
     // the camera: a pinhole compiles no lens code.
-    o.effects = select_effects(scene.effects.bits, s.forced_effects, s.disabled_effects) & ~gpu::EFFECT_THIN_LENS;
+    o.effects = select_effects(scene.effects.bits, s.forced_effects, s.disabled_effects) & ~EffectBits(gpu::EFFECT_THIN_LENS);
     if (camera.has_lens()) o.effects |= gpu::EFFECT_THIN_LENS;
     o.instances = !scene.instances.empty();
     o.sampler = s.sampler == Sampler::sobol ? gpu::SAMPLER_SOBOL : gpu::SAMPLER_INDEPENDENT;

@@ -4,6 +4,7 @@
 #include <optional>
 #include <string>
 
+#include "scene/effect_bits.h"
 #include "scene/instancing.h"
 #include "scene/light/light_sampler.h"
 
@@ -73,8 +74,8 @@ struct RenderSettings {
     Microfacet microfacet = Microfacet::compensated;
     uint32_t disabled_techniques = 0;  // layout.h TECHNIQUE_* bits switched off (cost measurements only)
     uint32_t bvh_max_leaf_size = 4;    // triangles per BVH leaf at most
-    uint32_t disabled_effects = 0;     // --disable-effect: layout.h EFFECT_* bits compiled out (measurement only)
-    uint32_t forced_effects = 0;       // --force-effect: EFFECT_* bits compiled in although unused (measurement)
+    EffectBits disabled_effects = 0;     // --disable-effect: layout.h EFFECT_* bits compiled out (measurement only)
+    EffectBits forced_effects = 0;       // --force-effect: EFFECT_* bits compiled in although unused (measurement)
     std::string variant;               // --variant: KHR_materials_variants name (empty: the file's default)
     Instancing instancing = Instancing::automatic;  // --instancing auto|on|off
     // Light from outside the scene (engine/scene/README.md "Environment light"): an equirectangular map, or a constant.

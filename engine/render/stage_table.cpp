@@ -59,7 +59,8 @@ StageTable::StageTable(const vk::Context& context, const StageOptions& options)
     : options_(options), bindings_(context, binding_types(), sizeof(gpu::StagePush)) {
     std::array<uint32_t, gpu::SPEC_CONSTANT_COUNT> spec{};
     spec[gpu::SPEC_DISABLED_TECHNIQUES] = options.disabled_techniques;
-    spec[gpu::SPEC_EFFECTS] = options.effects;
+    spec[gpu::SPEC_EFFECTS] = low_effect_word(options.effects);
+    spec[gpu::SPEC_EFFECTS_2] = high_effect_word(options.effects);
     spec[gpu::SPEC_HAS_INSTANCES] = options.instances ? 1u : 0u;
     spec[gpu::SPEC_SAMPLER] = options.sampler;
     spec[gpu::SPEC_SORT_RAYS] = options.sort_rays ? 1u : 0u;

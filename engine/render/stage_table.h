@@ -18,7 +18,7 @@ const char* stage_name(Stage stage);
 // What the pipelines are specialised for (layout.h SPEC_*): branches a scene does not need compile away.
 struct StageOptions {
     uint32_t disabled_techniques = 0;       // layout.h TECHNIQUE_* bits switched off
-    uint32_t effects = 0;                   // layout.h EFFECT_* bits (scene/effects.h)
+    EffectBits effects = 0;                   // layout.h EFFECT_* bits (scene/effects.h)
     bool instances = false;                 // two-level BVH (pack.h PackedScene::instances)
     uint32_t sampler = 0;                   // layout.h SAMPLER_*
     Integrator integrator = Integrator::path;  // which stages are built, and which SPIR-V (FH_INTEGRATOR): BDPT builds both sides'

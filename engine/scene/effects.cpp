@@ -43,7 +43,7 @@ const std::vector<EffectInfo>& list_effects();
 namespace {
 
 // Records one row of the effect table, switching the effect on when `on`.
-void add_decision(SceneEffects& effects, uint32_t bit, bool on, std::string why) {
+void add_decision(SceneEffects& effects, EffectBits bit, bool on, std::string why) {
     if (on) effects.bits |= bit;
     for (const EffectInfo& e : list_effects())
         if (e.bit == bit) effects.decisions.push_back({bit, e.name, on, std::move(why)});
@@ -51,7 +51,7 @@ void add_decision(SceneEffects& effects, uint32_t bit, bool on, std::string why)
 
 // Keeps the table in list_effects() order.
 void sort_decisions(SceneEffects& effects) {
-    auto rank = [](uint32_t bit) {
+    auto rank = [](EffectBits bit) {
         const std::vector<EffectInfo>& all = list_effects();
         for (size_t i = 0; i < all.size(); ++i)
             if (all[i].bit == bit) return i;
@@ -72,6 +72,8 @@ const std::vector<EffectInfo>& list_effects() {
         {gpu::EFFECT_VERTEX_COLORS, "vertex-colors"},
         {gpu::EFFECT_ALPHA, "alpha"},
         {gpu::EFFECT_SPECULAR, "specular"},
+        {EFFECT_SPECULAR_TEXTURE, "specular-texture"},
+        {EFFECT_GLOSSINESS_TEXTURE, "glossiness-texture"},
         {gpu::EFFECT_EMISSIVE_TRIANGLES, "emissive-triangles"},
         {gpu::EFFECT_PUNCTUAL_LIGHTS, "punctual-lights"},
         {gpu::EFFECT_LIGHT_TREE, "light-tree"},
@@ -101,17 +103,17 @@ const std::vector<EffectInfo>& list_effects() {
     return effects;
 }
 
-uint32_t find_switchable_effect(const std::string& name) {
+EffectBits find_switchable_effect(const std::string& name) {
     std::string names;
     for (const EffectInfo& e : list_effects()) {
-        if (!(e.bit & gpu::EFFECT_SWITCHABLE)) continue;
+        if (!(e.bit & SWITCHABLE_EFFECTS)) continue;
         if (name == e.name) return e.bit;
         names += (names.empty() ? "" : ", ") + std::string(e.name);
     }
     throw std::invalid_argument("unknown or not switchable effect '" + name + "' (" + names + ")");
 }
 
-std::string describe_effects(uint32_t bits) {
+std::string describe_effects(EffectBits bits) {
     std::string out;
     for (const EffectInfo& e : list_effects())
         if (bits & e.bit) out += (out.empty() ? "" : ",") + std::string(e.name);
@@ -140,6 +142,7 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
     std::set<uint32_t> base, metal_rough, normal, emissive, alpha, glass, glass_texture, volume, absorbing, rough_glass;
     std::set<uint32_t> coat, coat_texture, coat_normal, unlit, sheen, sheen_texture, diffuse, diffuse_texture;
     std::set<uint32_t> anisotropic, anisotropy_texture, film, film_texture, dispersive, specular, rough_metal;
+    std::set<uint32_t> specular_texture, glossiness_texture;
     for (uint32_t m : used) {
         const gpu::Material& mat = scene.materials[m];
         // An unlit material shows its base colour only: none of its layers is ever evaluated.
@@ -212,6 +215,17 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
         // The base's GGX reflection shows unless the material is Lambertian: metallic 0 (a metallicRoughnessTexture
         // only multiplies the factor) and specularFactor 0 (no specular layer: f0 = f90 = 0). Unlit: never evaluated.
         if (!(mat.flags & gpu::MATERIAL_UNLIT) && (mat.metallic > 0.0f || mat.specular_color.w > 0.0f)) specular.insert(m);
+        // KHR_materials_specular textures multiply the dielectric's factors: they show where the specular layer does
+        // (specularFactor > 0, some metallic below 1) and, for the colour, where specularColorFactor is not black. A
+        // specular-glossiness map's alpha sets the roughness where glossinessFactor > 0 (roughness factor < 1).
+        const bool dielectric_specular = !(mat.flags & gpu::MATERIAL_UNLIT) && mat.specular_color.w > 0.0f &&
+                                         (mat.metallic < 1.0f || slot_valid(mat.metallic_roughness_texture));
+        const bool colored = mat.specular_color.x > 0.0f || mat.specular_color.y > 0.0f || mat.specular_color.z > 0.0f;
+        if (dielectric_specular && (slot_valid(mat.specular_texture) || (slot_valid(mat.specular_color_texture) && colored)))
+            specular_texture.insert(m);
+        if (dielectric_specular && slot_valid(mat.specular_color_texture) &&
+            (mat.flags & gpu::MATERIAL_GLOSSINESS_IN_ALPHA) && mat.roughness < 1.0f)
+            glossiness_texture.insert(m);
         // Rough metal loses energy between its microfacets, given back by the multiple-scattering lobe (--microfacet
         // compensated); textures only multiply the factors, so a factor of 0 keeps the product 0.
         if (!(mat.flags & gpu::MATERIAL_UNLIT) && mat.metallic > 0.0f && mat.roughness > 0.0f) rough_metal.insert(m);
@@ -237,8 +251,8 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
     }
 
     SceneEffects effects;
-    auto decide = [&](uint32_t bit, bool on, std::string why) { add_decision(effects, bit, on, std::move(why)); };
-    auto by_materials = [&](uint32_t bit, const std::set<uint32_t>& materials, const char* absent) {
+    auto decide = [&](EffectBits bit, bool on, std::string why) { add_decision(effects, bit, on, std::move(why)); };
+    auto by_materials = [&](EffectBits bit, const std::set<uint32_t>& materials, const char* absent) {
         decide(bit, !materials.empty(), materials.empty() ? absent : list_materials(materials));
     };
     by_materials(gpu::EFFECT_BASE_COLOR_TEXTURE, base, "no visible material has a baseColorTexture");
@@ -252,6 +266,10 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
     by_materials(gpu::EFFECT_ALPHA, alpha, "every visible material is opaque (OPAQUE, or alpha 1 everywhere)");
     by_materials(gpu::EFFECT_SPECULAR, specular,
                  "every visible material is Lambertian (metallic 0 and KHR_materials_specular specularFactor 0)");
+    by_materials(EFFECT_SPECULAR_TEXTURE, specular_texture,
+                 "no visible dielectric specular layer has a KHR_materials_specular or specular-glossiness texture");
+    by_materials(EFFECT_GLOSSINESS_TEXTURE, glossiness_texture,
+                 "no visible material has a specularGlossinessTexture with glossinessFactor > 0");
     decide(gpu::EFFECT_ENVIRONMENT, environment, environment ? "--env or --background" : "no --env or --background");
     by_materials(gpu::EFFECT_TRANSMISSION, glass,
                  "no visible material has KHR_materials_transmission > 0 on a dielectric");
@@ -288,7 +306,7 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
 
 void decide_light_effects(SceneEffects& effects, const std::set<uint32_t>& emitting_materials, size_t emitting_triangles,
                           size_t punctual_lights) {
-    auto decide = [&](uint32_t bit, bool on, std::string why) { add_decision(effects, bit, on, std::move(why)); };
+    auto decide = [&](EffectBits bit, bool on, std::string why) { add_decision(effects, bit, on, std::move(why)); };
     decide(gpu::EFFECT_EMISSIVE_TRIANGLES, emitting_triangles > 0,
            emitting_triangles > 0 ? std::to_string(emitting_triangles) + " emitting triangles, " +
                                         list_materials(emitting_materials)
@@ -300,7 +318,7 @@ void decide_light_effects(SceneEffects& effects, const std::set<uint32_t>& emitt
 }
 
 void decide_light_tree_effect(SceneEffects& effects, bool tree, std::string why) {
-    effects.bits &= ~gpu::EFFECT_LIGHT_TREE;
+    effects.bits &= ~EffectBits(gpu::EFFECT_LIGHT_TREE);
     std::erase_if(effects.decisions, [](const EffectDecision& d) { return d.bit == gpu::EFFECT_LIGHT_TREE; });
     add_decision(effects, gpu::EFFECT_LIGHT_TREE, tree, std::move(why));
     sort_decisions(effects);
@@ -308,14 +326,14 @@ void decide_light_tree_effect(SceneEffects& effects, bool tree, std::string why)
 
 void decide_microfacet_effects(SceneEffects& effects, bool compensated) {
     if (compensated || !(effects.bits & gpu::EFFECT_GGX_MULTISCATTER)) return;
-    effects.bits &= ~gpu::EFFECT_GGX_MULTISCATTER;
+    effects.bits &= ~EffectBits(gpu::EFFECT_GGX_MULTISCATTER);
     std::erase_if(effects.decisions, [](const EffectDecision& d) { return d.bit == gpu::EFFECT_GGX_MULTISCATTER; });
     add_decision(effects, gpu::EFFECT_GGX_MULTISCATTER, false, "--microfacet single (the spec's single scattering)");
     sort_decisions(effects);
 }
 
 void decide_camera_effects(SceneEffects& effects, bool thin_lens) {
-    effects.bits &= ~gpu::EFFECT_THIN_LENS;
+    effects.bits &= ~EffectBits(gpu::EFFECT_THIN_LENS);
     std::erase_if(effects.decisions, [](const EffectDecision& d) { return d.bit == gpu::EFFECT_THIN_LENS; });
     add_decision(effects, gpu::EFFECT_THIN_LENS, thin_lens,
                  thin_lens ? "--aperture or --aperture-radius above 0" : "a pinhole camera (no --aperture)");
@@ -323,7 +341,7 @@ void decide_camera_effects(SceneEffects& effects, bool thin_lens) {
 }
 
 void decide_motion_effects(SceneEffects& effects, bool has_shutter, size_t moving_instances, bool camera_moves) {
-    effects.bits &= ~gpu::EFFECT_MOTION_BLUR;
+    effects.bits &= ~EffectBits(gpu::EFFECT_MOTION_BLUR);
     std::erase_if(effects.decisions, [](const EffectDecision& d) { return d.bit == gpu::EFFECT_MOTION_BLUR; });
     std::string why = !has_shutter ? "no --shutter"
                                    : "nothing moves during the shutter (no instance, and not the camera)";
@@ -335,8 +353,8 @@ void decide_motion_effects(SceneEffects& effects, bool has_shutter, size_t movin
     sort_decisions(effects);
 }
 
-uint32_t select_effects(uint32_t analysed, uint32_t forced, uint32_t disabled) {
-    return (analysed | (forced & gpu::EFFECT_SWITCHABLE)) & ~(disabled & gpu::EFFECT_SWITCHABLE);
+EffectBits select_effects(EffectBits analysed, EffectBits forced, EffectBits disabled) {
+    return (analysed | (forced & SWITCHABLE_EFFECTS)) & ~(disabled & SWITCHABLE_EFFECTS);
 }
 
 }  // namespace fh

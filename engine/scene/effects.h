@@ -1,6 +1,7 @@
 // The effects a scene calls for, decided by value (a texture of a material no triangle uses, a BLEND material
 // whose alpha is 1 everywhere, white vertex colours: none of these switch an effect on). The stages are
-// compiled for exactly this set (layout.h EFFECT_*, specialization constant SPEC_EFFECTS).
+// compiled for exactly this set (layout.h EFFECT_* and EFFECT2_*, specialization constants SPEC_EFFECTS and
+// SPEC_EFFECTS_2).
 #pragma once
 #include <cstddef>
 #include <cstdint>
@@ -8,25 +9,34 @@
 #include <string>
 #include <vector>
 
+#include "scene/effect_bits.h"
 #include "scene/scene.h"
 
 namespace fh {
 
+// The second word's effects as EffectBits.
+constexpr EffectBits EFFECT_SPECULAR_TEXTURE = effect2_bit(gpu::EFFECT2_SPECULAR_TEXTURE);
+constexpr EffectBits EFFECT_GLOSSINESS_TEXTURE = effect2_bit(gpu::EFFECT2_GLOSSINESS_TEXTURE);
+// layout.h's groups over both words: what reads TriangleAttributes, and what --force-effect / --disable-effect may
+// switch.
+constexpr EffectBits ATTRIBUTE_EFFECTS = gpu::EFFECT_ATTRIBUTES | effect2_bit(gpu::EFFECT2_ATTRIBUTES);
+constexpr EffectBits SWITCHABLE_EFFECTS = gpu::EFFECT_SWITCHABLE | effect2_bit(gpu::EFFECT2_SWITCHABLE);
+
 struct EffectInfo {
-    uint32_t bit;
+    EffectBits bit;
     const char* name;  // as --stats and the EXR metadata print it
 };
 const std::vector<EffectInfo>& list_effects();
 
 struct EffectDecision {
-    uint32_t bit;
+    EffectBits bit;
     const char* name;
     bool on;
     std::string why;  // which materials ask for it, or why it is off
 };
 
 struct SceneEffects {
-    uint32_t bits = 0;
+    EffectBits bits = 0;
     std::vector<EffectDecision> decisions;  // one per list_effects() entry
 };
 
@@ -52,15 +62,15 @@ void decide_microfacet_effects(SceneEffects& effects, bool compensated);
 void decide_motion_effects(SceneEffects& effects, bool has_shutter, size_t moving_instances, bool camera_moves);
 
 // The effect set the stages are compiled with: the analysed one, with --force-effect and --disable-effect
-// applied to the switchable effects (EFFECT_SWITCHABLE; the environment and the thin lens follow the command line;
+// applied to the switchable effects (SWITCHABLE_EFFECTS; the environment and the thin lens follow the command line;
 // motion blur, decided by the motion, may be switched off).
-uint32_t select_effects(uint32_t analysed, uint32_t forced, uint32_t disabled);
+EffectBits select_effects(EffectBits analysed, EffectBits forced, EffectBits disabled);
 
-// The bit of a switchable effect (EFFECT_SWITCHABLE) named as list_effects() names it; throws
+// The bit of a switchable effect (SWITCHABLE_EFFECTS) named as list_effects() names it; throws
 // std::invalid_argument naming the switchable effects when `name` is not one of them.
-uint32_t find_switchable_effect(const std::string& name);
+EffectBits find_switchable_effect(const std::string& name);
 
 // "base-color-texture,alpha,..." (or "none").
-std::string describe_effects(uint32_t bits);
+std::string describe_effects(EffectBits bits);
 
 }  // namespace fh

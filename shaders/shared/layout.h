@@ -89,7 +89,8 @@ FH_CONST uint SPEC_EFFECTS = 1u;                   // EFFECT_* bits: what the sc
 FH_CONST uint SPEC_HAS_INSTANCES = 2u;             // bool: two-level BVH (meshes drawn by several nodes)
 FH_CONST uint SPEC_SAMPLER = 3u;                   // SAMPLER_*: where a path's random numbers come from
 FH_CONST uint SPEC_SORT_RAYS = 4u;                 // bool: the ray sort's stages are built (shade bins what it pushes)
-FH_CONST uint SPEC_CONSTANT_COUNT = 5u;
+FH_CONST uint SPEC_EFFECTS_2 = 5u;                 // EFFECT2_* bits: the effects beyond the first word's 32
+FH_CONST uint SPEC_CONSTANT_COUNT = 6u;
 
 // ---- Effects (engine/scene/effects.h decides them by value; a stage compiles only the code of those set) ----
 FH_CONST uint EFFECT_BASE_COLOR_TEXTURE = 1u;      // some visible material has a baseColorTexture
@@ -150,6 +151,14 @@ FH_CONST uint EFFECT_LIGHTS = EFFECT_EMISSIVE_TRIANGLES | EFFECT_PUNCTUAL_LIGHTS
 // Motion blur may be switched off: everything then stands where it is at the shutter's centre.
 FH_CONST uint EFFECT_SWITCHABLE = EFFECT_MATERIAL | EFFECT_LIGHTS | EFFECT_MOTION_BLUR;
 
+// ---- Effects of the second word (SPEC_EFFECTS_2; C++ holds them above bit 31 of an EffectBits, scene/effects.h) ----
+FH_CONST uint EFFECT2_SPECULAR_TEXTURE = 1u;    // KHR_materials_specular specularTexture (A) / specularColorTexture
+                                                // (RGB, sRGB), and the specular colour of a specular-glossiness map
+FH_CONST uint EFFECT2_GLOSSINESS_TEXTURE = 2u;  // KHR_materials_pbrSpecularGlossiness: roughness = 1 - glossiness from
+                                                // the specular colour texture's alpha (MATERIAL_GLOSSINESS_IN_ALPHA)
+FH_CONST uint EFFECT2_ATTRIBUTES = EFFECT2_SPECULAR_TEXTURE | EFFECT2_GLOSSINESS_TEXTURE;  // read TriangleAttributes
+FH_CONST uint EFFECT2_SWITCHABLE = EFFECT2_ATTRIBUTES;  // all decided by the materials
+
 // ---- Robustness techniques (all on by default; `--disable-technique` turns one off to measure its cost and
 // to show what goes wrong without it). tests/README.md "Numerical stability" has the table.
 FH_CONST uint TECHNIQUE_WATERTIGHT = 1u;        // Woop et al. 2013 triangle test (off: Moller-Trumbore 1997)
@@ -175,6 +184,8 @@ FH_CONST uint PATH_MIS_LIGHT_AT_INFINITY = 1u;  // PathMis.flags: the light subp
                                                 // environment (its first segment has no distance to convert)
 FH_CONST uint MATERIAL_DOUBLE_SIDED = 1u;  // Material.flags
 FH_CONST uint MATERIAL_UNLIT = 2u;         // Material.flags: KHR_materials_unlit (EFFECT_UNLIT)
+FH_CONST uint MATERIAL_GLOSSINESS_IN_ALPHA = 4u;  // Material.flags: specular_color_texture's alpha is glossiness
+                                                  // (KHR_materials_pbrSpecularGlossiness; EFFECT2_GLOSSINESS_TEXTURE)
 FH_CONST uint PATH_SECONDARIES_TERMINATED = 1u;  // PathSpectrum.flags: only the hero wavelength goes on
 FH_CONST uint LAYERS_VOLUME = 1u;          // MaterialLayers.flags: the mesh bounds a volume (thicknessFactor > 0)
 FH_CONST uint TRIANGLE_HAS_NORMALS = 1u;   // TriangleShading.flags: vertex normals present
@@ -296,14 +307,15 @@ struct Material {
     float metallic;
     float roughness;        // perceptual; alpha = roughness^2
     float ior;              // KHR_materials_ior (1.5 by default)
-    uint flags;             // MATERIAL_DOUBLE_SIDED, MATERIAL_UNLIT
+    uint flags;             // MATERIAL_DOUBLE_SIDED, MATERIAL_UNLIT, MATERIAL_GLOSSINESS_IN_ALPHA
     uint base_color_texture;
     uint metallic_roughness_texture;
     uint normal_texture;
     uint emissive_texture;
     uint alpha_mode;        // ALPHA_OPAQUE / ALPHA_MASK / ALPHA_BLEND
     float alpha_cutoff;     // MASK: present where alpha >= alpha_cutoff
-    float pad0, pad1;
+    uint specular_texture;        // KHR_materials_specular specularTexture (A: specularFactor), or INVALID_INDEX
+    uint specular_color_texture;  // specularColorTexture (RGB, sRGB), or INVALID_INDEX
 };
 
 // What the KHR material extensions add to a Material (same index), in its own array so that a scene whose

@@ -62,8 +62,9 @@ def main():
     out.mkdir(parents=True, exist_ok=True)
     count = 0
     # The textured, alpha and emitter scenes of the render tests (embedded PNGs: seeds for the image decoders).
-    # The animated square of the camera scenes: a seed for the animation sampler.
-    for script in ("make_asset_scenes.py", "make_camera_scenes.py"):
+    # The animated square of the camera scenes: a seed for the animation sampler. The material scenes: the material
+    # extensions' readers (specular textures, specular-glossiness among them).
+    for script in ("make_asset_scenes.py", "make_camera_scenes.py", "make_material_scenes.py"):
         with tempfile.TemporaryDirectory() as generated:
             subprocess.run([sys.executable, str(source / "tests/render/scenes" / script), generated], check=True)
             count += add_seeds(source, out, [str(p) for p in sorted(pathlib.Path(generated).glob("*.gltf"))], generated)

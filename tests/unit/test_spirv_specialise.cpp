@@ -17,6 +17,7 @@
 
 #include "shaders/extend.spv.h"
 #include "shaders/shade.spv.h"
+#include "scene/effects.h"
 #include "shared/layout.h"
 #include "vk/spirv_cache.h"
 #include "vk/spirv_specialise.h"
@@ -62,9 +63,10 @@ bool is_valid_vulkan_spirv(const std::vector<uint32_t>& spirv) {
     return tools.Validate(spirv);
 }
 
-std::vector<uint32_t> spec_for(uint32_t effects) {
+std::vector<uint32_t> spec_for(fh::EffectBits effects) {
     std::vector<uint32_t> spec(fh::gpu::SPEC_CONSTANT_COUNT, 0u);
-    spec[fh::gpu::SPEC_EFFECTS] = effects;
+    spec[fh::gpu::SPEC_EFFECTS] = fh::low_effect_word(effects);
+    spec[fh::gpu::SPEC_EFFECTS_2] = fh::high_effect_word(effects);
     spec[fh::gpu::SPEC_SAMPLER] = fh::gpu::SAMPLER_SOBOL;
     return spec;
 }
@@ -85,8 +87,8 @@ private:
     fs::path path_;
 };
 
-const uint32_t CORNELL_EFFECTS = fh::gpu::EFFECT_EMISSIVE_TRIANGLES;  // what the Cornell box calls for
-const uint32_t ALL_EFFECTS = fh::gpu::EFFECT_SWITCHABLE;
+const fh::EffectBits CORNELL_EFFECTS = fh::gpu::EFFECT_EMISSIVE_TRIANGLES;  // what the Cornell box calls for
+const fh::EffectBits ALL_EFFECTS = fh::SWITCHABLE_EFFECTS;
 
 }  // namespace
 

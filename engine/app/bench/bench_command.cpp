@@ -318,7 +318,7 @@ int trace_ray_file(const vk::Context& context, const PreparedScene& prepared, co
 // (the scene's arrays: positions, shading, attributes and the BVH), and the scene's total: what a render needs
 // beyond its film.
 void print_memory_figures(const PreparedScene& prepared, const RenderSettings& settings) {
-    const uint32_t effects = select_effects(prepared.packed.effects.bits, settings.forced_effects, settings.disabled_effects);
+    const EffectBits effects = select_effects(prepared.packed.effects.bits, settings.forced_effects, settings.disabled_effects);
     const double per_path = bytes_per_path(prepared.packed, effects, make_path_store(settings));
     uint64_t scene_bytes = 0, triangle_bytes = 0;
     for (const BufferEstimate& b : estimate_render_memory(prepared.packed, 16, 16, 1, effects).buffers) {
@@ -428,7 +428,7 @@ int run_bench(const BenchCommand& c) {
     };
     if (c.textures) {
         const PackedScene& p = prepared.packed;
-        const uint32_t material_effects = p.effects.bits & gpu::EFFECT_ATTRIBUTES;
+        const EffectBits material_effects = p.effects.bits & ATTRIBUTE_EFFECTS;
         std::printf("\ntextures: %zu images, %zu texels, %.1f MiB (RGBA8: 4 bytes per texel, stored once); vertex "
                     "attributes %.1f MiB (%zu bytes per triangle); effects %s\n",
                     p.texture_images.size(), p.texels.size(), double(p.texels.size()) * 4.0 / double(1 << 20),
@@ -496,9 +496,9 @@ int run_bench(const BenchCommand& c) {
         // demand save (the images are identical; tests/render checks the bits). Not the spectral path: it changes
         // the estimator, not only the code (its cost: `--vary effect:spectral=on,off`, shaders/lib/bsdf/README.md "Dispersion").
         RenderSettings every = base;
-        every.forced_effects = gpu::EFFECT_SWITCHABLE & ~gpu::EFFECT_SPECTRAL;
-        const uint32_t own = prepared.packed.effects.bits;
-        const uint32_t all = select_effects(own, every.forced_effects, 0);
+        every.forced_effects = SWITCHABLE_EFFECTS & ~EffectBits(gpu::EFFECT_SPECTRAL);
+        const EffectBits own = prepared.packed.effects.bits;
+        const EffectBits all = select_effects(own, every.forced_effects, 0);
         const double own_build = pipeline_build;  // measured above, before the first render
         const double all_build = time_pipeline_build(*context, prepared, camera, every);
         std::printf("\neffects: own %s; every effect %s\npipeline build (construction + first-dispatch compile, "

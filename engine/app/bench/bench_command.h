@@ -24,7 +24,7 @@ struct BenchCommand {
     uint32_t repeats = 3;
     uint32_t bvh_leaf_size = 4;  // RenderSettings::bvh_max_leaf_size
     std::optional<bool> sort_rays;  // --sort-rays (also for --trace-rays); unset: auto (render/device_defaults.h)
-    uint32_t disabled_effects = 0;  // --disable-effect: compiled out of every render and of --trace-rays
+    EffectBits disabled_effects = 0;  // --disable-effect: compiled out of every render and of --trace-rays
     bool compare_ray_order = false;  // --compare-ray-order: the render with the ray sort on against off
     bool compare_stores = false;     // --compare-stores: shade's uvec4 stores against field stores (--wide-stores)
     std::filesystem::path json;

@@ -59,11 +59,11 @@ void add_robustness_options(CLI::App& app, RenderSettings& s) {
 
 namespace {
 
-// --force-effect / --disable-effect NAME[,NAME...] over the switchable effects (layout.h EFFECT_SWITCHABLE).
-void add_effect_list_option(CLI::App& app, const std::string& flag, uint32_t& bits, const std::string& help) {
+// --force-effect / --disable-effect NAME[,NAME...] over the switchable effects (SWITCHABLE_EFFECTS).
+void add_effect_list_option(CLI::App& app, const std::string& flag, EffectBits& bits, const std::string& help) {
     std::string words;
     for (const EffectInfo& e : list_effects())
-        if (e.bit & gpu::EFFECT_SWITCHABLE) words += (words.empty() ? "" : ", ") + std::string(e.name);
+        if (e.bit & SWITCHABLE_EFFECTS) words += (words.empty() ? "" : ", ") + std::string(e.name);
     app.add_option_function<std::vector<std::string>>(
            flag,
            [&bits](const std::vector<std::string>& names) {
@@ -83,7 +83,7 @@ void add_effect_list_option(CLI::App& app, const std::string& flag, uint32_t& bi
 
 }  // namespace
 
-void add_disable_effect_option(CLI::App& app, uint32_t& bits) {
+void add_disable_effect_option(CLI::App& app, EffectBits& bits) {
     add_effect_list_option(app, "--disable-effect", bits,
                            "compile an effect out although the scene uses it, to measure what it costs");
 }

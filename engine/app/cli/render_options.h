@@ -28,7 +28,7 @@ void add_ray_sort_option(CLI::App& app, std::optional<bool>& sort_rays);
 void add_robustness_options(CLI::App& app, RenderSettings& settings);
 
 // --disable-effect NAME[,NAME...]: effects compiled out although the scene uses them (what they cost).
-void add_disable_effect_option(CLI::App& app, uint32_t& bits);
+void add_disable_effect_option(CLI::App& app, EffectBits& bits);
 
 // --disable-effect NAME[,NAME...] / --force-effect NAME[,NAME...]: material effects (textures, vertex colours,
 // alpha, normal maps, transmission, volumes) compiled out although used, or in although unused.

@@ -338,7 +338,7 @@ std::string vary_keys() {
 void apply_vary(const std::string& key, const std::string& value, RenderSettings& settings) {
     if (key.rfind("effect:", 0) == 0) {
         // on: compiled in whether or not the scene uses it; off: compiled out although the scene uses it.
-        const uint32_t bit = find_switchable_effect(key.substr(7));
+        const EffectBits bit = find_switchable_effect(key.substr(7));
         const bool on = parse_on_off(value);
         settings.forced_effects = on ? settings.forced_effects | bit : settings.forced_effects & ~bit;
         settings.disabled_effects = on ? settings.disabled_effects & ~bit : settings.disabled_effects | bit;

@@ -14,7 +14,7 @@ namespace fh {
 namespace {
 
 // The state of one effect in the compiled set, and why.
-std::string describe_decision(const EffectDecision& d, uint32_t compiled) {
+std::string describe_decision(const EffectDecision& d, EffectBits compiled) {
     const bool on = (compiled & d.bit) != 0;
     if (on == d.on) return d.why;
     return on ? "forced on (--force-effect); the scene: " + d.why : "disabled (--disable-effect); the scene: " + d.why;
@@ -34,7 +34,7 @@ void add_info_options(CLI::App& app, InfoCommand& c) {
 int run_info(const InfoCommand& c) {
     const PreparedScene p = prepare_scene(c.scene, c.settings);
     const SceneEffects& effects = p.packed.effects;
-    const uint32_t compiled = select_effects(effects.bits, c.settings.forced_effects, c.settings.disabled_effects);
+    const EffectBits compiled = select_effects(effects.bits, c.settings.forced_effects, c.settings.disabled_effects);
     nlohmann::ordered_json j;
     j["scene"] = c.scene.string();
     j["triangles"] = p.scene.rendered_triangle_count();

@@ -30,7 +30,7 @@ namespace {
 const char* VERSION = "fredholm 0.1.0";
 
 // The settings that decide every sample's value (what a resume must match), plus the samples done.
-ImageMetadata make_metadata(const RenderCommand& c, const std::string& scene_hash, uint32_t spp_done, uint32_t effects) {
+ImageMetadata make_metadata(const RenderCommand& c, const std::string& scene_hash, uint32_t spp_done, EffectBits effects) {
     const RenderSettings& s = c.settings;
     ImageMetadata metadata{
         {"fredholm:renderer", VERSION},

@@ -11,19 +11,18 @@
 #include <glm/glm.hpp>
 
 #include "scene/gltf/gltf_accessor.h"
+#include "scene/gltf/gltf_animation_pointer.h"
 #include "scene/scene.h"
 
 namespace fh::gltf {
 namespace {
-
-enum class Path { translation, rotation, scale, weights };
 
 // One channel's keys: times, and `width` floats per output element (3 per key for CUBICSPLINE: in-tangent, value,
 // out-tangent).
 struct Track {
     std::vector<double> times;
     std::vector<double> values;  // keys x elements x width
-    size_t width = 0;            // floats per element: 3, 4 or the number of morph targets
+    size_t width = 0;            // floats per element: 1 to 4, or the number of morph targets
     std::string interpolation;
 };
 
@@ -31,12 +30,22 @@ std::string describe(const tinygltf::Model& model, int animation, size_t channel
     return animation_name(model, animation) + " channel " + std::to_string(channel);
 }
 
-Track read_track(const tinygltf::Model& model, const tinygltf::AnimationSampler& sampler, Path path,
+// The number of components of accessor `index`'s type (1 for one that does not exist: read_vectors reports it).
+int accessor_components(const tinygltf::Model& model, int index) {
+    if (index < 0 || size_t(index) >= model.accessors.size()) return 1;
+    const int n = tinygltf::GetNumComponentsInType(uint32_t(model.accessors[size_t(index)].type));
+    return n >= 1 && n <= 4 ? n : 1;
+}
+
+Track read_track(const tinygltf::Model& model, const tinygltf::AnimationSampler& sampler, const PointerTarget& target,
                  const std::string& where) {
     Track track;
     track.interpolation = sampler.interpolation.empty() ? "LINEAR" : sampler.interpolation;
     if (track.interpolation != "LINEAR" && track.interpolation != "STEP" && track.interpolation != "CUBICSPLINE")
         throw SceneError(where + ": unknown interpolation '" + track.interpolation + "'");
+    if (target.boolean && track.interpolation != "STEP")
+        throw SceneError(where + ": a boolean property is animated with " + track.interpolation +
+                         " interpolation (KHR_animation_pointer requires STEP)");
     for (const glm::vec4& t : read_vectors(model, sampler.input, "input of " + where, 1, 1, false)) {
         if (!std::isfinite(t.x)) throw SceneError(where + ": a keyframe time is not finite");
         if (!track.times.empty() && !(t.x > track.times.back()))
@@ -44,12 +53,17 @@ Track read_track(const tinygltf::Model& model, const tinygltf::AnimationSampler&
         track.times.push_back(t.x);
     }
     if (track.times.empty()) throw SceneError(where + ": no keyframes");
-    const int components = path == Path::rotation ? 4 : path == Path::weights ? 1 : 3;
-    const std::vector<glm::vec4> out = read_vectors(model, sampler.output, "output of " + where, components, components,
-                                                    path == Path::rotation || path == Path::weights);
+    const bool any_count = target.components == PointerTarget::ANY;
+    const int components = target.components == PointerTarget::FROM_ACCESSOR ? accessor_components(model, sampler.output)
+                           : any_count                                      ? 1
+                                                                            : target.components;
+    // Integer outputs: rotations and weights (spec 3.11), and what only a pointer reaches (the Object Model).
+    const bool integers = target.rotation || any_count || target.boolean || target.components < 0;
+    const std::vector<glm::vec4> out =
+        read_vectors(model, sampler.output, "output of " + where, components, components, integers);
     const size_t per_key = track.interpolation == "CUBICSPLINE" ? 3 : 1;
     const size_t keys = track.times.size();
-    if (path == Path::weights) {
+    if (any_count) {
         if (out.size() % (keys * per_key) != 0 || out.empty())
             throw SceneError(where + ": " + std::to_string(out.size()) + " weights do not divide into " +
                              std::to_string(keys) + " keyframes");
@@ -100,7 +114,7 @@ void normalize(std::vector<double>& q) {
     else q = {0.0, 0.0, 0.0, 1.0};
 }
 
-std::vector<double> sample(const Track& t, double time, Path path) {
+std::vector<double> sample(const Track& t, double time, bool rotation) {
     const size_t keys = t.times.size();
     const size_t value = t.interpolation == "CUBICSPLINE" ? 1 : 0;
     std::vector<double> out;
@@ -113,7 +127,7 @@ std::vector<double> sample(const Track& t, double time, Path path) {
             out = element(t, k, 0);
         } else if (t.interpolation == "LINEAR") {
             const std::vector<double> a = element(t, k, 0), b = element(t, k + 1, 0);
-            if (path == Path::rotation) out = slerp(a, b, s);
+            if (rotation) out = slerp(a, b, s);
             else {
                 out.resize(t.width);
                 for (size_t i = 0; i < t.width; ++i) out[i] = a[i] + s * (b[i] - a[i]);
@@ -127,7 +141,7 @@ std::vector<double> sample(const Track& t, double time, Path path) {
             for (size_t i = 0; i < t.width; ++i) out[i] = h00 * v0[i] + h10 * dt * b0[i] + h01 * v1[i] + h11 * dt * a1[i];
         }
     }
-    if (path == Path::rotation) normalize(out);
+    if (rotation) normalize(out);
     return out;
 }
 
@@ -167,35 +181,54 @@ AnimationRange animation_range(const tinygltf::Model& model, int animation) {
     return range;
 }
 
-void pose_model(tinygltf::Model& model, int animation, double time) {
+namespace {
+
+// The property channel `c` animates: a KHR_animation_pointer pointer, or a node's TRS or weights.
+PointerTarget resolve_channel(tinygltf::Model& model, const tinygltf::AnimationChannel& channel, const std::string& where) {
+    std::string pointer;
+    if (channel.target_path == "pointer") {
+        const auto it = channel.target_extensions.find("KHR_animation_pointer");
+        if (it == channel.target_extensions.end() || !it->second.IsObject() || !it->second.Has("pointer") ||
+            !it->second.Get("pointer").IsString())
+            throw SceneError(where + ": path 'pointer' without a KHR_animation_pointer pointer");
+        pointer = it->second.Get("pointer").Get<std::string>();
+    } else {
+        if (size_t(channel.target_node) >= model.nodes.size())
+            throw SceneError(where + ": target node " + std::to_string(channel.target_node) + " does not exist");
+        if (channel.target_path != "translation" && channel.target_path != "rotation" &&
+            channel.target_path != "scale" && channel.target_path != "weights")
+            throw SceneError(where + ": unknown target path '" + channel.target_path + "'");
+        pointer = "/nodes/" + std::to_string(channel.target_node) + "/" + channel.target_path;
+    }
+    try {
+        PointerTarget target = resolve_animation_pointer(model, pointer);
+        if (!target.set) target.ignored_why = where + ": pointer " + pointer + " is ignored: " + target.ignored_why;
+        return target;
+    } catch (const SceneError& e) {
+        throw SceneError(where + ": " + e.what());
+    }
+}
+
+}  // namespace
+
+void pose_model(tinygltf::Model& model, int animation, double time, std::vector<std::string>* warnings) {
     if (animation < 0 || size_t(animation) >= model.animations.size()) return;
     const tinygltf::Animation& a = model.animations[size_t(animation)];
     for (size_t c = 0; c < a.channels.size(); ++c) {
         const tinygltf::AnimationChannel& channel = a.channels[c];
         const std::string where = describe(model, animation, c);
-        if (channel.target_node < 0) continue;  // no node: the spec allows extensions to target something else
-        if (size_t(channel.target_node) >= model.nodes.size())
-            throw SceneError(where + ": target node " + std::to_string(channel.target_node) + " does not exist");
+        // No node and no pointer: the spec lets other extensions target something else.
+        if (channel.target_node < 0 && channel.target_path != "pointer") continue;
         if (channel.sampler < 0 || size_t(channel.sampler) >= a.samplers.size())
             throw SceneError(where + ": sampler " + std::to_string(channel.sampler) + " does not exist");
-        Path path;
-        if (channel.target_path == "translation") path = Path::translation;
-        else if (channel.target_path == "rotation") path = Path::rotation;
-        else if (channel.target_path == "scale") path = Path::scale;
-        else if (channel.target_path == "weights") path = Path::weights;
-        else throw SceneError(where + ": unknown target path '" + channel.target_path + "'");
-        tinygltf::Node& node = model.nodes[size_t(channel.target_node)];
-        if (path != Path::weights && !node.matrix.empty())
-            throw SceneError(where + " animates node " + std::to_string(channel.target_node) +
-                             ", which has a matrix (the spec allows animating TRS nodes only)");
-        const Track track = read_track(model, a.samplers[size_t(channel.sampler)], path, where);
-        std::vector<double> value = sample(track, time, path);
-        switch (path) {
-            case Path::translation: node.translation = value; break;
-            case Path::rotation: node.rotation = value; break;
-            case Path::scale: node.scale = value; break;
-            case Path::weights: node.weights = value; break;
+        const PointerTarget target = resolve_channel(model, channel, where);
+        if (!target.set) {
+            if (warnings != nullptr && std::find(warnings->begin(), warnings->end(), target.ignored_why) == warnings->end())
+                warnings->push_back(target.ignored_why);
+            continue;
         }
+        const Track track = read_track(model, a.samplers[size_t(channel.sampler)], target, where);
+        target.set(sample(track, time, target.rotation));
     }
 }
 

@@ -106,17 +106,38 @@ void check_glb_bin_chunk(const std::filesystem::path& file) {
                          "-byte file");
 }
 
-// `json` patched where tinygltf would refuse what a compression extension allows (gltf_meshopt.h,
-// gltf_draco.h); false when nothing needed it.
+// KHR_animation_pointer channels have no target node, which this tinygltf requires of every channel (it would refuse
+// the file): they get node -1, which pose_model reads as "no node" and the pointer then names the target.
+bool patch_pointer_channels(nlohmann::json& doc) {
+    bool patched = false;
+    if (!doc.is_object() || !doc.contains("animations") || !doc["animations"].is_array()) return false;
+    for (nlohmann::json& animation : doc["animations"]) {
+        if (!animation.is_object() || !animation.contains("channels") || !animation["channels"].is_array()) continue;
+        for (nlohmann::json& channel : animation["channels"]) {
+            if (!channel.is_object() || !channel.contains("target") || !channel["target"].is_object()) continue;
+            nlohmann::json& target = channel["target"];
+            if (!target.contains("node") && target.value("path", nlohmann::json()) == "pointer") {
+                target["node"] = -1;
+                patched = true;
+            }
+        }
+    }
+    return patched;
+}
+
+// `json` patched where tinygltf would refuse what a compression extension (gltf_meshopt.h, gltf_draco.h) or
+// KHR_animation_pointer allows; false when nothing needed it.
 bool patch_for_decoders(std::string& json, std::vector<gltf::FallbackBuffer>& fallbacks) {
     if (json.find("EXT_meshopt_compression") == std::string::npos &&
-        json.find("KHR_draco_mesh_compression") == std::string::npos)
+        json.find("KHR_draco_mesh_compression") == std::string::npos &&
+        json.find("KHR_animation_pointer") == std::string::npos)
         return false;
     nlohmann::json doc = nlohmann::json::parse(json, nullptr, false);
     if (doc.is_discarded()) return false;  // tinygltf reports bad JSON
     const bool meshopt = gltf::patch_meshopt_fallbacks(doc, fallbacks, MAX_FILE_BYTES);
     const bool draco = gltf::patch_draco_indices(doc);
-    if (!meshopt && !draco) return false;
+    const bool pointers = patch_pointer_channels(doc);
+    if (!meshopt && !draco && !pointers) return false;
     json = doc.dump();
     return true;
 }
@@ -144,7 +165,8 @@ std::string read_json_text(const std::filesystem::path& file, bool is_glb, uint6
     return json;
 }
 
-// The file's JSON (`json`, as read_json_text gave it) patched for the compression extensions (patch_for_decoders),
+// The file's JSON (`json`, as read_json_text gave it) patched for the compression extensions and animation pointers
+// (patch_for_decoders),
 // as a .gltf text or a rebuilt .glb; empty when the file does not need it (tinygltf then reads the file itself).
 std::vector<unsigned char> patch_file_for_decoders(const std::filesystem::path& file, bool is_glb,
                                                    const std::string& text, uint64_t json_end,

@@ -22,6 +22,14 @@ Placement place(const glm::dmat4& world, std::vector<glm::dmat4> keys) {
     return {world, {}};
 }
 
+// KHR_node_visibility's visible (true when absent or not a boolean).
+bool is_marked_visible(const tinygltf::Node& node) {
+    const auto it = node.extensions.find("KHR_node_visibility");
+    if (it == node.extensions.end() || !it->second.IsObject() || !it->second.Has("visible")) return true;
+    const tinygltf::Value& visible = it->second.Get("visible");
+    return !visible.IsBool() || visible.Get<bool>();
+}
+
 }  // namespace
 
 // The node's local transform: its matrix, or T * R * S (spec 3.5.2), in double precision.
@@ -98,7 +106,7 @@ void Flattener::compute_node_worlds(const std::vector<int>& roots) {
 }
 
 void Flattener::visit_node(int index, const glm::dmat4& parent_world, int depth,
-                           const std::vector<glm::dmat4>& parent_keys) {
+                           const std::vector<glm::dmat4>& parent_keys, bool visible) {
     if (index < 0 || size_t(index) >= model_.nodes.size())
         throw SceneError("root " + describe_node(model_, index) + " does not exist");
     if (on_path_[size_t(index)])
@@ -119,15 +127,16 @@ void Flattener::visit_node(int index, const glm::dmat4& parent_world, int depth,
     if (!is_finite(world) || !std::all_of(keys.begin(), keys.end(), [](const glm::dmat4& m) { return is_finite(m); }))
         throw SceneError("the world transform of " + describe_node(model_, index) +
                          " is not finite (its transform or an ancestor's overflows)");
-    if (node.mesh >= 0) record_mesh_uses(node, index, place(world, keys));
+    visible = visible && is_marked_visible(node);
+    if (node.mesh >= 0 && visible) record_mesh_uses(node, index, place(world, keys));
     if (node.camera >= 0) add_camera(node.camera, index, place(world, keys));
-    if (const auto it = node.extensions.find("KHR_lights_punctual"); it != node.extensions.end())
+    if (const auto it = node.extensions.find("KHR_lights_punctual"); it != node.extensions.end() && visible)
         add_light(it->second, index, world);
     for (int child : node.children) {
         if (child < 0 || size_t(child) >= model_.nodes.size())
             throw SceneError(describe_node(model_, index) + " has child " + std::to_string(child) +
                              ", which does not exist");
-        visit_node(child, world, depth + 1, keys);
+        visit_node(child, world, depth + 1, keys, visible);
     }
     on_path_[size_t(index)] = 0;
 }

@@ -81,7 +81,10 @@ public:
     void set_shutter_transforms(std::vector<std::vector<glm::dmat4>> locals) { local_keys_ = std::move(locals); }
 
     // parent_keys: the parent's world transforms at the shutter's keys (set_shutter_transforms; identities at a root).
-    void visit_node(int index, const glm::dmat4& parent_world, int depth, const std::vector<glm::dmat4>& parent_keys);
+    // `visible`: no ancestor is hidden by KHR_node_visibility (a hidden node's meshes and lights, and its
+    // descendants', are left out; cameras stay).
+    void visit_node(int index, const glm::dmat4& parent_world, int depth, const std::vector<glm::dmat4>& parent_keys,
+                    bool visible = true);
 
     // Places the triangles in render space (LoadOptions::rebase) and drops those without area there.
     void finish(bool rebase, Instancing instancing);
@@ -119,8 +122,14 @@ private:
     int variant_material(const tinygltf::Primitive& prim) const;
     std::vector<glm::vec3> read_vec3(int accessor, const std::string& role);
     VertexAttributes read_attributes(const tinygltf::Primitive& prim, size_t vertex_count, const std::string& where);
+    // `generated`: MikkTSpace corner tangents of the triangle (gltf_tangents.h) in `generated_order`, used where the
+    // primitive has no TANGENT; nullptr: none.
     void add_triangle_attributes(const VertexAttributes& a, const std::array<uint32_t, 3>& tri, const glm::dmat3& linear,
-                                 bool mirrored);
+                                 bool mirrored, const std::array<glm::vec4, 3>* generated,
+                                 const std::array<uint32_t, 3>& generated_order);
+    // The TEXCOORD set a material's tangent frame follows (its normal, clear-coat normal or anisotropy texture's; 0
+    // for anisotropy without a texture), or -1 when it needs no tangents.
+    int tangent_texcoord_set(uint32_t material) const;
 
     // gltf_cameras_lights.cpp
     void add_camera(int camera_index, int node_index, const Placement& place);

@@ -168,7 +168,10 @@ Scene load_unprefixed(const std::filesystem::path& file, const LoadOptions& opti
                 scene.warnings.push_back(text);
             }
         }
-        gltf::pose_model(model, animation, options.time + 0.5 * (options.shutter_open + options.shutter_close));
+        // Last, at the shutter's centre: what is not a node transform (materials, lights, a camera's field of view,
+        // visibility) holds this value over the shutter.
+        gltf::pose_model(model, animation, options.time + 0.5 * (options.shutter_open + options.shutter_close),
+                         &scene.warnings);
     }
     for (size_t a = 0; a < model.animations.size(); ++a) scene.animations.push_back(gltf::animation_name(model, int(a)));
     scene.images = gltf::take_images(model);

@@ -1,5 +1,6 @@
 // Converts glTF materials (spec 3.9) and the KHR extensions emissive_strength, specular, ior, unlit,
-// transmission, volume, clearcoat, sheen, diffuse_transmission, anisotropy, iridescence and dispersion.
+// transmission, volume, clearcoat, sheen, diffuse_transmission, anisotropy, iridescence and dispersion, and the
+// archived pbrSpecularGlossiness.
 #include "scene/gltf/gltf_material.h"
 
 #include <algorithm>
@@ -34,6 +35,11 @@ constexpr const char* SUPPORTED_EXTENSIONS[] = {
     "EXT_meshopt_compression",  // gltf_meshopt.cpp
     "KHR_draco_mesh_compression",  // gltf_draco.cpp
     "EXT_mesh_gpu_instancing",     // gltf_loader.cpp: one instance per TRANSLATION/ROTATION/SCALE element
+    "KHR_materials_pbrSpecularGlossiness",  // below: onto the dielectric with KHR_materials_specular's colour
+    "KHR_node_visibility",         // gltf_flattener.cpp: a node with visible false is left out with its subtree
+    "KHR_animation_pointer",       // gltf_animation_pointer.cpp: materials, lights, cameras, nodes at --time
+    "KHR_xmp_json_ld",             // metadata (authors, licences): nothing to render
+    "KHR_xmp",                     // its archived predecessor
 };
 
 // The object of extension `name` on `material`, or nullptr.
@@ -59,11 +65,50 @@ glm::dvec3 read_color3(const tinygltf::Value* object, const char* key, glm::dvec
     return out;
 }
 
+// The slot of textureInfo `key` of extension object `extension` (INVALID_INDEX when absent).
+uint32_t extension_slot(const tinygltf::Model& model, const tinygltf::Value* extension, const char* key, bool srgb,
+                        const std::string& where, Scene& scene) {
+    if (extension == nullptr || !extension->Has(key)) return gpu::INVALID_INDEX;
+    const TextureReference texture = read_extension_texture(extension, key);
+    if (texture.index < 0) throw SceneError(where + " " + key + " has no valid index");
+    return add_texture_slot(model, texture, srgb, where + " " + key, scene);
+}
+
+// KHR_materials_pbrSpecularGlossiness (archived), which replaces pbrMetallicRoughness: the diffuse colour is the base
+// colour of a dielectric (metallic 0) whose specular layer has f0 = the specular colour and f90 = 1 (ior 0 makes
+// the ior's f0 1, which KHR_materials_specular's colour then scales) and roughness 1 - glossiness; the specular
+// colour texture's alpha holds glossiness. shaders/lib/bsdf/README.md "Specular-glossiness" says where it departs.
+void apply_specular_glossiness(const tinygltf::Model& model, const tinygltf::Value& gloss, const std::string& where,
+                               gpu::Material& m, Scene& scene) {
+    glm::dvec4 diffuse(1.0);
+    if (gloss.Has("diffuseFactor") && gloss.Get("diffuseFactor").IsArray() && gloss.Get("diffuseFactor").ArrayLen() == 4)
+        for (int i = 0; i < 4; ++i)
+            if (gloss.Get("diffuseFactor").Get(i).IsNumber())
+                diffuse[i] = gloss.Get("diffuseFactor").Get(i).GetNumberAsDouble();
+    const glm::dvec3 specular = read_color3(&gloss, "specularFactor", glm::dvec3(1.0));
+    const double glossiness = read_number(&gloss, "glossinessFactor", 1.0);
+    for (double v : {diffuse.r, diffuse.g, diffuse.b, diffuse.a, specular.r, specular.g, specular.b, glossiness})
+        if (!std::isfinite(v))
+            throw SceneError(where + " has a non-finite KHR_materials_pbrSpecularGlossiness factor");
+    m.base_color = gpu::vec4(glm::vec4(diffuse));
+    m.metallic = 0.0f;
+    m.roughness = float(1.0 - std::clamp(glossiness, 0.0, 1.0));
+    m.specular_color = gpu::vec4(glm::vec3(glm::clamp(specular, 0.0, 1.0)), 1.0f);
+    m.ior = 0.0f;
+    m.base_color_texture = extension_slot(model, &gloss, "diffuseTexture", true, where, scene);
+    m.metallic_roughness_texture = gpu::INVALID_INDEX;
+    m.specular_texture = gpu::INVALID_INDEX;
+    m.specular_color_texture = extension_slot(model, &gloss, "specularGlossinessTexture", true, where, scene);
+    if (m.specular_color_texture != gpu::INVALID_INDEX) m.flags |= gpu::MATERIAL_GLOSSINESS_IN_ALPHA;
+}
+
 void clear_textures(gpu::Material& m) {
     m.base_color_texture = gpu::INVALID_INDEX;
     m.metallic_roughness_texture = gpu::INVALID_INDEX;
     m.normal_texture = gpu::INVALID_INDEX;
     m.emissive_texture = gpu::INVALID_INDEX;
+    m.specular_texture = gpu::INVALID_INDEX;
+    m.specular_color_texture = gpu::INVALID_INDEX;
 }
 
 }  // namespace
@@ -110,13 +155,6 @@ gpu::Material convert_material(const tinygltf::Model& model, int index, Scene& s
     const tinygltf::Value* specular = find_extension(material, "KHR_materials_specular");
     const glm::dvec3 specular_color = read_color3(specular, "specularColorFactor", glm::dvec3(1.0));
     m.specular_color = gpu::vec4(glm::vec3(specular_color), float(read_number(specular, "specularFactor", 1.0)));
-    if (specular != nullptr && (specular->Has("specularTexture") || specular->Has("specularColorTexture"))) {
-        const std::string message = "KHR_materials_specular textures are not read yet: their factors are used";
-        bool seen = false;
-        for (const std::string& w : scene.warnings) seen = seen || w == message;
-        if (!seen) scene.warnings.push_back(message);
-    }
-
     m.ior = float(read_number(find_extension(material, "KHR_materials_ior"), "ior", 1.5));
     m.flags = material.doubleSided ? gpu::MATERIAL_DOUBLE_SIDED : 0u;
     // KHR_materials_unlit: only the base colour counts (shade.comp shows it to camera rays); an emissiveFactor
@@ -148,6 +186,10 @@ gpu::Material convert_material(const tinygltf::Model& model, int index, Scene& s
                             material.normalTexture.extensions, false, "normalTexture");
     m.emissive_texture = slot(material.emissiveTexture.index, material.emissiveTexture.texCoord, 1.0,
                               material.emissiveTexture.extensions, true, "emissiveTexture");
+    m.specular_texture = extension_slot(model, specular, "specularTexture", false, where, scene);
+    m.specular_color_texture = extension_slot(model, specular, "specularColorTexture", true, where, scene);
+    if (const tinygltf::Value* gloss = find_extension(material, "KHR_materials_pbrSpecularGlossiness"))
+        apply_specular_glossiness(model, *gloss, where, m, scene);
     return m;
 }
 
@@ -189,32 +231,35 @@ gpu::MaterialLayers convert_material_layers(const tinygltf::Model& model, int in
     const std::string where = "material " + std::to_string(index);
     gpu::MaterialLayers layers = make_default_layers();
 
-    // A textureInfo of extension object `extension` (INVALID_INDEX when absent).
-    auto extension_slot = [&](const tinygltf::Value* extension, const char* key, bool srgb = false) {
-        if (extension == nullptr || !extension->Has(key)) return gpu::INVALID_INDEX;
-        const TextureReference texture = read_extension_texture(extension, key);
-        if (texture.index < 0) throw SceneError(where + " " + key + " has no valid index");
-        return add_texture_slot(model, texture, srgb, where + " " + key, scene);
+    auto layer_slot = [&](const tinygltf::Value* extension, const char* key, bool srgb = false) {
+        return extension_slot(model, extension, key, srgb, where, scene);
     };
 
-    const tinygltf::Value* transmission = find_extension(material, "KHR_materials_transmission");
+    // A specular-glossiness material has no index of refraction (ior 0 above): it refracts nothing.
+    const bool specular_glossiness = find_extension(material, "KHR_materials_pbrSpecularGlossiness") != nullptr;
+    if (specular_glossiness && (find_extension(material, "KHR_materials_transmission") != nullptr ||
+                                find_extension(material, "KHR_materials_volume") != nullptr))
+        scene.warnings.push_back(where + " has KHR_materials_pbrSpecularGlossiness, which defines no index of "
+                                 "refraction: its KHR_materials_transmission and KHR_materials_volume are ignored");
+    const tinygltf::Value* transmission =
+        specular_glossiness ? nullptr : find_extension(material, "KHR_materials_transmission");
     layers.transmission = float(std::clamp(read_number(transmission, "transmissionFactor", 0.0), 0.0, 1.0));
-    layers.transmission_texture = extension_slot(transmission, "transmissionTexture");
+    layers.transmission_texture = layer_slot(transmission, "transmissionTexture");
 
     const tinygltf::Value* clearcoat = find_extension(material, "KHR_materials_clearcoat");
     layers.clearcoat = float(std::clamp(read_number(clearcoat, "clearcoatFactor", 0.0), 0.0, 1.0));
     layers.clearcoat_roughness = float(std::clamp(read_number(clearcoat, "clearcoatRoughnessFactor", 0.0), 0.0, 1.0));
-    layers.clearcoat_texture = extension_slot(clearcoat, "clearcoatTexture");
-    layers.clearcoat_roughness_texture = extension_slot(clearcoat, "clearcoatRoughnessTexture");
-    layers.clearcoat_normal_texture = extension_slot(clearcoat, "clearcoatNormalTexture");
+    layers.clearcoat_texture = layer_slot(clearcoat, "clearcoatTexture");
+    layers.clearcoat_roughness_texture = layer_slot(clearcoat, "clearcoatRoughnessTexture");
+    layers.clearcoat_normal_texture = layer_slot(clearcoat, "clearcoatNormalTexture");
 
     // KHR_materials_sheen: sheenColor (sRGB texture, RGB) and sheenRoughness (the texture's alpha).
     const tinygltf::Value* sheen = find_extension(material, "KHR_materials_sheen");
     const glm::dvec3 sheen_color = glm::clamp(read_color3(sheen, "sheenColorFactor", glm::dvec3(0.0)), 0.0, 1.0);
     layers.sheen = gpu::vec4(float(sheen_color.r), float(sheen_color.g), float(sheen_color.b),
                              float(std::clamp(read_number(sheen, "sheenRoughnessFactor", 0.0), 0.0, 1.0)));
-    layers.sheen_color_texture = extension_slot(sheen, "sheenColorTexture", true);
-    layers.sheen_roughness_texture = extension_slot(sheen, "sheenRoughnessTexture");
+    layers.sheen_color_texture = layer_slot(sheen, "sheenColorTexture", true);
+    layers.sheen_roughness_texture = layer_slot(sheen, "sheenRoughnessTexture");
 
     // KHR_materials_diffuse_transmission: the factor (the texture's alpha) and colour (sRGB texture, RGB).
     const tinygltf::Value* diffuse = find_extension(material, "KHR_materials_diffuse_transmission");
@@ -223,8 +268,8 @@ gpu::MaterialLayers convert_material_layers(const tinygltf::Model& model, int in
     layers.diffuse_transmission =
         gpu::vec4(float(diffuse_color.r), float(diffuse_color.g), float(diffuse_color.b),
                   float(std::clamp(read_number(diffuse, "diffuseTransmissionFactor", 0.0), 0.0, 1.0)));
-    layers.diffuse_transmission_texture = extension_slot(diffuse, "diffuseTransmissionTexture");
-    layers.diffuse_transmission_color_texture = extension_slot(diffuse, "diffuseTransmissionColorTexture", true);
+    layers.diffuse_transmission_texture = layer_slot(diffuse, "diffuseTransmissionTexture");
+    layers.diffuse_transmission_color_texture = layer_slot(diffuse, "diffuseTransmissionColorTexture", true);
 
     // KHR_materials_anisotropy: strength, the rotation of the direction from the tangent, and the texture (RG: the
     // direction in tangent space, B: the strength; linear).
@@ -233,7 +278,7 @@ gpu::MaterialLayers convert_material_layers(const tinygltf::Model& model, int in
     layers.anisotropy_strength = float(std::clamp(read_number(anisotropy, "anisotropyStrength", 0.0), 0.0, 1.0));
     layers.anisotropy_cos = std::isfinite(rotation) ? float(std::cos(rotation)) : 1.0f;
     layers.anisotropy_sin = std::isfinite(rotation) ? float(std::sin(rotation)) : 0.0f;
-    layers.anisotropy_texture = extension_slot(anisotropy, "anisotropyTexture");
+    layers.anisotropy_texture = layer_slot(anisotropy, "anisotropyTexture");
 
     // KHR_materials_iridescence: the film's weight (R of its texture), index, and thickness in nm (G of the thickness
     // texture between the minimum and the maximum; the maximum without it). Its Fresnel bound is set by the loader
@@ -253,12 +298,12 @@ gpu::MaterialLayers convert_material_layers(const tinygltf::Model& model, int in
     layers.iridescence_ior = float(film_ior);
     layers.iridescence_thickness_min = float(thinnest);
     layers.iridescence_thickness_max = float(thickest);
-    layers.iridescence_texture = extension_slot(film, "iridescenceTexture");
-    layers.iridescence_thickness_texture = extension_slot(film, "iridescenceThicknessTexture");
+    layers.iridescence_texture = layer_slot(film, "iridescenceTexture");
+    layers.iridescence_thickness_texture = layer_slot(film, "iridescenceThicknessTexture");
 
     // KHR_materials_volume: thicknessFactor > 0 makes the mesh the boundary of a volume; its value (and the
     // thickness texture) is a rasteriser's stand-in for the geometry a path tracer has, so only its sign is read.
-    const tinygltf::Value* volume = find_extension(material, "KHR_materials_volume");
+    const tinygltf::Value* volume = specular_glossiness ? nullptr : find_extension(material, "KHR_materials_volume");
     if (volume != nullptr && read_number(volume, "thicknessFactor", 0.0) > 0.0) layers.flags |= gpu::LAYERS_VOLUME;
     const double distance = read_number(volume, "attenuationDistance", HUGE_VAL);
     if (!(distance > 0.0))

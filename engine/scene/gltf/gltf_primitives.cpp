@@ -8,6 +8,7 @@
 
 #include "scene/gltf/gltf_accessor.h"
 #include "scene/gltf/gltf_material.h"
+#include "scene/gltf/gltf_tangents.h"
 #include "scene/gltf/gltf_texture.h"
 
 namespace fh::gltf {
@@ -134,11 +135,21 @@ void Flattener::add_primitive(const tinygltf::Primitive& prim, int mesh_index, i
         throw SceneError("the flattened scene exceeds " + std::to_string(MAX_SCENE_TRIANGLES) +
                          " triangles (at " + where + ")");
 
+    const std::vector<std::array<uint32_t, 3>> triangles = make_triangles(mode, indices);
+    // Without TANGENT, a material that needs a tangent frame gets MikkTSpace's (glTF spec 3.7.2.1: clients SHOULD).
+    std::vector<std::array<glm::vec4, 3>> generated;
+    if (keep_attributes_ && attributes.tangents.empty() && !normals.empty()) {
+        const int set = tangent_texcoord_set(material);
+        const std::vector<glm::vec4>& uvs = set == 1 ? attributes.texcoords1 : attributes.texcoords0;
+        if (set >= 0 && !uvs.empty()) generated = gltf::generate_tangents(triangles, positions, normals, uvs);
+    }
+
     // Normals transform with the inverse transpose; a mirroring transform flips the winding.
     const glm::dmat3 linear(world);
     const glm::dmat3 normal_from_object = glm::transpose(glm::inverse(linear));
     const bool mirrored = glm::determinant(linear) < 0.0;
-    for (std::array<uint32_t, 3> tri : make_triangles(mode, indices)) {
+    for (size_t t = 0; t < triangles.size(); ++t) {
+        std::array<uint32_t, 3> tri = triangles[t];
         if (mirrored) std::swap(tri[1], tri[2]);
         rotate_to_lowest_vertex(tri, positions);
         std::array<glm::dvec3, 3> p;
@@ -165,7 +176,9 @@ void Flattener::add_primitive(const tinygltf::Primitive& prim, int mesh_index, i
         if (!has_normals) n = {glm::vec3(0.0f), glm::vec3(0.0f), glm::vec3(0.0f)};
         world_positions_.insert(world_positions_.end(), p.begin(), p.end());
         normals_.insert(normals_.end(), n.begin(), n.end());
-        if (keep_attributes_) add_triangle_attributes(attributes, tri, linear, mirrored);
+        if (keep_attributes_)
+            add_triangle_attributes(attributes, tri, linear, mirrored,
+                                    generated.empty() ? nullptr : &generated[t], triangles[t]);
         triangle_material_.push_back(material);
         triangle_has_normals_.push_back(has_normals ? 1 : 0);
     }
@@ -330,22 +343,38 @@ Flattener::VertexAttributes Flattener::read_attributes(const tinygltf::Primitive
 }
 
 void Flattener::add_triangle_attributes(const VertexAttributes& a, const std::array<uint32_t, 3>& tri,
-                                        const glm::dmat3& linear, bool mirrored) {
+                                        const glm::dmat3& linear, bool mirrored,
+                                        const std::array<glm::vec4, 3>* generated,
+                                        const std::array<uint32_t, 3>& generated_order) {
     for (uint32_t v : tri) {
         texcoords0_.push_back(a.texcoords0.empty() ? glm::vec2(0.0f) : glm::vec2(a.texcoords0[v]));
         texcoords1_.push_back(a.texcoords1.empty() ? glm::vec2(0.0f) : glm::vec2(a.texcoords1[v]));
         colors_.push_back(a.colors.empty() ? glm::vec4(1.0f) : glm::clamp(a.colors[v], 0.0f, 1.0f));
+        glm::vec4 object_tangent(0.0f);
+        if (!a.tangents.empty()) object_tangent = a.tangents[v];
+        else if (generated != nullptr)  // per corner, in the order make_triangles gave (before mirroring and rotation)
+            for (int k = 0; k < 3; ++k)
+                if (generated_order[size_t(k)] == v) object_tangent = (*generated)[size_t(k)];
         glm::vec4 tangent(0.0f);
-        if (!a.tangents.empty()) {
+        if (object_tangent.w != 0.0f) {
             // Tangents follow the surface (the linear part, not its inverse transpose); a mirroring transform
             // flips the handedness of the frame, so the bitangent sign flips with it.
-            const glm::dvec3 t = linear * glm::dvec3(a.tangents[v]);
+            const glm::dvec3 t = linear * glm::dvec3(object_tangent);
             const double length = glm::length(t);
             if (length > 0.0 && std::isfinite(length))
-                tangent = glm::vec4(glm::vec3(t / length), mirrored ? -a.tangents[v].w : a.tangents[v].w);
+                tangent = glm::vec4(glm::vec3(t / length), mirrored ? -object_tangent.w : object_tangent.w);
         }
         tangents_.push_back(tangent);
     }
+}
+
+int Flattener::tangent_texcoord_set(uint32_t material) const {
+    const gpu::Material& m = scene_.materials[material];
+    const gpu::MaterialLayers& layers = scene_.material_layers[material];
+    for (uint32_t slot : {m.normal_texture, layers.clearcoat_normal_texture, layers.anisotropy_texture})
+        if (slot != gpu::INVALID_INDEX && slot < scene_.texture_slots.size())
+            return (scene_.texture_slots[slot].addressing & gpu::SAMPLER_TEXCOORD_1) ? 1 : 0;
+    return layers.anisotropy_strength > 0.0f ? 0 : -1;
 }
 
 }  // namespace fh::gltf

@@ -177,7 +177,8 @@ uint32_t texcoord_sets_read(const gpu::Material& material, const gpu::MaterialLa
                             const std::vector<gpu::TextureSlot>& slots) {
     uint32_t sets = 0;
     for (uint32_t index : {material.base_color_texture, material.metallic_roughness_texture, material.normal_texture,
-                           material.emissive_texture, layers.transmission_texture, layers.clearcoat_texture,
+                           material.emissive_texture, material.specular_texture, material.specular_color_texture,
+                           layers.transmission_texture, layers.clearcoat_texture,
                            layers.clearcoat_roughness_texture, layers.clearcoat_normal_texture, layers.sheen_color_texture,
                            layers.sheen_roughness_texture, layers.diffuse_transmission_texture,
                            layers.diffuse_transmission_color_texture, layers.anisotropy_texture,

@@ -3,6 +3,8 @@
 #ifndef FH_EFFECTS_GLSL
 #define FH_EFFECTS_GLSL
 layout(constant_id = SPEC_EFFECTS) const uint scene_effects = 0u;
+layout(constant_id = SPEC_EFFECTS_2) const uint scene_effects_2 = 0u;
 
-bool effect_on(uint effect) { return (scene_effects & effect) != 0u; }
+bool effect_on(uint effect) { return (scene_effects & effect) != 0u; }     // EFFECT_* (the first word)
+bool effect2_on(uint effect) { return (scene_effects_2 & effect) != 0u; }  // EFFECT2_* (the second word)
 #endif

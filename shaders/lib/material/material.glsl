@@ -6,9 +6,23 @@
 #include "lib/sampling/rng.glsl"
 #include "lib/material/texture.glsl"
 
+// KHR_materials_specular: specularFactor times the specularTexture's A, specularColorFactor times the
+// specularColorTexture's RGB (sRGB). A specular-glossiness material (MATERIAL_GLOSSINESS_IN_ALPHA) keeps its
+// glossiness in the colour texture's alpha: roughness = 1 - glossinessFactor x A (m.roughness = 1 - glossinessFactor).
+Material apply_specular_textures(Material m, Texcoords tc) {
+    if (effect2_on(EFFECT2_SPECULAR_TEXTURE) && m.specular_texture != INVALID_INDEX)
+        m.specular_color.w *= sample_texture(m.specular_texture, tc).w;
+    if (m.specular_color_texture == INVALID_INDEX) return m;
+    vec4 t = sample_texture(m.specular_color_texture, tc);
+    if (effect2_on(EFFECT2_SPECULAR_TEXTURE)) m.specular_color.xyz *= t.xyz;
+    if (effect2_on(EFFECT2_GLOSSINESS_TEXTURE) && (m.flags & MATERIAL_GLOSSINESS_IN_ALPHA) != 0u)
+        m.roughness = 1.0f - (1.0f - m.roughness) * t.w;
+    return m;
+}
+
 // `m` with its factors multiplied by the textures and vertex colour at barycentrics (b1, b2) of `triangle`.
 Material resolve_material(Material m, uint triangle, float b1, float b2) {
-    if (!effect_on(EFFECT_ATTRIBUTES)) return m;
+    if (!effect_on(EFFECT_ATTRIBUTES) && !effect2_on(EFFECT2_ATTRIBUTES)) return m;
     Texcoords tc = interpolate_texcoords(triangle, b1, b2);
     if (effect_on(EFFECT_BASE_COLOR_TEXTURE) && m.base_color_texture != INVALID_INDEX)
         m.base_color *= sample_texture(m.base_color_texture, tc);
@@ -20,6 +34,7 @@ Material resolve_material(Material m, uint triangle, float b1, float b2) {
     }
     if (effect_on(EFFECT_EMISSIVE_TEXTURE) && m.emissive_texture != INVALID_INDEX)
         m.emission.xyz *= sample_texture(m.emissive_texture, tc).xyz;
+    if (effect2_on(EFFECT2_SPECULAR_TEXTURE | EFFECT2_GLOSSINESS_TEXTURE)) m = apply_specular_textures(m, tc);
     return m;
 }
 
@@ -73,9 +88,9 @@ LayerTexels sample_layer_textures(uint first_slot, uint second_slot, uint triang
 }
 
 // The mesh's tangent frame at a point with unit normal `ns`: the tangent t (unit, orthogonal to ns) and the
-// bitangent b = cross(ns, t) x sign, from TANGENT or, without it, from the triangle's derivatives of texture
-// coordinate set 1 (`set1`) or 0 (engine/scene/gltf/README.md "Textures": per-triangle, not MikkTSpace's per-vertex average). `valid`
-// is false where neither gives a frame.
+// bitangent b = cross(ns, t) x sign, from the interpolated tangent (the file's TANGENT or the loader's MikkTSpace
+// ones, engine/scene/gltf/README.md "Textures") or, where a vertex has none (w 0), from the triangle's derivatives of
+// texture coordinate set 1 (`set1`) or 0. `valid` is false where neither gives a frame.
 struct TangentFrame {
     vec3 t;
     vec3 b;

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Writes the render-test scenes for the KHR material extensions other than glass: KHR_materials_clearcoat,
-KHR_materials_sheen, KHR_materials_diffuse_transmission, KHR_materials_anisotropy, KHR_materials_iridescence and
-KHR_materials_unlit (standard library only).
+KHR_materials_sheen, KHR_materials_diffuse_transmission, KHR_materials_anisotropy, KHR_materials_iridescence,
+KHR_materials_unlit, KHR_materials_specular's textures and KHR_materials_pbrSpecularGlossiness (standard library only).
 
 usage: make_material_scenes.py OUT_DIR
 
@@ -36,6 +36,21 @@ criterion, stated beside its test in tests/render/CMakeLists.txt:
                         a white metal sphere (metallic 1, roughness 0.3 or 1: the glTF default material), seen in
                         perspective: with --microfacet compensated it keeps all the energy, so every pixel reads 1
                         (a white furnace); the spec's single scattering keeps about 0.9 and 0.4 of it.
+  specular_texture_quad.gltf
+                        a smooth black dielectric of ior 0 (f0 = 1 before KHR_materials_specular) whose specularTexture
+                        and specularColorTexture are one texel (255, 188, 0, 128), seen head-on: it reflects
+                        f0 = specularColor x specular = (1, 0.50289, 0) x 128/255 = (0.50196, 0.25243, 0), the colour
+                        decoded from sRGB and the factor read linear from alpha.
+  gloss_quad.gltf       a KHR_materials_pbrSpecularGlossiness material (diffuse black, specularFactor (0.9, 0.6, 0.3),
+                        glossiness 1) whose specularGlossinessTexture is one texel (255, 188, 0, 255), seen head-on:
+                        a mirror of f0 = specular, (0.9, 0.6 x 0.50289, 0) = (0.9, 0.30173, 0).
+  gloss_highlight_texture.gltf, gloss_highlight_factor.gltf
+                        a white-specular, black-diffuse specular-glossiness square under a point light, as the
+                        anisotropy scenes: glossiness 0.25 from the texture's alpha (64/255 with glossinessFactor 1)
+                        or from glossinessFactor 64/255 without a texture; the same highlight (roughness 0.749).
+  unlit_quad_animated.gltf
+                        unlit_quad whose baseColorFactor KHR_animation_pointer animates from black at t = 0 to white at
+                        t = 1 (LINEAR): at --time 0.25 every pixel reads 0.25.
   unlit_quad.gltf       an unlit quad of base colour 0.5 (with an emissiveFactor of 1, which unlit ignores), seen
                         head-on: every camera ray sees exactly its base colour, 0.5, whatever lights the scene.
 """
@@ -121,6 +136,55 @@ def film_black_quad():
     return g
 
 
+SPECULAR_TEXEL = (255, 188, 0, 128)  # sRGB 188: linear 0.50289
+
+
+def specular_texture_quad():
+    g = AssetGltf()
+    g.doc["extensionsUsed"] += ["KHR_materials_specular", "KHR_materials_ior"]
+    texture = g.add_texture(1, 1, [SPECULAR_TEXEL])
+    g.add_raw_material({"pbrMetallicRoughness": {"baseColorFactor": [0.0, 0.0, 0.0, 1.0], "metallicFactor": 0.0,
+                                                 "roughnessFactor": 0.0},
+                        "extensions": {"KHR_materials_ior": {"ior": 0.0},
+                                       "KHR_materials_specular": {"specularTexture": {"index": texture},
+                                                                  "specularColorTexture": {"index": texture}}}})
+    g.add_node({"mesh": g.add_uv_mesh(quad(-10, -10, 10, 10, 0.0), quad_uv(), 0)})
+    g.add_orthographic_camera({"translation": [0.0, 0.0, 3.0]}, 1.0)
+    return g
+
+
+def specular_glossiness(g, specular, glossiness, texel=None):
+    gloss = {"diffuseFactor": [0.0, 0.0, 0.0, 1.0], "specularFactor": list(specular), "glossinessFactor": glossiness}
+    if texel is not None:
+        gloss["specularGlossinessTexture"] = {"index": g.add_texture(1, 1, [texel])}
+    g.doc["extensionsUsed"] += ["KHR_materials_pbrSpecularGlossiness"]
+    g.doc["extensionsRequired"] = ["KHR_materials_pbrSpecularGlossiness"]
+    # The metallic-roughness fallback a viewer without the extension would show: red, rough; never rendered here.
+    return g.add_raw_material({"pbrMetallicRoughness": {"baseColorFactor": [1.0, 0.0, 0.0, 1.0]},
+                               "extensions": {"KHR_materials_pbrSpecularGlossiness": gloss}})
+
+
+def gloss_quad():
+    g = AssetGltf()
+    specular_glossiness(g, (0.9, 0.6, 0.3), 1.0, (255, 188, 0, 255))
+    g.add_node({"mesh": g.add_uv_mesh(quad(-10, -10, 10, 10, 0.0), quad_uv(), 0)})
+    g.add_orthographic_camera({"translation": [0.0, 0.0, 3.0]}, 1.0)
+    return g
+
+
+def gloss_highlight(textured):
+    g = AssetGltf()
+    g.doc["extensionsUsed"] += ["KHR_lights_punctual"]
+    if textured:
+        specular_glossiness(g, (1.0, 1.0, 1.0), 1.0, (255, 255, 255, 64))
+    else:
+        specular_glossiness(g, (1.0, 1.0, 1.0), 64 / 255)
+    g.add_node({"mesh": g.add_uv_mesh(quad(-1, -1, 1, 1, 0.0), quad_uv(), 0)})
+    g.add_light({"type": "point", "intensity": 1.0}, {"translation": [0.0, 0.0, 0.5]})
+    g.add_orthographic_camera({"translation": [0.0, 0.0, 2.0]}, 1.0)
+    return g
+
+
 def unlit_quad():
     g = Gltf()
     g.doc["extensionsUsed"] += ["KHR_materials_unlit"]
@@ -129,6 +193,17 @@ def unlit_quad():
                                "extensions": {"KHR_materials_unlit": {}}})
     g.add_node({"mesh": g.add_mesh(quad(-10, -10, 10, 10, 0.0), 0)})
     g.add_orthographic_camera({"translation": [0.0, 0.0, 3.0]}, 1.0)
+    return g
+
+
+def unlit_quad_animated():
+    g = unlit_quad()
+    g.doc["extensionsUsed"] += ["KHR_animation_pointer"]
+    times = g.add_floats([0.0, 1.0], kind="SCALAR", count=2)
+    colors = g.add_floats([0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0, 1.0], kind="VEC4", count=2)
+    pointer = {"KHR_animation_pointer": {"pointer": "/materials/0/pbrMetallicRoughness/baseColorFactor"}}
+    g.doc["animations"] = [{"samplers": [{"input": times, "output": colors, "interpolation": "LINEAR"}],
+                            "channels": [{"sampler": 0, "target": {"path": "pointer", "extensions": pointer}}]}]
     return g
 
 
@@ -149,6 +224,11 @@ def main():
         "isotropic_highlight": highlight(0.0, 0.0),
         "film_black_quad": film_black_quad(),
         "unlit_quad": unlit_quad(),
+        "unlit_quad_animated": unlit_quad_animated(),
+        "specular_texture_quad": specular_texture_quad(),
+        "gloss_quad": gloss_quad(),
+        "gloss_highlight_texture": gloss_highlight(True),
+        "gloss_highlight_factor": gloss_highlight(False),
         "metal_furnace_r30": scene(white_metal(0.3), icosphere(4),
                                    lambda g: g.add_perspective_camera({"translation": [0.0, 0.0, 3.0]}, 0.8)),
         "metal_furnace_r100": scene(white_metal(1.0), icosphere(4),

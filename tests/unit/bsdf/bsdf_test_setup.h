@@ -32,6 +32,7 @@ inline fh::gpu::Material make_material(vec3 base, float metallic, float roughnes
     m.roughness = roughness;
     m.ior = ior;
     m.base_color_texture = m.metallic_roughness_texture = m.normal_texture = m.emissive_texture = 0xffffffffu;
+    m.specular_texture = m.specular_color_texture = 0xffffffffu;
     return m;
 }
 

@@ -276,3 +276,88 @@ TEST(GltfMotion, AMovingCameraCarriesItsMotion) {
     EXPECT_NEAR(std::atan2(cam.world_from_camera[2].x, cam.world_from_camera[2].z), 0.25, 1e-6);  // turned 0.25 rad
     EXPECT_EQ(scene.moving_instances, 0u);  // the mesh stands still
 }
+
+// ---- KHR_animation_pointer ----
+
+// Adds a channel with `pointer` to the file's first animation (made when missing).
+void animate_pointer(GltfBuilder& b, const std::string& pointer, const std::vector<float>& times, int output,
+                     const std::string& interpolation = "LINEAR") {
+    if (!b.doc.contains("animations")) b.doc["animations"] = {{{"samplers", json::array()}, {"channels", json::array()}}};
+    json& animation = b.doc["animations"][0];
+    const int sampler = int(animation["samplers"].size());
+    animation["samplers"].push_back(
+        {{"input", add_floats(b, times, "SCALAR", 1)}, {"output", output}, {"interpolation", interpolation}});
+    animation["channels"].push_back(
+        {{"sampler", sampler},
+         {"target", {{"path", "pointer"}, {"extensions", {{"KHR_animation_pointer", {{"pointer", pointer}}}}}}}});
+}
+
+// A triangle of material 0 (emissive, with KHR_materials_emissive_strength), a second triangle, a point light and a
+// perspective camera, whose properties pointers animate between t = 0 and 1.
+GltfBuilder pointer_scene() {
+    GltfBuilder b;
+    b.add_material({{"emissiveFactor", {1, 1, 1}},
+                    {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 1.0}}}}}});
+    b.doc["extensionsUsed"] = {"KHR_animation_pointer", "KHR_lights_punctual", "KHR_node_visibility",
+                               "KHR_materials_emissive_strength"};
+    b.doc["extensions"]["KHR_lights_punctual"]["lights"] = {{{"type", "point"}, {"intensity", 1.0}}};
+    b.doc["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.5}, {"znear", 0.1}}}}};
+    const int mesh = b.add_simple_mesh(UNIT_TRIANGLE, {}, {}, 4, 0);
+    b.set_scene({b.add_node({{"mesh", mesh}}), b.add_node({{"mesh", b.add_simple_mesh(UNIT_TRIANGLE)}}),
+                 b.add_node({{"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}}),
+                 b.add_node({{"camera", 0}})});
+    return b;
+}
+
+TEST(GltfAnimationPointer, AnimatesMaterialsLightsCamerasNodesAndVisibility) {
+    GltfBuilder b = pointer_scene();
+    const std::vector<float> t01 = {0.0f, 1.0f};
+    animate_pointer(b, "/materials/0/pbrMetallicRoughness/baseColorFactor", t01,
+                    add_floats(b, {0, 0, 0, 1, 1, 0.5f, 0.25f, 1}, "VEC4", 4));
+    animate_pointer(b, "/materials/0/pbrMetallicRoughness/roughnessFactor", t01, add_floats(b, {0, 1}, "SCALAR", 1));
+    animate_pointer(b, "/materials/0/extensions/KHR_materials_emissive_strength/emissiveStrength", t01,
+                    add_floats(b, {0, 4}, "SCALAR", 1));
+    animate_pointer(b, "/extensions/KHR_lights_punctual/lights/0/intensity", t01, add_floats(b, {0, 10}, "SCALAR", 1));
+    animate_pointer(b, "/cameras/0/perspective/yfov", t01, add_floats(b, {0.2f, 0.6f}, "SCALAR", 1));
+    animate_pointer(b, "/nodes/1/translation", t01, add_floats(b, {0, 0, 0, 0, 0, 4}, "VEC3", 3));
+    const std::vector<unsigned char> shown_hidden = {1, 0};
+    animate_pointer(b, "/nodes/0/extensions/KHR_node_visibility/visible", t01,
+                    b.add_accessor(b.add_view(shown_hidden.data(), 2), 5121, 2, "SCALAR"), "STEP");
+    animate_pointer(b, "/materials/0/occlusionTexture/strength", t01, add_floats(b, {0, 1}, "SCALAR", 1));
+    const auto file = b.write_gltf();
+
+    const Scene s = fh::load_gltf(file, at_time(0.5));
+    EXPECT_EQ(s.materials[0].base_color, glm::vec4(0.5f, 0.25f, 0.125f, 1.0f));
+    EXPECT_FLOAT_EQ(s.materials[0].roughness, 0.5f);
+    EXPECT_FLOAT_EQ(s.materials[0].emission.x, 2.0f);
+    ASSERT_EQ(s.lights.size(), 1u);
+    EXPECT_FLOAT_EQ(s.lights[0].intensity.x, 5.0f);
+    ASSERT_EQ(s.cameras.size(), 1u);
+    EXPECT_NEAR(s.cameras[0].yfov, 0.4, 1e-6);
+    EXPECT_NEAR(s.bounds_max.z, 2.0, 1e-6);  // node 1 halfway along +z
+    EXPECT_EQ(s.triangle_count(), 2u);       // node 0 still visible (STEP: 1 until t = 1)
+    bool warned = false;
+    for (const std::string& w : s.warnings) warned = warned || w.find("occlusionTexture is not read") != std::string::npos;
+    EXPECT_TRUE(warned);
+
+    const Scene hidden = fh::load_gltf(file, at_time(1.0));
+    EXPECT_EQ(hidden.triangle_count(), 1u);  // node 0 hidden from t = 1
+    EXPECT_FLOAT_EQ(hidden.lights[0].intensity.x, 10.0f);
+    // Without --time the file's own values.
+    const Scene still = fh::load_gltf(file, STATIC);
+    EXPECT_EQ(still.materials[0].base_color, glm::vec4(1.0f));
+    EXPECT_NEAR(still.cameras[0].yfov, 0.5, 1e-12);
+}
+
+TEST(GltfAnimationPointer, RefusesBadPointersNamingThem) {
+    auto refused = [](const std::string& pointer, const std::string& interpolation, const std::string& expected) {
+        GltfBuilder b = pointer_scene();
+        animate_pointer(b, pointer, {0.0f, 1.0f}, add_floats(b, {0, 1}, "SCALAR", 1), interpolation);
+        fh::test::expect_load_refused_with(b.write_gltf(), at_time(0.5), expected);
+    };
+    refused("/materials/7/pbrMetallicRoughness/metallicFactor", "LINEAR", "material '7' does not exist");
+    refused("/extensions/KHR_lights_punctual/lights/3/intensity", "LINEAR", "light '3' does not exist");
+    refused("materials/0/alphaCutoff", "LINEAR", "does not start with '/'");
+    refused("/nodes/0/extensions/KHR_node_visibility/visible", "LINEAR", "requires STEP");
+    refused("/materials/0/pbrMetallicRoughness/baseColorFactor", "LINEAR", "expected a VEC4 accessor");
+}

@@ -225,8 +225,9 @@ TEST(GltfLoader, ReadsMaterialFactorsAndExtensions) {
           {{"KHR_materials_emissive_strength", {{"emissiveStrength", 4.0}}},
            {"KHR_materials_specular", {{"specularFactor", 0.5}, {"specularColorFactor", {0.2, 0.4, 0.6}}}},
            {"KHR_materials_ior", {{"ior", 1.33}}}}}});
+    // Metadata (KHR_xmp_json_ld, and the archived KHR_xmp) has nothing to render: no warning.
     b.doc["extensionsUsed"] = {"KHR_materials_emissive_strength", "KHR_materials_specular", "KHR_materials_ior",
-                               "EXT_something_new"};
+                               "EXT_something_new", "KHR_xmp_json_ld", "KHR_xmp"};
     b.set_scene({b.add_node({{"mesh", b.add_simple_mesh(UNIT_TRIANGLE, {}, {}, 4, mat)}})});
     const Scene s = fh::load_gltf(b.write_gltf(), WORLD_SPACE);
     ASSERT_EQ(s.materials.size(), 1u);
@@ -304,7 +305,7 @@ TEST(GltfLoader, RejectsAnAccessorOutsideItsBuffer) {
 }
 
 TEST(GltfLoader, RejectsUnsupportedRequiredExtensions) {
-    for (const char* name : {"EXT_fredholm_never_supported", "KHR_materials_pbrSpecularGlossiness"}) {
+    for (const char* name : {"EXT_fredholm_never_supported", "EXT_lights_image_based"}) {
         GltfBuilder b;
         b.doc["extensionsUsed"] = {name};
         b.doc["extensionsRequired"] = {name};
@@ -482,6 +483,37 @@ TEST(GltfLoader, ReadsPunctualLightsWithTheirNodeTransforms) {
     EXPECT_FLOAT_EQ(s.lights[1].outer_cone, 0.5f);
     EXPECT_EQ(s.lights[2].type, fh::gpu::LIGHT_DIRECTIONAL);
     EXPECT_EQ(s.lights[2].direction, glm::dvec3(0, 0, -1));
+}
+
+// KHR_node_visibility: visible false hides the node's meshes and lights and its descendants', even one marked
+// visible; cameras stay. A visible node and a node without the extension draw.
+TEST(GltfLoader, NodeVisibilityHidesMeshesAndLightsOfASubtree) {
+    GltfBuilder b;
+    const int mesh = b.add_simple_mesh(UNIT_TRIANGLE);
+    b.doc["extensionsUsed"] = {"KHR_lights_punctual", "KHR_node_visibility"};
+    b.doc["extensionsRequired"] = {"KHR_node_visibility"};
+    b.doc["extensions"]["KHR_lights_punctual"]["lights"] = {{{"type", "point"}, {"intensity", 1.0}}};
+    b.doc["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.5}, {"znear", 0.1}}}}};
+    const nlohmann::json hidden = {{"KHR_node_visibility", {{"visible", false}}}};
+    const nlohmann::json shown = {{"KHR_node_visibility", {{"visible", true}}}};
+    const int child_mesh = b.add_node({{"mesh", mesh}, {"extensions", shown}});
+    const int child_light = b.add_node({{"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+    const int child_camera = b.add_node({{"camera", 0}});
+    const int hidden_root = b.add_node({{"mesh", mesh}, {"extensions", hidden},
+                                        {"children", {child_mesh, child_light, child_camera}}});
+    b.set_scene({hidden_root, b.add_node({{"mesh", mesh}})});  // a scene with nothing to draw is refused
+    Scene s = fh::load_gltf(b.write_gltf(), WORLD_SPACE);
+    EXPECT_EQ(s.triangle_count(), 1u);
+    EXPECT_TRUE(s.lights.empty());
+    EXPECT_EQ(s.cameras.size(), 1u);
+    EXPECT_TRUE(s.warnings.empty()) << s.warnings.front();
+    b.doc["nodes"][size_t(hidden_root)]["extensions"] = shown;
+    s = fh::load_gltf(b.write_gltf(), WORLD_SPACE);
+    EXPECT_EQ(s.triangle_count(), 3u);
+    EXPECT_EQ(s.lights.size(), 1u);
+    b.doc["nodes"][size_t(hidden_root)].erase("extensions");
+    s = fh::load_gltf(b.write_gltf(), WORLD_SPACE);
+    EXPECT_EQ(s.triangle_count(), 3u);
 }
 
 TEST(GltfLoader, RejectsAMissingLightWithItsNode) {

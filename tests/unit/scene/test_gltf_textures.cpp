@@ -58,7 +58,7 @@ Scene load_textured_triangle(const nlohmann::json& material) {
 }
 
 // The effect bits among `mask` that the analysis switches on for one triangle of `material`.
-uint32_t analysed_effects_of(const nlohmann::json& material, uint32_t mask) {
+fh::EffectBits analysed_effects_of(const nlohmann::json& material, fh::EffectBits mask) {
     return fh::analyse_effects(load_textured_triangle(material), false).bits & mask;
 }
 
@@ -158,6 +158,66 @@ TEST(GltfTextures, GgxMultiscatterIsDecidedByValue) {
     s.materials[0].metallic = 1.0f;
     s.materials[0].flags |= gpu::MATERIAL_UNLIT;
     EXPECT_EQ(fh::analyse_effects(s, false).bits & multiscatter, 0u);
+}
+
+// KHR_materials_specular's textures go through the texture path: specularTexture linear (its alpha is the factor),
+// specularColorTexture sRGB; no warning. They are an effect where the dielectric's specular layer shows.
+TEST(GltfTextures, ReadsSpecularTextures) {
+    const nlohmann::json material = {
+        {"pbrMetallicRoughness", {{"metallicFactor", 0.0}}},
+        {"extensions", {{"KHR_materials_specular", {{"specularTexture", {{"index", 0}}},
+                                                    {"specularColorTexture", {{"index", 0}, {"texCoord", 1}}}}}}}};
+    Scene s = load_textured_triangle(material);
+    EXPECT_TRUE(s.warnings.empty()) << s.warnings.front();
+    const gpu::Material& m = s.materials[0];
+    ASSERT_LT(m.specular_texture, s.texture_slots.size());
+    ASSERT_LT(m.specular_color_texture, s.texture_slots.size());
+    EXPECT_EQ(s.texture_slots[m.specular_texture].addressing & gpu::SAMPLER_SRGB, 0u);
+    EXPECT_EQ(s.texture_slots[m.specular_color_texture].addressing & (gpu::SAMPLER_SRGB | gpu::SAMPLER_TEXCOORD_1),
+              gpu::SAMPLER_SRGB | gpu::SAMPLER_TEXCOORD_1);
+    EXPECT_EQ(s.texcoords1.size(), 3u);  // the colour texture reads TEXCOORD_1
+    EXPECT_EQ(fh::analyse_effects(s, false).bits & fh::EFFECT_SPECULAR_TEXTURE, fh::EFFECT_SPECULAR_TEXTURE);
+    EXPECT_EQ(fh::analyse_effects(s, false).bits & fh::EFFECT_GLOSSINESS_TEXTURE, 0u);
+    s.materials[0].specular_color.w = 0.0f;  // no specular layer: nothing to texture
+    EXPECT_EQ(fh::analyse_effects(s, false).bits & fh::EFFECT_SPECULAR_TEXTURE, 0u);
+    s.materials[0].specular_color.w = 1.0f;
+    s.materials[0].metallic = 1.0f;  // all metal: the dielectric's layer never shows
+    EXPECT_EQ(fh::analyse_effects(s, false).bits & fh::EFFECT_SPECULAR_TEXTURE, 0u);
+}
+
+// KHR_materials_pbrSpecularGlossiness maps onto a dielectric: diffuse -> base colour, metallic 0, roughness =
+// 1 - glossiness, f0 = the specular colour (ior 0 with KHR_materials_specular's colour), the diffuse texture as the
+// base colour texture and the specular-glossiness texture as the (sRGB) specular colour texture with glossiness in
+// its alpha. It may be required; the metallic-roughness fallback is not read.
+TEST(GltfTextures, SpecularGlossinessMapsOntoTheDielectric) {
+    nlohmann::json material = {
+        {"pbrMetallicRoughness", {{"baseColorFactor", {1, 0, 0, 1}}, {"metallicFactor", 1.0}}},
+        {"extensions", {{"KHR_materials_pbrSpecularGlossiness",
+                         {{"diffuseFactor", {0.5, 0.25, 0.125, 0.75}}, {"specularFactor", {0.9, 0.6, 0.3}},
+                          {"glossinessFactor", 0.8}, {"diffuseTexture", {{"index", 0}}},
+                          {"specularGlossinessTexture", {{"index", 0}}}}}}}};
+    GltfBuilder b = make_textured_triangle(material);
+    b.doc["extensionsUsed"] = {"KHR_materials_pbrSpecularGlossiness"};
+    b.doc["extensionsRequired"] = {"KHR_materials_pbrSpecularGlossiness"};
+    b.set_scene({b.add_node({{"mesh", 0}})});
+    Scene s = fh::load_gltf(b.write_gltf(), WORLD_SPACE);
+    EXPECT_TRUE(s.warnings.empty()) << s.warnings.front();
+    const gpu::Material& m = s.materials[0];
+    EXPECT_EQ(m.base_color, glm::vec4(0.5f, 0.25f, 0.125f, 0.75f));
+    EXPECT_EQ(m.metallic, 0.0f);
+    EXPECT_NEAR(m.roughness, 0.2f, 1e-7);
+    EXPECT_EQ(m.ior, 0.0f);
+    EXPECT_EQ(m.specular_color, glm::vec4(0.9f, 0.6f, 0.3f, 1.0f));
+    EXPECT_EQ(m.metallic_roughness_texture, gpu::INVALID_INDEX);
+    EXPECT_EQ(m.specular_texture, gpu::INVALID_INDEX);
+    ASSERT_LT(m.base_color_texture, s.texture_slots.size());
+    ASSERT_LT(m.specular_color_texture, s.texture_slots.size());
+    EXPECT_NE(s.texture_slots[m.specular_color_texture].addressing & gpu::SAMPLER_SRGB, 0u);
+    EXPECT_EQ(m.flags & gpu::MATERIAL_GLOSSINESS_IN_ALPHA, gpu::MATERIAL_GLOSSINESS_IN_ALPHA);
+    const fh::EffectBits texture_effects = fh::EFFECT_SPECULAR_TEXTURE | fh::EFFECT_GLOSSINESS_TEXTURE;
+    EXPECT_EQ(fh::analyse_effects(s, false).bits & texture_effects, texture_effects);
+    s.materials[0].roughness = 1.0f;  // glossinessFactor 0: the texture's alpha multiplies 0
+    EXPECT_EQ(fh::analyse_effects(s, false).bits & texture_effects, fh::EFFECT_SPECULAR_TEXTURE);
 }
 
 TEST(GltfTextures, MirroringFlipsTheBitangentSign) {
@@ -291,7 +351,7 @@ TEST(GltfTransmission, ReadsTransmissionAndVolume) {
     EXPECT_NEAR(l.attenuation.x, -std::log(0.5) / 2.0, 1e-6);  // Beer-Lambert: -ln(colour) / distance
     EXPECT_EQ(l.attenuation.y, 0.0f);
     EXPECT_NEAR(l.attenuation.z, -std::log(0.25) / 2.0, 1e-6);
-    const uint32_t bits = fh::analyse_effects(s, false).bits;
+    const fh::EffectBits bits = fh::analyse_effects(s, false).bits;
     const uint32_t glass = gpu::EFFECT_TRANSMISSION | gpu::EFFECT_TRANSMISSION_TEXTURE | gpu::EFFECT_VOLUME |
                            gpu::EFFECT_ABSORPTION;
     EXPECT_EQ(bits & glass, glass) << fh::describe_effects(bits);
@@ -400,7 +460,7 @@ TEST(GltfUnlit, FlagsTheMaterialAndDropsItsEmission) {
     EXPECT_EQ(s.materials[0].flags & gpu::MATERIAL_UNLIT, gpu::MATERIAL_UNLIT);
     EXPECT_EQ(s.materials[0].emission.x, 0.0f);
     EXPECT_NE(s.materials[0].base_color_texture, gpu::INVALID_INDEX);
-    const uint32_t bits = fh::analyse_effects(s, false).bits;
+    const fh::EffectBits bits = fh::analyse_effects(s, false).bits;
     EXPECT_NE(bits & gpu::EFFECT_UNLIT, 0u);
     EXPECT_EQ(bits & gpu::EFFECT_EMISSIVE_TEXTURE, 0u);
 }
