@@ -35,6 +35,10 @@ enum class Integrator { path, light, bdpt, automatic };
 // or keep the glTF spec's single scattering.
 enum class Microfacet { compensated, single };
 
+// --tangents: without TANGENT, the loader's MikkTSpace tangents (engine/scene/gltf/gltf_tangents.h), or each
+// triangle's own frame from its texture coordinates (what Fredholm did before, kept for comparison).
+enum class Tangents { mikktspace, triangle };
+
 // Where a path's random numbers come from (shaders/lib/sampling/path_sampler.glsl).
 enum class Sampler { independent, sobol };
 
@@ -78,6 +82,7 @@ struct RenderSettings {
     EffectBits forced_effects = 0;       // --force-effect: EFFECT_* bits compiled in although unused (measurement)
     std::string variant;               // --variant: KHR_materials_variants name (empty: the file's default)
     Instancing instancing = Instancing::automatic;  // --instancing auto|on|off
+    Tangents tangents = Tangents::mikktspace;       // --tangents mikktspace|triangle
     // Light from outside the scene (engine/scene/README.md "Environment light"): an equirectangular map, or a constant.
     std::string environment_file;      // --env (OpenEXR or Radiance .hdr); empty: none
     float environment_intensity = 1.0f;   // --env-intensity: radiance scale

@@ -90,6 +90,9 @@ struct LoadOptions {
     // KHR_materials_variants: the variant whose materials primitives use (empty: the file's default materials).
     std::string variant;
     Instancing instancing = Instancing::automatic;  // scene/instancing.h
+    // Without TANGENT: MikkTSpace tangents where a material needs a tangent frame (gltf_tangents.h); off: none, and the
+    // shader derives each triangle's frame from its texture coordinates (to compare with).
+    bool mikktspace_tangents = true;
     // glTF animation: with `animate`, the scene is posed at `time` seconds by the animation `animation` names ("": the
     // first; an index or a name). Without it the nodes keep the file's transforms and weights.
     bool animate = false;

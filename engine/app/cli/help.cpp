@@ -33,7 +33,7 @@ const std::map<std::string, std::string>& help_groups() {
         put("Device", {"device"});
         put(DIAGNOSTICS, {"nee", "mis", "rr", "rr-start-depth", "rr-survival-scale", "light-pick", "wave-paths",
                           "sort-rays", "wide-stores", "bdpt-strategy", "disable-technique", "bvh-leaf-size",
-                          "disable-effect", "force-effect", "instancing", "validate"});
+                          "disable-effect", "force-effect", "instancing", "tangents", "validate"});
         return g;
     }();
     return groups;

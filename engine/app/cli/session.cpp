@@ -44,6 +44,7 @@ PreparedScene prepare_scene(const std::filesystem::path& file, const RenderSetti
     load.rebase = (settings.disabled_techniques & gpu::TECHNIQUE_REBASE) == 0;
     load.variant = settings.variant;
     load.instancing = settings.instancing;
+    load.mikktspace_tangents = settings.tangents == Tangents::mikktspace;
     load.animate = settings.animate;
     load.animation = settings.animation;
     load.time = settings.time;

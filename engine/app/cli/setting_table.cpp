@@ -272,6 +272,14 @@ std::vector<SettingInfo> make_table() {
                      s.instancing = all[parse_choice(w, {"auto", "on", "off"})];
                  },
                  [](const S& s) { return std::string(instancing_name(s.instancing)); }});
+    t.push_back({"tangents", "mikktspace|triangle",
+                 "without TANGENT: MikkTSpace tangents (default, what normal maps are baked against), or each "
+                 "triangle's own frame (to compare with)",
+                 "fredholm:tangents", "tangents", true, true, "triangle",
+                 [](S& s, W w) {
+                     s.tangents = parse_choice(w, {"mikktspace", "triangle"}) ? Tangents::triangle : Tangents::mikktspace;
+                 },
+                 [](const S& s) { return std::string(s.tangents == Tangents::triangle ? "triangle" : "mikktspace"); }});
     return t;
 }
 

@@ -46,6 +46,9 @@ Track read_track(const tinygltf::Model& model, const tinygltf::AnimationSampler&
     if (target.boolean && track.interpolation != "STEP")
         throw SceneError(where + ": a boolean property is animated with " + track.interpolation +
                          " interpolation (KHR_animation_pointer requires STEP)");
+    if (target.boolean && (sampler.output < 0 || size_t(sampler.output) >= model.accessors.size() ||
+                           model.accessors[size_t(sampler.output)].componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE))
+        throw SceneError(where + ": a boolean property needs unsigned byte outputs (KHR_animation_pointer)");
     for (const glm::vec4& t : read_vectors(model, sampler.input, "input of " + where, 1, 1, false)) {
         if (!std::isfinite(t.x)) throw SceneError(where + ": a keyframe time is not finite");
         if (!track.times.empty() && !(t.x > track.times.back()))

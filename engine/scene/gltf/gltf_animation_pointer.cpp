@@ -166,7 +166,12 @@ PointerTarget material_target(tinygltf::Model& model, const Tokens& tokens) {
     size_t length = 0;
     if (tinygltf::ExtensionMap* extensions = core_texture_extensions(m, tokens, 2, length))
         return generic(*extensions, tokens, 2 + length + 1);
-    if (tokens.size() > 4 && tokens[2] == "extensions") return generic(m.extensions, tokens, 3);
+    if (tokens.size() > 4 && tokens[2] == "extensions") {
+        // The Object Model's pointers must name what the asset defines: the extension object at least.
+        if (m.extensions.count(tokens[3]) == 0)
+            throw SceneError("material " + tokens[1] + " has no " + tokens[3] + " for the pointer to animate");
+        return generic(m.extensions, tokens, 3);
+    }
     return ignored("not a material property Fredholm renders");
 }
 
@@ -183,6 +188,8 @@ PointerTarget light_target(tinygltf::Model& model, const Tokens& tokens) {
 
 PointerTarget camera_target(tinygltf::Model& model, const Tokens& tokens) {
     tinygltf::Camera& camera = model.cameras[index_of(tokens[1], model.cameras.size(), "camera")];
+    if ((tokens[2] == "perspective" || tokens[2] == "orthographic") && tokens[2] != camera.type)
+        throw SceneError("camera " + tokens[1] + " is " + camera.type + ", not " + tokens[2]);
     auto scalar = [](double& field) { return numbers(1, [&field](const std::vector<double>& v) { field = v[0]; }); };
     if (tail_is(tokens, 2, {"perspective", "yfov"})) return scalar(camera.perspective.yfov);
     if (tail_is(tokens, 2, {"perspective", "aspectRatio"})) return scalar(camera.perspective.aspectRatio);

@@ -22,12 +22,15 @@ Placement place(const glm::dmat4& world, std::vector<glm::dmat4> keys) {
     return {world, {}};
 }
 
-// KHR_node_visibility's visible (true when absent or not a boolean).
-bool is_marked_visible(const tinygltf::Node& node) {
+// KHR_node_visibility's visible (true when absent); throws SceneError for one that is not a boolean.
+bool is_marked_visible(const tinygltf::Model& model, int index) {
+    const tinygltf::Node& node = model.nodes[size_t(index)];
     const auto it = node.extensions.find("KHR_node_visibility");
     if (it == node.extensions.end() || !it->second.IsObject() || !it->second.Has("visible")) return true;
     const tinygltf::Value& visible = it->second.Get("visible");
-    return !visible.IsBool() || visible.Get<bool>();
+    if (!visible.IsBool())
+        throw SceneError(describe_node(model, index) + ": KHR_node_visibility visible is not true or false");
+    return visible.Get<bool>();
 }
 
 }  // namespace
@@ -127,7 +130,7 @@ void Flattener::visit_node(int index, const glm::dmat4& parent_world, int depth,
     if (!is_finite(world) || !std::all_of(keys.begin(), keys.end(), [](const glm::dmat4& m) { return is_finite(m); }))
         throw SceneError("the world transform of " + describe_node(model_, index) +
                          " is not finite (its transform or an ancestor's overflows)");
-    visible = visible && is_marked_visible(node);
+    visible = visible && is_marked_visible(model_, index);
     if (node.mesh >= 0 && visible) record_mesh_uses(node, index, place(world, keys));
     if (node.camera >= 0) add_camera(node.camera, index, place(world, keys));
     if (const auto it = node.extensions.find("KHR_lights_punctual"); it != node.extensions.end() && visible)

@@ -80,6 +80,9 @@ public:
     // without them every node keeps its transform over the shutter.
     void set_shutter_transforms(std::vector<std::vector<glm::dmat4>> locals) { local_keys_ = std::move(locals); }
 
+    // LoadOptions::mikktspace_tangents: tangents for primitives without TANGENT whose material needs them.
+    void set_generate_tangents(bool generate) { generate_tangents_ = generate; }
+
     // parent_keys: the parent's world transforms at the shutter's keys (set_shutter_transforms; identities at a root).
     // `visible`: no ancestor is hidden by KHR_node_visibility (a hidden node's meshes and lights, and its
     // descendants', are left out; cameras stay).
@@ -135,6 +138,7 @@ private:
     void add_camera(int camera_index, int node_index, const Placement& place);
     void add_light(const tinygltf::Value& extension, int node_index, const glm::dmat4& world);
 
+    bool generate_tangents_ = true;
     const tinygltf::Model& model_;
     Scene& scene_;
     std::vector<glm::dvec3> world_positions_;  // 3 per triangle, until finish() places them in render space

@@ -185,6 +185,7 @@ Scene load_unprefixed(const std::filesystem::path& file, const LoadOptions& opti
 
     warn_about_shared_nodes(model, scene.warnings);
     Flattener flattener(model, scene, choose_variant(model, options.variant, scene.variants));
+    flattener.set_generate_tangents(options.mikktspace_tangents);
     const std::vector<int> roots = find_root_nodes(model, scene.warnings);
     check_node_instances(model, roots);
     flattener.compute_node_worlds(roots);

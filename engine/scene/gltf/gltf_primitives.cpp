@@ -138,7 +138,7 @@ void Flattener::add_primitive(const tinygltf::Primitive& prim, int mesh_index, i
     const std::vector<std::array<uint32_t, 3>> triangles = make_triangles(mode, indices);
     // Without TANGENT, a material that needs a tangent frame gets MikkTSpace's (glTF spec 3.7.2.1: clients SHOULD).
     std::vector<std::array<glm::vec4, 3>> generated;
-    if (keep_attributes_ && attributes.tangents.empty() && !normals.empty()) {
+    if (generate_tangents_ && keep_attributes_ && attributes.tangents.empty() && !normals.empty()) {
         const int set = tangent_texcoord_set(material);
         const std::vector<glm::vec4>& uvs = set == 1 ? attributes.texcoords1 : attributes.texcoords0;
         if (set >= 0 && !uvs.empty()) generated = gltf::generate_tangents(triangles, positions, normals, uvs);

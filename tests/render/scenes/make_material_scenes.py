@@ -51,6 +51,11 @@ criterion, stated beside its test in tests/render/CMakeLists.txt:
   unlit_quad_animated.gltf
                         unlit_quad whose baseColorFactor KHR_animation_pointer animates from black at t = 0 to white at
                         t = 1 (LINEAR): at --time 0.25 every pixel reads 0.25.
+  pointer_animated.gltf, pointer_static.gltf
+                        a quad of base colour 0.25 -> 0.75 and emissive strength 1 -> 3 between t = 0 and 1, seen by a
+                        camera of yfov 0.5 -> 0.75, all through KHR_animation_pointer; and the same file with the values
+                        at t = 0.5 written in (base colour 0.5, strength 2, yfov 0.625; all exact in binary): at
+                        --time 0.5 the two render the same bits.
   unlit_quad.gltf       an unlit quad of base colour 0.5 (with an emissiveFactor of 1, which unlit ignores), seen
                         head-on: every camera ray sees exactly its base colour, 0.5, whatever lights the scene.
 """
@@ -196,6 +201,31 @@ def unlit_quad():
     return g
 
 
+def pointer_scene(animated):
+    g = Gltf()
+    g.doc["extensionsUsed"] += ["KHR_materials_emissive_strength"]
+    base, strength, yfov = (0.25, 1.0, 0.5) if animated else (0.5, 2.0, 0.625)
+    g.doc["materials"].append({"pbrMetallicRoughness": {"baseColorFactor": [base, base, base, 1.0], "metallicFactor": 0.0},
+                               "emissiveFactor": [0.5, 0.25, 0.125],
+                               "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": strength}}})
+    g.add_node({"mesh": g.add_mesh(quad(-1, -1, 1, 1, 0.0), 0)})
+    g.add_perspective_camera({"translation": [0.0, 0.0, 3.0]}, yfov)
+    if animated:
+        g.doc["extensionsUsed"] += ["KHR_animation_pointer"]
+        times = g.add_floats([0.0, 1.0], kind="SCALAR", count=2)
+        channels = [("/materials/0/pbrMetallicRoughness/baseColorFactor",
+                     g.add_floats([0.25, 0.25, 0.25, 1.0, 0.75, 0.75, 0.75, 1.0], kind="VEC4", count=2)),
+                    ("/materials/0/extensions/KHR_materials_emissive_strength/emissiveStrength",
+                     g.add_floats([1.0, 3.0], kind="SCALAR", count=2)),
+                    ("/cameras/0/perspective/yfov", g.add_floats([0.5, 0.75], kind="SCALAR", count=2))]
+        g.doc["animations"] = [{
+            "samplers": [{"input": times, "output": output} for _, output in channels],
+            "channels": [{"sampler": i, "target": {"path": "pointer",
+                                                   "extensions": {"KHR_animation_pointer": {"pointer": pointer}}}}
+                         for i, (pointer, _) in enumerate(channels)]}]
+    return g
+
+
 def unlit_quad_animated():
     g = unlit_quad()
     g.doc["extensionsUsed"] += ["KHR_animation_pointer"]
@@ -225,6 +255,8 @@ def main():
         "film_black_quad": film_black_quad(),
         "unlit_quad": unlit_quad(),
         "unlit_quad_animated": unlit_quad_animated(),
+        "pointer_animated": pointer_scene(True),
+        "pointer_static": pointer_scene(False),
         "specular_texture_quad": specular_texture_quad(),
         "gloss_quad": gloss_quad(),
         "gloss_highlight_texture": gloss_highlight(True),

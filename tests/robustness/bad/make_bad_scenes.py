@@ -45,6 +45,28 @@ def triangle_scene(points=TRIANGLE, indices=(0, 1, 2), uri=None):
     return doc, data
 
 
+def animated_by_pointer(doc, pointer):
+    """`doc` with one KHR_animation_pointer channel on `pointer`: two keys (t = 0, 1) of one VEC4 each, in a second
+    buffer."""
+    d = copy.deepcopy(doc)
+    data = struct.pack("<2f", 0.0, 1.0) + struct.pack("<8f", *([0.0] * 4 + [1.0] * 4))
+    d["buffers"].append({"byteLength": len(data),
+                         "uri": "data:application/octet-stream;base64," + base64.b64encode(data).decode()})
+    buffer = len(d["buffers"]) - 1
+    d["bufferViews"] += [{"buffer": buffer, "byteOffset": 0, "byteLength": 8},
+                         {"buffer": buffer, "byteOffset": 8, "byteLength": 32}]
+    views = len(d["bufferViews"])
+    d["accessors"] += [{"bufferView": views - 2, "componentType": 5126, "count": 2, "type": "SCALAR",
+                        "min": [0.0], "max": [1.0]},
+                       {"bufferView": views - 1, "componentType": 5126, "count": 2, "type": "VEC4"}]
+    accessors = len(d["accessors"])
+    d["extensionsUsed"] = d.get("extensionsUsed", []) + ["KHR_animation_pointer"]
+    d["animations"] = [{"samplers": [{"input": accessors - 2, "output": accessors - 1}],
+                        "channels": [{"sampler": 0, "target": {
+                            "path": "pointer", "extensions": {"KHR_animation_pointer": {"pointer": pointer}}}}]}]
+    return d
+
+
 def png_1x1():
     """A valid 1x1 RGBA PNG."""
     import zlib
@@ -185,6 +207,17 @@ def main():
     d["extensionsUsed"] = ["EXT_fredholm_never_supported"]
     d["extensionsRequired"] = ["EXT_fredholm_never_supported"]
     write("required_extension.gltf", d)
+    d = copy.deepcopy(doc)
+    d["extensionsUsed"] = ["KHR_node_visibility"]
+    d["nodes"][0]["extensions"] = {"KHR_node_visibility": {"visible": 2}}
+    write("visibility_not_boolean.gltf", d)
+    d = copy.deepcopy(doc)
+    d["extensionsUsed"] = ["KHR_materials_pbrSpecularGlossiness"]
+    d["materials"] = [{"extensions": {"KHR_materials_pbrSpecularGlossiness": {"specularGlossinessTexture": 3}}}]
+    d["meshes"][0]["primitives"][0]["material"] = 0
+    write("specular_glossiness_texture_not_an_object.gltf", d)
+    d = animated_by_pointer(doc, "/materials/4/pbrMetallicRoughness/baseColorFactor")
+    write("animation_pointer_missing_material.gltf", d)
     d = copy.deepcopy(doc)
     d["nodes"] = []
     d["scenes"] = [{"nodes": []}]

@@ -23,7 +23,8 @@ const std::map<std::string, std::string>& sample_words() {
         {"rr", "off"},             {"rr-start-depth", "7"},          {"rr-survival-scale", "0.123456791"},
         {"light-pick", "separate"}, {"light-sampler", "tree"},       {"wave-paths", "2048"},
         {"sort-rays", "on"},       {"wide-stores", "off"},           {"bvh-leaf-size", "2"},
-        {"variant", "Yellow"},     {"instancing", "off"},            {"microfacet", "single"}};
+        {"variant", "Yellow"},     {"instancing", "off"},            {"microfacet", "single"},
+        {"tangents", "triangle"}};
     return words;
 }
 

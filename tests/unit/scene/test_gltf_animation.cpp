@@ -360,4 +360,7 @@ TEST(GltfAnimationPointer, RefusesBadPointersNamingThem) {
     refused("materials/0/alphaCutoff", "LINEAR", "does not start with '/'");
     refused("/nodes/0/extensions/KHR_node_visibility/visible", "LINEAR", "requires STEP");
     refused("/materials/0/pbrMetallicRoughness/baseColorFactor", "LINEAR", "expected a VEC4 accessor");
+    refused("/nodes/0/extensions/KHR_node_visibility/visible", "STEP", "needs unsigned byte outputs");  // floats
+    refused("/materials/0/extensions/KHR_materials_sheen/sheenRoughnessFactor", "LINEAR", "has no KHR_materials_sheen");
+    refused("/cameras/0/orthographic/xmag", "LINEAR", "camera 0 is perspective, not orthographic");
 }

@@ -514,6 +514,9 @@ TEST(GltfLoader, NodeVisibilityHidesMeshesAndLightsOfASubtree) {
     b.doc["nodes"][size_t(hidden_root)].erase("extensions");
     s = fh::load_gltf(b.write_gltf(), WORLD_SPACE);
     EXPECT_EQ(s.triangle_count(), 3u);
+    b.doc["nodes"][size_t(hidden_root)]["extensions"] = {{"KHR_node_visibility", {{"visible", 3}}}};
+    const std::string error = load_error(b.write_gltf());
+    EXPECT_NE(error.find("KHR_node_visibility visible is not true or false"), std::string::npos) << error;
 }
 
 TEST(GltfLoader, RejectsAMissingLightWithItsNode) {
