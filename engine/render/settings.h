@@ -31,8 +31,8 @@ struct LensSettings {
 // `automatic` (--integrator auto, fredholm render only) is resolved by a pilot before any Renderer is built.
 enum class Integrator { path, light, bdpt, automatic };
 
-// --microfacet: rough metals give back the energy single-scattering GGX loses (shaders/lib/bsdf/ggx_multiscatter.glsl),
-// or keep the glTF spec's single scattering.
+// --microfacet: rough GGX lobes (metals, dielectric specular layers) give back the energy single-scattering GGX loses
+// (shaders/lib/bsdf/ggx_multiscatter.glsl), or keep the glTF spec's single scattering.
 enum class Microfacet { compensated, single };
 
 // --tangents: without TANGENT, the loader's MikkTSpace tangents (engine/scene/gltf/gltf_tangents.h), or each

@@ -141,7 +141,7 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
 
     std::set<uint32_t> base, metal_rough, normal, emissive, alpha, glass, glass_texture, volume, absorbing, rough_glass;
     std::set<uint32_t> coat, coat_texture, coat_normal, unlit, sheen, sheen_texture, diffuse, diffuse_texture;
-    std::set<uint32_t> anisotropic, anisotropy_texture, film, film_texture, dispersive, specular, rough_metal;
+    std::set<uint32_t> anisotropic, anisotropy_texture, film, film_texture, dispersive, specular, rough_specular;
     std::set<uint32_t> specular_texture, glossiness_texture;
     for (uint32_t m : used) {
         const gpu::Material& mat = scene.materials[m];
@@ -226,9 +226,12 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
         if (dielectric_specular && slot_valid(mat.specular_color_texture) &&
             (mat.flags & gpu::MATERIAL_GLOSSINESS_IN_ALPHA) && mat.roughness < 1.0f)
             glossiness_texture.insert(m);
-        // Rough metal loses energy between its microfacets, given back by the multiple-scattering lobe (--microfacet
-        // compensated); textures only multiply the factors, so a factor of 0 keeps the product 0.
-        if (!(mat.flags & gpu::MATERIAL_UNLIT) && mat.metallic > 0.0f && mat.roughness > 0.0f) rough_metal.insert(m);
+        // A rough GGX lobe (metal, or the dielectric's specular layer) loses energy between its microfacets, given back
+        // by the multiple-scattering lobe (--microfacet compensated); metallic-roughness textures only multiply the
+        // factors, so a factor of 0 keeps the product 0, but a specular-glossiness map's alpha raises it.
+        const bool glossiness_mapped = slot_valid(mat.specular_color_texture) && (mat.flags & gpu::MATERIAL_GLOSSINESS_IN_ALPHA);
+        const bool rough = !(mat.flags & gpu::MATERIAL_UNLIT) && (mat.roughness > 0.0f || glossiness_mapped);
+        if (rough && (mat.metallic > 0.0f || dielectric_specular)) rough_specular.insert(m);
         const bool black_emission = mat.emission.r == 0.0f && mat.emission.g == 0.0f && mat.emission.b == 0.0f;
         if (slot_valid(mat.base_color_texture)) base.insert(m);
         // Metallic and roughness textures multiply their factors; a factor of 0 keeps the product 0.
@@ -278,7 +281,8 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
     by_materials(gpu::EFFECT_ABSORPTION, absorbing,
                  "no volume has a finite attenuationDistance with an attenuationColor below 1");
     by_materials(gpu::EFFECT_GLASS_MULTISCATTER, rough_glass, "no glass material has a roughness above 0");
-    by_materials(gpu::EFFECT_GGX_MULTISCATTER, rough_metal, "no visible material is a metal with a roughness above 0");
+    by_materials(gpu::EFFECT_GGX_MULTISCATTER, rough_specular,
+                 "no visible material has a rough GGX lobe (a metal, or a specular layer, with a roughness above 0)");
     by_materials(gpu::EFFECT_CLEARCOAT, coat, "no visible material has KHR_materials_clearcoat clearcoatFactor > 0");
     by_materials(gpu::EFFECT_CLEARCOAT_TEXTURE, coat_texture,
                  "no coated material has a clearcoatTexture or a clearcoatRoughnessTexture with a non-zero factor");

@@ -130,8 +130,8 @@ FH_CONST uint EFFECT_MOTION_BLUR = 536870912u;  // --shutter over which an insta
                                                 // a time, and moving transforms are interpolated (lib/geometry/motion.glsl)
 FH_CONST uint EFFECT_LIGHT_TREE = 1073741824u;  // --light-sampler tree: NEE picks lights by their importance at the
                                                 // shading point (lib/light/light_tree.glsl), not from the power alias table
-FH_CONST uint EFFECT_GGX_MULTISCATTER = 2147483648u;  // --microfacet compensated and a rough metal: the energy its GGX
-                                                      // loses, given back (shaders/lib/bsdf/ggx_multiscatter.glsl)
+FH_CONST uint EFFECT_GGX_MULTISCATTER = 2147483648u;  // --microfacet compensated and a rough metal or specular layer:
+                                                      // the energy its GGX loses, given back (lib/bsdf/ggx_multiscatter.glsl)
 FH_CONST uint EFFECT_ATTRIBUTES = EFFECT_BASE_COLOR_TEXTURE | EFFECT_METALLIC_ROUGHNESS_TEXTURE |
                                   EFFECT_NORMAL_TEXTURE | EFFECT_EMISSIVE_TEXTURE | EFFECT_VERTEX_COLORS |
                                   EFFECT_ALPHA | EFFECT_TRANSMISSION_TEXTURE | EFFECT_CLEARCOAT_TEXTURE |

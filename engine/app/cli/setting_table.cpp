@@ -143,8 +143,9 @@ std::vector<SettingInfo> make_table() {
                  },
                  nullptr, "add_render_options (render/render_command.cpp)"});
     t.push_back({"microfacet", "compensated|single",
-                 "rough metals: compensated (default) gives back the light that bounces between microfacets, so a "
-                 "white rough metal reflects all it receives; single: the glTF spec's single-scattering GGX",
+                 "rough GGX lobes (metals, specular layers): compensated (default) gives back the light that bounces "
+                 "between microfacets, so a white rough metal reflects all it receives; single: the glTF spec's "
+                 "single-scattering GGX",
                  "fredholm:microfacet", "microfacet", true, true, "single",
                  [](S& s, W w) {
                      s.microfacet = parse_choice(w, {"compensated", "single"}) ? Microfacet::single : Microfacet::compensated;

@@ -22,7 +22,10 @@
 // DEVIATION (--microfacet compensated, the default): the spec's metal is single-scattering GGX, which loses the light
 // that bounces between microfacets (a white metal of roughness 1 reflects 0.4 of it at normal incidence). A lobe of
 // ggx_multiscatter.glsl gives it back (Kulla & Conty 2017; Cycles' multiscatter GGX and Filament do the same), so a
-// white rough metal conserves energy; reciprocal (shaders/lib/bsdf/README.md "Rough metal conserves energy").
+// white rough metal conserves energy; reciprocal (shaders/lib/bsdf/README.md "Rough metal conserves energy"). The
+// dielectric's specular layer gets the same lobe with its own F_ms (from f0 and f90: small for f0 0.04, all of the
+// loss for f0 1), and the diffuse lobe's albedo scaling counts it in E(mu): E += max(F_ms) (1 - E_white(mu)). Not
+// under a thin film or anisotropy, whose albedo bounds the diffuse lobe is normalised by leave it out.
 //
 // KHR_materials_transmission replaces a fraction `transmission` of the dielectric by the glass lobe of
 // dielectric.glsl (its own exact-Fresnel reflection and the refraction or thin-walled pass-through):
@@ -165,7 +168,8 @@ struct BsdfParams {
     // KHR_materials_iridescence: the film is glass.film (the glass lobe's and the opaque lobes' alike), and
     vec2 film_albedo_bound; // (a, b) of its Fresnel envelope a (1 - w) + b w (see the top of the file)
     vec3 metal_multiscatter;  // F_ms of the metal's multiple-scattering lobe (ggx_multiscatter.glsl); 0: none
-    float multiscatter_norm;  // its 1 / (pi (1 - E_avg))
+    vec3 dielectric_multiscatter;  // F_ms of the dielectric specular layer's (f0, f90 of the layer); 0: none
+    float multiscatter_norm;  // their 1 / (pi (1 - E_avg))
 };
 
 // Floor of 1 - E_avg (approached only by f0 = f90 = 1 at small alpha): loses energy, never adds it.
@@ -196,6 +200,7 @@ vec2 specular_albedo_weights(BsdfParams p, bool for_average) {
 BsdfParams normalise_diffuse(BsdfParams p, vec2 average) {
     vec2 weights = specular_albedo_weights(p, true);
     float e_average = weights.x * average.x + weights.y * average.y;
+    if (has_ggx_multiscatter(p)) e_average += max_value(p.dielectric_multiscatter) * (1.0f - white_ggx_albedo(average));
     p.diffuse_scale = 1.0f / max(1.0f - e_average, BSDF_MIN_DIFFUSE_TRANSMITTANCE);
     return p;
 }
@@ -229,6 +234,7 @@ BsdfParams make_bsdf_params(Material m) {
     p.film_albedo_bound = vec2(0.0f);
     p.glass.film = make_no_film();
     p.metal_multiscatter = vec3(0.0f);
+    p.dielectric_multiscatter = vec3(0.0f);
     p.multiscatter_norm = 0.0f;
     if (!BSDF_HAS_SPECULAR) {
         // Lambert alone (--disable-effect specular on a scene with a specular lobe leaves it out: metal is black).
@@ -238,11 +244,14 @@ BsdfParams make_bsdf_params(Material m) {
         return p;
     }
     vec2 average = ggx_albedo_average(p.alpha);
-    if (BSDF_HAS_GGX_MULTISCATTER && p.metallic > 0.0f && p.alpha > BSDF_MIN_ALPHA) {
-        // The metal's multiple-scattering lobe; roughness 0 (alpha at its minimum) loses nothing and gets none.
+    if (BSDF_HAS_GGX_MULTISCATTER && p.alpha > BSDF_MIN_ALPHA) {
+        // The multiple-scattering lobes; roughness 0 (alpha at its minimum) loses nothing and gets none.
         float e_average = white_ggx_albedo(average);
-        if (1.0f - e_average > GGX_MULTISCATTER_MIN_LOSS) {
-            p.metal_multiscatter = ggx_multiscatter_fresnel(p.base_color, e_average);
+        bool dielectric_layer = p.metallic < 1.0f && p.f90_dielectric > 0.0f;
+        if (1.0f - e_average > GGX_MULTISCATTER_MIN_LOSS && (p.metallic > 0.0f || dielectric_layer)) {
+            if (p.metallic > 0.0f) p.metal_multiscatter = ggx_multiscatter_fresnel(p.base_color, 1.0f, e_average);
+            if (dielectric_layer)
+                p.dielectric_multiscatter = ggx_multiscatter_fresnel(p.f0_dielectric, p.f90_dielectric, e_average);
             p.multiscatter_norm = INV_PI / (1.0f - e_average);
         }
     }
@@ -300,6 +309,7 @@ BsdfParams with_anisotropy(BsdfParams p, float strength, vec2 direction) {
     p.roughness.direction = direction / len;
     p.glass.roughness = p.roughness;
     if (has_anisotropy(p)) {
+        p.dielectric_multiscatter = vec3(0.0f);  // the bound below has no place for it
         vec2 average = vec2(max(ggx_albedo_average(p.alpha).x, ggx_albedo_average(p.roughness.alpha_t).x), 0.0f);
         for (int k = 0; k < ANISOTROPY_AZIMUTH_STEPS; ++k) {
             float cos_phi = cos(0.5f * PI * float(k) / float(ANISOTROPY_AZIMUTH_STEPS));  // phi from the direction
@@ -327,6 +337,7 @@ BsdfParams with_iridescence(BsdfParams p, float iridescence, float thickness, fl
     p.glass.film.ior = ior;
     p.film_albedo_bound = max(albedo_bound, vec2(0.0f));
     if (has_iridescence(p)) {
+        p.dielectric_multiscatter = vec3(0.0f);  // the film's envelope bounds the layer without it
         p = normalise_diffuse(p, ggx_albedo_average(p.alpha));
     }
     return p;
@@ -400,7 +411,9 @@ float estimate_sheen_albedo(BsdfParams p, float cos_o) {
 // diffuse base: 1 - E(mu), E = max_value(f0) A + f90 B (specular_albedo_weights), given ggx_albedo(mu, alpha) = (A, B).
 float diffuse_transmittance(BsdfParams p, vec2 albedo) {
     vec2 weights = specular_albedo_weights(p, false);
-    return max(1.0f - (weights.x * albedo.x + weights.y * albedo.y), 0.0f);
+    float e = weights.x * albedo.x + weights.y * albedo.y;
+    if (has_ggx_multiscatter(p)) e += max_value(p.dielectric_multiscatter) * (1.0f - white_ggx_albedo(albedo));
+    return max(1.0f - e, 0.0f);
 }
 
 // The opaque lobes' shares of the albedo for outgoing cos theta `cos_o` (luminances): the specular layers'
@@ -429,7 +442,8 @@ LobeAlbedos estimate_lobe_albedos(BsdfParams p, float cos_o, float opaque) {
     a.specular = BSDF_HAS_SPECULAR ? luminance(mix(e_dielectric * opaque, e_metal, p.metallic)) : 0.0f;
     a.multiscatter = 0.0f;
     if (has_ggx_multiscatter(p))
-        a.multiscatter = p.metallic * luminance(p.metal_multiscatter) * (1.0f - white_ggx_albedo(albedo));
+        a.multiscatter = luminance(mix(p.dielectric_multiscatter * opaque, p.metal_multiscatter, p.metallic)) *
+                         (1.0f - white_ggx_albedo(albedo));
     return a;
 }
 
@@ -489,12 +503,12 @@ vec3 eval_base_bsdf(BsdfParams p, vec3 wo, vec3 wi) {
         }
     }
     vec3 dielectric = diffuse + f_dielectric * specular;
+    float multiscatter = has_ggx_multiscatter(p) ? eval_ggx_multiscatter(wo.z, wi.z, p.alpha, p.multiscatter_norm) : 0.0f;
+    dielectric += p.dielectric_multiscatter * multiscatter;
     if (has_glass(p)) {
         dielectric = mix(dielectric, eval_glass(p.glass, wo, wi), p.transmission);
     }
-    vec3 metal = f_metal * specular;
-    if (has_ggx_multiscatter(p))
-        metal += p.metal_multiscatter * eval_ggx_multiscatter(wo.z, wi.z, p.alpha, p.multiscatter_norm);
+    vec3 metal = f_metal * specular + p.metal_multiscatter * multiscatter;
     return mix(dielectric, metal, p.metallic);
 }
 

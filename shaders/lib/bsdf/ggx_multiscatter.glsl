@@ -1,10 +1,12 @@
-// The energy the metal's GGX lobe loses to light that bounces between microfacets before leaving, given back as a
-// diffuse-like lobe (Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks"), so that a white rough
-// metal reflects all the light it receives (`--microfacet compensated`, EFFECT_GGX_MULTISCATTER). Shared GLSL/C++.
+// The energy a GGX lobe (the metal's, the dielectric's specular layer) loses to light that bounces between microfacets
+// before leaving, given back as a diffuse-like lobe (Kulla & Conty 2017, "Revisiting Physically Based Shading at
+// Imageworks"), so that a white rough metal reflects all the light it receives (`--microfacet compensated`,
+// EFFECT_GGX_MULTISCATTER). Shared GLSL/C++.
 //
 //   f_ms cos = F_ms (1 - E(mu_o)) (1 - E(mu_i)) mu_i / (pi (1 - E_avg))
 //   E(mu) = A(mu) + B(mu): the white lobe's single-scattering albedo (ggx_albedo.glsl, F = 1), E_avg = A_avg + B_avg
-//   F_ms = F_avg^2 E_avg / (1 - F_avg (1 - E_avg)),  F_avg = f0 + (1 - f0) / 21 (Schlick's cosine-weighted mean)
+//   F_ms = F_avg^2 E_avg / (1 - F_avg (1 - E_avg)),  F_avg = f0 + (f90 - f0) / 21 (Schlick's cosine-weighted mean;
+//   f90 = 1 for a metal, the specular layer's f90 for a dielectric, whose lobe is tiny at f0 0.04 and all the loss at 1)
 // f_ms is symmetric in wo and wi (light tracing and BDPT evaluate it with the two swapped), integrates to
 // F_ms (1 - E(mu_o)), exactly what single scattering lost for F = 1, and F_ms <= 1 per channel, so a coloured metal
 // never gains (F_ms sums the series of bounces, each tinted by F_avg, that Kulla and Conty derive). The table's nodes
@@ -26,9 +28,10 @@ float ggx_white_albedo(float mu, float alpha) {
     return white_ggx_albedo(ggx_albedo(mu, alpha));
 }
 
-// F_ms of a metal of colour f0 (see the top of the file), given E_avg.
-vec3 ggx_multiscatter_fresnel(vec3 f0, float e_average) {
-    vec3 f_average = f0 + (vec3(1.0f) - f0) * (1.0f / 21.0f);
+// F_ms of a lobe whose Fresnel is Schlick's from f0 to f90 (see the top of the file), given E_avg: a metal's (f0 its
+// colour, f90 1) or a dielectric specular layer's.
+vec3 ggx_multiscatter_fresnel(vec3 f0, float f90, float e_average) {
+    vec3 f_average = f0 + (vec3(f90) - f0) * (1.0f / 21.0f);
     return f_average * f_average * e_average / (vec3(1.0f) - f_average * (1.0f - e_average));
 }
 

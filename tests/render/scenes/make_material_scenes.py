@@ -56,6 +56,10 @@ criterion, stated beside its test in tests/render/CMakeLists.txt:
                         camera of yfov 0.5 -> 0.75, all through KHR_animation_pointer; and the same file with the values
                         at t = 0.5 written in (base colour 0.5, strength 2, yfov 0.625; all exact in binary): at
                         --time 0.5 the two render the same bits.
+  layer_furnace_r100.gltf
+                        a black dielectric sphere (roughness 1) whose specular layer has f0 = 1 (KHR_materials_ior 0),
+                        seen in perspective: with --microfacet compensated the layer's multiple-scattering lobe keeps
+                        all the energy, as a white metal's does, so every pixel reads 1.
   unlit_quad.gltf       an unlit quad of base colour 0.5 (with an emissiveFactor of 1, which unlit ignores), seen
                         head-on: every camera ray sees exactly its base colour, 0.5, whatever lights the scene.
 """
@@ -74,6 +78,12 @@ def coated(base, roughness, clearcoat, clearcoat_roughness, specular=1.0):
             "extensions": {"KHR_materials_specular": {"specularFactor": specular},
                            "KHR_materials_clearcoat": {"clearcoatFactor": clearcoat,
                                                        "clearcoatRoughnessFactor": clearcoat_roughness}}}
+
+
+def mirror_layer(roughness):
+    return {"pbrMetallicRoughness": {"baseColorFactor": [0.0, 0.0, 0.0, 1.0], "metallicFactor": 0.0,
+                                     "roughnessFactor": roughness},
+            "extensions": {"KHR_materials_ior": {"ior": 0.0}}}
 
 
 def white_metal(roughness):
@@ -263,6 +273,8 @@ def main():
         "gloss_highlight_factor": gloss_highlight(False),
         "metal_furnace_r30": scene(white_metal(0.3), icosphere(4),
                                    lambda g: g.add_perspective_camera({"translation": [0.0, 0.0, 3.0]}, 0.8)),
+        "layer_furnace_r100": scene(mirror_layer(1.0), icosphere(4),
+                                    lambda g: g.add_perspective_camera({"translation": [0.0, 0.0, 3.0]}, 0.8)),
         "metal_furnace_r100": scene(white_metal(1.0), icosphere(4),
                                     lambda g: g.add_perspective_camera({"translation": [0.0, 0.0, 3.0]}, 0.8)),
     }

@@ -118,6 +118,39 @@ TEST(GgxMultiscatter, AnisotropicWhiteMetalNeverGains) {
                 lowest);
 }
 
+// The dielectric's specular layer gets the lobe too, with its own F_ms. At f0 = 1 (ior 0, white specular colour: a
+// specular-glossiness material of specular 1) over a black base it loses all of single scattering's loss, as a white
+// metal does, and gets it all back; a white base under a 0.04 layer keeps every bit of the light either way (the
+// diffuse lobe's scaling counts the lobe), and a coloured one never gains.
+TEST(GgxMultiscatter, DielectricLayerConservesEnergy) {
+    double lowest_mirror = 2.0, lowest_white = 2.0, highest = 0.0;
+    for (float r : ROUGH)
+        for (float degrees : ANGLES) {
+            const fh::gpu::Material mirror = make_material(vec3(0.0f), 0.0f, r, 1.0f, vec3(1.0f), 0.0f);
+            const double single = single_albedo(mirror, degrees), compensated = single + lobe_albedo(mirror, degrees);
+            EXPECT_LE(compensated, 1.0 + 1e-3) << r << " " << degrees;
+            EXPECT_GE(compensated, single) << r << " " << degrees;
+            lowest_mirror = std::min(lowest_mirror, compensated);
+            Compensated scope(true);
+            const Albedo white = estimate_albedo(make_bsdf_params(make_material(vec3(1.0f), 0.0f, r)),
+                                                 outgoing(degrees), 100000, 41);
+            EXPECT_NEAR(white.mean, 1.0, 5.0 * white.standard_error + 5e-3) << r << " " << degrees;
+            lowest_white = std::min(lowest_white, white.mean);
+            // Coloured bases, and a white one under the f0 = 1 layer (whose lobe gives back nearly all of the loss: the
+            // diffuse lobe must not be handed it too).
+            for (const fh::gpu::Material& m : {make_material(vec3(0.9f, 0.3f, 0.1f), 0.0f, r),
+                                               make_material(vec3(0.05f), 0.0f, r),
+                                               make_material(vec3(1.0f), 0.0f, r, 1.0f, vec3(1.0f), 0.0f)}) {
+                const Albedo a = estimate_albedo(make_bsdf_params(m), outgoing(degrees), 50000, 43);
+                EXPECT_LE(a.mean, 1.0 + 5.0 * a.standard_error + 1e-3) << r << " " << degrees;
+                highest = std::max(highest, a.mean);
+            }
+        }
+    EXPECT_GT(lowest_mirror, 0.99);
+    std::printf("[dielectric] lowest f0 = 1 layer over black: %.5f; white base: %.4f; the others at most %.4f\n",
+                lowest_mirror, lowest_white, highest);
+}
+
 // Light tracing and BDPT evaluate the BSDF with its arguments swapped: the lobe is symmetric.
 TEST(GgxMultiscatter, IsReciprocal) {
     Compensated scope(true);
@@ -126,6 +159,9 @@ TEST(GgxMultiscatter, IsReciprocal) {
         expect_reciprocal_reflection(make_bsdf_params(make_material(vec3(0.5f, 0.8f, 0.6f), 0.5f, r)), 12, 2000,
                                      "half-metal");
         expect_reciprocal_reflection(with_sheen(metal(vec3(0.9f), r, true), vec3(0.5f), 0.4f), 13, 2000, "sheen");
+        expect_reciprocal_reflection(make_bsdf_params(make_material(vec3(0.3f, 0.6f, 0.2f), 0.0f, r, 1.0f,
+                                                                    vec3(1.0f, 0.8f, 0.5f), 0.0f)),
+                                     14, 2000, "f0 = 1 dielectric");
     }
 }
 
@@ -143,10 +179,11 @@ TEST(GgxMultiscatter, SampledAlbedoMatchesQuadrature) {
         }
 }
 
-// No lobe where nothing is lost (roughness 0) or there is no metal: the same bits whether compensated or not.
+// No lobe where nothing is lost (roughness 0) or there is no GGX lobe (a Lambertian dielectric, specularFactor 0): the
+// same bits whether compensated or not.
 TEST(GgxMultiscatter, NothingToGiveBackKeepsTheBits) {
-    for (const fh::gpu::Material& m : {make_material(vec3(0.9f), 1.0f, 0.0f), make_material(vec3(0.7f), 0.0f, 0.5f),
-                                       make_material(vec3(0.2f, 0.5f, 0.9f), 0.0f, 1.0f, 0.5f)}) {
+    for (const fh::gpu::Material& m : {make_material(vec3(0.9f), 1.0f, 0.0f), make_material(vec3(0.7f), 0.0f, 0.0f),
+                                       make_material(vec3(0.2f, 0.5f, 0.9f), 0.0f, 1.0f, 0.0f)}) {
         const BsdfParams single = [&] {
             Compensated scope(false);
             return make_bsdf_params(m);

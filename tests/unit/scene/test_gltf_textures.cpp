@@ -139,8 +139,9 @@ TEST(GltfTextures, SpecularLobeIsDecidedByValue) {
     EXPECT_EQ(fh::analyse_effects(s, false).bits & specular, 0u);
 }
 
-// The metal's multiple-scattering lobe (--microfacet compensated) is an effect by value too: a metal of roughness above
-// 0 asks for it; roughness 0 (nothing lost), no metal or an unlit material do not; --microfacet single switches it off.
+// The multiple-scattering lobe (--microfacet compensated) is an effect by value too: a metal or a specular layer of
+// roughness above 0 asks for it; roughness 0 (nothing lost), Lambert alone or an unlit material do not; --microfacet
+// single switches it off.
 TEST(GltfTextures, GgxMultiscatterIsDecidedByValue) {
     Scene s = load_textured_triangle({{"pbrMetallicRoughness", {{"metallicFactor", 1.0}, {"roughnessFactor", 0.5}}}});
     const uint32_t multiscatter = gpu::EFFECT_GGX_MULTISCATTER;
@@ -153,8 +154,11 @@ TEST(GltfTextures, GgxMultiscatterIsDecidedByValue) {
     s.materials[0].roughness = 0.0f;
     EXPECT_EQ(fh::analyse_effects(s, false).bits & multiscatter, 0u);
     s.materials[0].roughness = 0.5f;
-    s.materials[0].metallic = 0.0f;
+    s.materials[0].metallic = 0.0f;  // a rough dielectric specular layer has the lobe too
+    EXPECT_EQ(fh::analyse_effects(s, false).bits & multiscatter, multiscatter);
+    s.materials[0].specular_color.w = 0.0f;  // no specular layer: Lambert alone
     EXPECT_EQ(fh::analyse_effects(s, false).bits & multiscatter, 0u);
+    s.materials[0].specular_color.w = 1.0f;
     s.materials[0].metallic = 1.0f;
     s.materials[0].flags |= gpu::MATERIAL_UNLIT;
     EXPECT_EQ(fh::analyse_effects(s, false).bits & multiscatter, 0u);
