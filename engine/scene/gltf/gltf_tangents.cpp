@@ -99,8 +99,11 @@ std::vector<std::array<glm::vec4, 3>> generate_tangents(const std::vector<std::a
     auto prev_of = [&](uint32_t c) { return welded[triangles[c / 3][(c % 3 + 2) % 3]]; };
     std::stable_sort(corners.begin(), corners.end(), [&](uint32_t a, uint32_t b) { return vertex_of(a) < vertex_of(b); });
 
+    // Per run of corners around one vertex, reused from run to run: union-find parents, (welded vertex after the
+    // corner, index in the run), and each group's sum.
     std::vector<size_t> parent;
-    std::vector<std::pair<uint32_t, size_t>> by_next;  // (welded vertex after the corner, index in the run)
+    std::vector<std::pair<uint32_t, size_t>> by_next;
+    std::vector<glm::dvec3> sums;
     for (size_t begin = 0; begin < corners.size();) {
         size_t end = begin;
         while (end < corners.size() && vertex_of(corners[end]) == vertex_of(corners[begin])) ++end;
@@ -123,7 +126,7 @@ std::vector<std::array<glm::vec4, 3>> generate_tangents(const std::vector<std::a
             }
         }
         // Each group's tangent: its faces' u directions in the normal's plane, weighted by the corner angle.
-        std::vector<glm::dvec3> sums(m, glm::dvec3(0.0));
+        sums.assign(m, glm::dvec3(0.0));
         for (size_t i = 0; i < m; ++i) {
             const uint32_t c = corners[begin + i];
             if (!faces[c / 3].valid) continue;
