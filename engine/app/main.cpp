@@ -1,4 +1,4 @@
-// The fredholm command line: sub-commands render, merge, view, converge, bench and info; one clear error line and a
+// The fredholm command line: sub-commands render, merge, compare, view, converge, bench and info; one clear error line and a
 // non-zero exit on any failure (1: the scene, the device or a file; 2: bad usage).
 #include <CLI/CLI.hpp>
 #include <cstdio>
@@ -10,6 +10,7 @@
 #include "app/cli/help.h"
 #include "app/converge/converge_command.h"
 #include "app/info/info_command.h"
+#include "app/compare/compare_command.h"
 #include "app/merge/merge_command.h"
 #include "app/render/render_command.h"
 #include "app/view/viewer_command.h"
@@ -42,6 +43,9 @@ int main(int argc, char** argv) {
     fh::MergeCommand merge;
     command("merge", "join parts of a render (--samples, --crop) bit-exactly", merge, fh::add_merge_options,
             "fredholm merge parts/part_*.exr -o cornell.exr --png cornell.png");
+    fh::CompareCommand compare;
+    command("compare", "do two renders differ beyond their noise? (exit 0 same, 1 differs, 2 bad input)", compare,
+            fh::add_compare_options, "fredholm compare new.exr golden.exr --heatmap diff.png");
     fh::ViewCommand view;
     command("view", "interactive viewer: progressive path tracing in a window", view, fh::add_view_options,
             "fredholm view scenes/cornell.gltf --env scenes/environments/courtyard.exr", {"frames"});
@@ -59,6 +63,7 @@ int main(int argc, char** argv) {
         if (app.got_subcommand("converge")) return fh::run_converge(converge);
         if (app.got_subcommand("info")) return fh::run_info(info);
         if (app.got_subcommand("merge")) return fh::run_merge(merge);
+        if (app.got_subcommand("compare")) return fh::run_compare(compare);
         return fh::run_bench(bench);
     } catch (const CLI::ParseError& e) {  // an option checked against others once all are known (e.g. --crop)
         std::fprintf(stderr, "fredholm: usage error: %s (see fredholm --help)\n", e.what());

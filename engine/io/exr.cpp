@@ -41,36 +41,14 @@ Imf::Slice make_single_slice(const uint32_t* values, const Imath::Box2i& window)
     return Imf::Slice::Make(Imf::UINT, values, window, sizeof(uint32_t),
                             sizeof(uint32_t) * std::size_t(window.max.x - window.min.x + 1));
 }
-
-void write_exr_file(const fs::path& file, const Image& image, const ImageMetadata& metadata,
-                    const ExtraChannels& extra, const ImageWindow& window) {
-    Imf::Header header(image.width, image.height);
-    if (window.full_width > 0) {
-        header.displayWindow() = Imath::Box2i({0, 0}, {window.full_width - 1, window.full_height - 1});
-        header.dataWindow() = Imath::Box2i({window.x, window.y}, {window.x + image.width - 1, window.y + image.height - 1});
-    }
-    header.compression() = Imf::ZIP_COMPRESSION;
-    for (const char* name : CHANNEL_NAMES) header.channels().insert(name, Imf::Channel(Imf::FLOAT));
-    for (const auto& [name, values] : extra) header.channels().insert(name, Imf::Channel(Imf::UINT));
-    for (const auto& [key, value] : metadata) {
-        bool reserved = header.find(key) != header.end();
-        for (const char* name : RESERVED_NAMES) reserved = reserved || key == name;
-        if (reserved) throw std::invalid_argument("metadata key \"" + key + "\" clashes with a standard EXR attribute");
-        header.insert(key, Imf::StringAttribute(value));
-    }
-    Imf::OutputFile out(file.c_str(), header);
-    Imf::FrameBuffer frame = make_frame_buffer(image.rgb.data(), header.dataWindow());
-    for (const auto& [name, values] : extra) frame.insert(name, make_single_slice(values.data(), header.dataWindow()));
-    out.setFrameBuffer(frame);
-    out.writePixels(image.height);
+Imf::Slice make_single_slice(const float* values, const Imath::Box2i& window) {
+    return Imf::Slice::Make(Imf::FLOAT, values, window, sizeof(float),
+                            sizeof(float) * std::size_t(window.max.x - window.min.x + 1));
 }
 
-}  // namespace
-
-void write_exr(const fs::path& path, const Image& image, const ImageMetadata& metadata, const ExtraChannels& extra,
-               const ImageWindow& window) {
-    check_image_shape(image, path.string());
-    for (const auto& [name, values] : extra) {
+template <typename Channels>
+void check_channel_shapes(const fs::path& path, const Image& image, const Channels& channels) {
+    for (const auto& [name, values] : channels) {
         bool clashes = false;
         for (const char* rgb : CHANNEL_NAMES) clashes = clashes || name == rgb;
         if (clashes || name.empty())
@@ -80,8 +58,71 @@ void write_exr(const fs::path& path, const Image& image, const ImageMetadata& me
                           " values for " + std::to_string(image.width) + " x " + std::to_string(image.height) +
                           " pixels");
     }
+}
+
+template <typename Channels, typename Value>
+Channels read_channels(const fs::path& path, const std::vector<std::string>& names, bool need_uint) {
     try {
-        write_file_atomically(path, [&](const fs::path& temp) { write_exr_file(temp, image, metadata, extra, window); });
+        Imf::InputFile in(path.c_str());
+        const Imath::Box2i window = in.header().dataWindow();
+        const std::size_t pixels =
+            std::size_t(window.max.x - window.min.x + 1) * std::size_t(window.max.y - window.min.y + 1);
+        Channels channels;
+        Imf::FrameBuffer frame;
+        for (const std::string& name : names) {
+            const Imf::Channel* channel = in.header().channels().findChannel(name);
+            if (!channel) throw IoError(path.string() + ": missing channel " + name);
+            if (need_uint && channel->type != Imf::UINT) throw IoError(path.string() + ": channel " + name + " is not UINT");
+            std::vector<Value>& values = channels[name];
+            values.assign(pixels, Value(0));
+            frame.insert(name, make_single_slice(values.data(), window));
+        }
+        in.setFrameBuffer(frame);
+        in.readPixels(window.min.y, window.max.y);
+        return channels;
+    } catch (const IoError&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw IoError(path.string() + ": cannot read EXR: " + e.what());
+    }
+}
+
+void write_exr_file(const fs::path& file, const Image& image, const ImageMetadata& metadata,
+                    const ExtraChannels& extra, const ImageWindow& window, const FloatChannels& floats) {
+    Imf::Header header(image.width, image.height);
+    if (window.full_width > 0) {
+        header.displayWindow() = Imath::Box2i({0, 0}, {window.full_width - 1, window.full_height - 1});
+        header.dataWindow() = Imath::Box2i({window.x, window.y}, {window.x + image.width - 1, window.y + image.height - 1});
+    }
+    header.compression() = Imf::ZIP_COMPRESSION;
+    for (const char* name : CHANNEL_NAMES) header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+    for (const auto& [name, values] : extra) header.channels().insert(name, Imf::Channel(Imf::UINT));
+    for (const auto& [name, values] : floats) header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+    for (const auto& [key, value] : metadata) {
+        bool reserved = header.find(key) != header.end();
+        for (const char* name : RESERVED_NAMES) reserved = reserved || key == name;
+        if (reserved) throw std::invalid_argument("metadata key \"" + key + "\" clashes with a standard EXR attribute");
+        header.insert(key, Imf::StringAttribute(value));
+    }
+    Imf::OutputFile out(file.c_str(), header);
+    Imf::FrameBuffer frame = make_frame_buffer(image.rgb.data(), header.dataWindow());
+    for (const auto& [name, values] : extra) frame.insert(name, make_single_slice(values.data(), header.dataWindow()));
+    for (const auto& [name, values] : floats) frame.insert(name, make_single_slice(values.data(), header.dataWindow()));
+    out.setFrameBuffer(frame);
+    out.writePixels(image.height);
+}
+
+}  // namespace
+
+void write_exr(const fs::path& path, const Image& image, const ImageMetadata& metadata, const ExtraChannels& extra,
+               const ImageWindow& window, const FloatChannels& floats) {
+    check_image_shape(image, path.string());
+    check_channel_shapes(path, image, extra);
+    check_channel_shapes(path, image, floats);
+    for (const auto& [name, values] : floats)
+        if (extra.count(name)) throw IoError(path.string() + ": channel " + name + " given twice");
+    try {
+        write_file_atomically(path, [&](const fs::path& temp) { write_exr_file(temp, image, metadata, extra, window, floats); });
     } catch (const IoError&) {
         throw;
     } catch (const std::exception& e) {
@@ -123,28 +164,19 @@ Image read_exr(const fs::path& path, ImageMetadata* metadata) {
 }
 
 ExtraChannels read_exr_channels(const fs::path& path, const std::vector<std::string>& names) {
+    return read_channels<ExtraChannels, uint32_t>(path, names, true);
+}
+
+FloatChannels read_exr_float_channels(const fs::path& path, const std::vector<std::string>& names) {
+    return read_channels<FloatChannels, float>(path, names, false);
+}
+
+bool exr_has_channel(const fs::path& path, const std::string& name) {
     try {
         Imf::InputFile in(path.c_str());
-        const Imath::Box2i window = in.header().dataWindow();
-        const std::size_t pixels =
-            std::size_t(window.max.x - window.min.x + 1) * std::size_t(window.max.y - window.min.y + 1);
-        ExtraChannels channels;
-        Imf::FrameBuffer frame;
-        for (const std::string& name : names) {
-            const Imf::Channel* channel = in.header().channels().findChannel(name);
-            if (!channel) throw IoError(path.string() + ": missing channel " + name);
-            if (channel->type != Imf::UINT) throw IoError(path.string() + ": channel " + name + " is not UINT");
-            std::vector<uint32_t>& values = channels[name];
-            values.assign(pixels, 0u);
-            frame.insert(name, make_single_slice(values.data(), window));
-        }
-        in.setFrameBuffer(frame);
-        in.readPixels(window.min.y, window.max.y);
-        return channels;
-    } catch (const IoError&) {
-        throw;
-    } catch (const std::exception& e) {
-        throw IoError(path.string() + ": cannot read EXR: " + e.what());
+        return in.header().channels().findChannel(name) != nullptr;
+    } catch (const std::exception&) {
+        return false;
     }
 }
 

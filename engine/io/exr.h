@@ -15,6 +15,8 @@ namespace fh {
 // in the image's order (row-major, top row first). The renderer stores its raw film in them so a render can be
 // resumed or merged.
 using ExtraChannels = std::map<std::string, std::vector<uint32_t>>;
+// Further FLOAT channels by full EXR channel name (OpenEXR's layer convention, e.g. "variance.Y"), the same shape.
+using FloatChannels = std::map<std::string, std::vector<float>>;
 
 // Where the image lies in a larger one (EXR data window inside the display window): a crop of a render.
 struct ImageWindow {
@@ -22,12 +24,12 @@ struct ImageWindow {
     int full_width = 0, full_height = 0;     // 0: the image is the full image
 };
 
-// Writes channels R, G, B as FLOAT (32 bit) and each extra channel as UINT, with lossless ZIP compression, and each
-// metadata entry as a string attribute; `window` places a crop in its full image. Goes through
+// Writes channels R, G, B and each float channel as FLOAT (32 bit) and each extra channel as UINT, with lossless ZIP
+// compression, and each metadata entry as a string attribute; `window` places a crop in its full image. Goes through
 // write_file_atomically. Throws IoError (e.g. for a key that clashes with a standard EXR attribute such as
-// "channels", or an extra channel of the wrong length).
+// "channels", or a channel of the wrong length or a name given twice).
 void write_exr(const std::filesystem::path& path, const Image& image, const ImageMetadata& metadata = {},
-               const ExtraChannels& extra = {}, const ImageWindow& window = {});
+               const ExtraChannels& extra = {}, const ImageWindow& window = {}, const FloatChannels& floats = {});
 
 // Reads channels R, G and B of any pixel type (HALF, FLOAT, UINT) as float; other channels are ignored.
 // A missing R, G or B channel is an IoError. If `metadata` is given it receives every string attribute.
@@ -36,5 +38,11 @@ Image read_exr(const std::filesystem::path& path, ImageMetadata* metadata = null
 // Reads the named UINT channels, width * height values each (of the data window). A missing channel, or one of
 // another type, is an IoError naming it.
 ExtraChannels read_exr_channels(const std::filesystem::path& path, const std::vector<std::string>& names);
+
+// Reads the named channels (any pixel type) as float, like read_exr_channels.
+FloatChannels read_exr_float_channels(const std::filesystem::path& path, const std::vector<std::string>& names);
+
+// Whether the file has a channel of this name (false for an unreadable file).
+bool exr_has_channel(const std::filesystem::path& path, const std::string& name);
 
 }  // namespace fh

@@ -71,6 +71,8 @@ public:
     // change but not appear or vanish (the stages are compiled with or without EFFECT_THIN_LENS): throws
     // std::logic_error then.
     void set_camera(const SceneCamera& camera);
+    const RenderSettings& settings() const { return settings_; }
+    uint32_t wave_capacity() const { return frame_.wave_capacity; }  // paths per wave
     // The film buffer (gpu::FilmPixel[width * height]), e.g. for a display pass that reads it in place.
     const vk::Buffer& film_buffer() const { return buffers_.film; }
     // The volumes (material indices) the camera stands in, innermost first, where its paths start; INVALID_INDEX past

@@ -120,6 +120,33 @@ uint32_t spp_of(const fs::path& file) {
     return uint32_t(std::stoul(metadata.at("fredholm:spp")));
 }
 
+// The error estimate's batches, variance layer and figures (render/error_estimate.h) are the same bits too.
+void expect_identical_error_estimate(const fs::path& a, const fs::path& b) {
+    fh::ImageMetadata ma, mb;
+    fh::read_exr(a, &ma);
+    fh::read_exr(b, &mb);
+    for (const char* key : {"fredholm:batch_size", "fredholm:first_batch", "fredholm:error_batches",
+                            "fredholm:relative_error"}) {
+        ASSERT_TRUE(ma.count(key)) << a << " has no " << key;
+        EXPECT_EQ(ma[key], mb[key]) << a << " and " << b << " differ in " << key;
+    }
+    std::vector<std::string> batches;
+    for (int slot = 0; slot < 8; ++slot)
+        for (int w = 0; w < 4; ++w) {
+            const std::string name = "fredholm.batch." + std::to_string(slot) + "." + std::to_string(w);
+            EXPECT_EQ(fh::exr_has_channel(a, name), fh::exr_has_channel(b, name)) << name;
+            if (fh::exr_has_channel(a, name)) batches.push_back(name);
+        }
+    ASSERT_GE(batches.size(), 8u) << a << " has fewer than two batches";
+    const fh::ExtraChannels ca = fh::read_exr_channels(a, batches), cb = fh::read_exr_channels(b, batches);
+    for (const std::string& name : batches)
+        EXPECT_EQ(ca.at(name), cb.at(name)) << a << " and " << b << " differ in " << name;
+    const fh::FloatChannels va = fh::read_exr_float_channels(a, {"variance.Y"}),
+                            vb = fh::read_exr_float_channels(b, {"variance.Y"});
+    EXPECT_EQ(std::memcmp(va.at("variance.Y").data(), vb.at("variance.Y").data(), va.at("variance.Y").size() * 4), 0)
+        << a << " and " << b << " differ in variance.Y";
+}
+
 // Same RGB bits and same raw film bits.
 void expect_identical(const fs::path& a, const fs::path& b) {
     const fh::Image ia = fh::read_exr(a), ib = fh::read_exr(b);
@@ -130,6 +157,7 @@ void expect_identical(const fs::path& a, const fs::path& b) {
     for (const std::string& name : FILM)
         EXPECT_EQ(std::memcmp(fa.at(name).data(), fb.at(name).data(), fa.at(name).size() * sizeof(uint32_t)), 0)
             << a << " and " << b << " differ in " << name;
+    expect_identical_error_estimate(a, b);
 }
 
 std::vector<fs::path> temp_files(const fs::path& dir) {

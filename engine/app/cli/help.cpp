@@ -24,6 +24,7 @@ const std::map<std::string, std::string>& help_groups() {
         put("Output", {"output", "png", "exposure", "tonemap", "stats", "quiet", "resume"});
         put("Quality", {"width", "height", "spp", "max-depth", "seed", "sampler", "integrator", "filter",
                         "filter-radius", "microfacet"});
+        put("Accuracy", {"target-error", "max-spp", "max-seconds"});
         put("Camera and lens", {"camera", "look-from", "look-at", "up", "yfov", "aperture", "aperture-radius",
                                 "sensor-height", "focus-distance", "focus-on", "aperture-blades",
                                 "aperture-rotation"});
@@ -66,7 +67,7 @@ std::string value_words(const std::string& type_name) {
 }
 
 // The groups in the order a user reads them; a command's own options ("Options") after the shared ones.
-const char* const GROUP_ORDER[] = {"Output", "Quality", "Camera and lens", "Lighting", "Scene and animation",
+const char* const GROUP_ORDER[] = {"Output", "Quality", "Accuracy", "Camera and lens", "Lighting", "Scene and animation",
                                    "Splitting a render", "Options", "Device", DIAGNOSTICS, "Help"};
 
 // Hidden options (group "") would lose their names in CLI11's error messages, so the measurement switches keep their

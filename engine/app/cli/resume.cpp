@@ -20,6 +20,16 @@ const uint32_t (&channel_words(const gpu::FilmPixel& p, int c))[gpu::FILM_WORDS]
     return c == 0 ? p.sum_r : c == 1 ? p.sum_g : p.sum_b;
 }
 
+std::string batch_word_name(uint32_t slot, uint32_t w) {
+    return "fredholm.batch." + std::to_string(slot) + "." + std::to_string(w);
+}
+
+std::string format_number(double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.6g", value);
+    return text;
+}
+
 std::string word_name(int c, uint32_t w) { return std::string("fredholm.sum.") + CHANNEL_LETTERS[c] + "." + std::to_string(w); }
 
 std::string setting_name(const std::string& key) {
@@ -92,6 +102,59 @@ ExtraChannels film_channels(const std::vector<gpu::FilmPixel>& film) {
     return channels;
 }
 
+void add_error_channels(const ErrorBatches& batches, const Image& image, ExtraChannels& channels, FloatChannels& floats,
+                        ImageMetadata& metadata) {
+    for (uint32_t slot = 0; slot < batches.slot_count(); ++slot)
+        for (uint32_t w = 0; w < 4; ++w) {
+            std::vector<uint32_t>& values = channels[batch_word_name(slot, w)];
+            values.resize(batches.pixel_count());
+            for (size_t p = 0; p < values.size(); ++p)
+                values[p] = uint32_t(batches.sums[p * MAX_ERROR_BATCHES + slot] >> (32 * w));
+        }
+    metadata["fredholm:batch_size"] = std::to_string(batches.batch_size);
+    metadata["fredholm:first_batch"] = std::to_string(batches.first_batch);
+    const uint32_t complete = complete_batch_count(batches);
+    metadata["fredholm:error_batches"] = std::to_string(complete) + " complete of " +
+                                         std::to_string(batches.batch_size) + " samples";
+    if (complete < 2) return;
+    std::vector<float> variance = pixel_variance(batches);
+    metadata["fredholm:relative_error"] = format_number(relative_error(image, variance));
+    floats["variance.Y"] = std::move(variance);
+}
+
+// The error batches of a film file, if it has them (fredholm:batch_size), checked against its samples.
+void read_error_batches(const std::filesystem::path& file, FilmFile& f, const std::string& prefix) {
+    if (!f.metadata.count("fredholm:batch_size")) return;
+    const uint32_t size = read_count(f.metadata, "fredholm:batch_size", prefix);
+    const uint32_t first_batch = read_count(f.metadata, "fredholm:first_batch", prefix);
+    ErrorBatches& b = f.batches;
+    b = make_error_batches(f.film.size(), f.first_sample);
+    b.batch_size = size;
+    b.first_batch = first_batch;
+    b.end_sample = f.end_sample;
+    if (size == 0 || (size & (size - 1)) != 0 || uint64_t(first_batch) * size > f.first_sample ||
+        (uint64_t(first_batch) + 1) * size <= f.first_sample || b.slot_count() > MAX_ERROR_BATCHES)
+        throw std::runtime_error(prefix + "fredholm:batch_size " + std::to_string(size) + " and fredholm:first_batch " +
+                                 std::to_string(first_batch) + " do not fit its samples " +
+                                 std::to_string(f.first_sample) + ":" + std::to_string(f.end_sample));
+    std::vector<std::string> names;
+    for (uint32_t slot = 0; slot < b.slot_count(); ++slot)
+        for (uint32_t w = 0; w < 4; ++w) names.push_back(batch_word_name(slot, w));
+    ExtraChannels channels;
+    try {
+        channels = read_exr_channels(file, names);
+    } catch (const IoError& e) {
+        throw std::runtime_error(prefix + "its error batches are incomplete (" + e.what() + ")");
+    }
+    for (uint32_t slot = 0; slot < b.slot_count(); ++slot)
+        for (uint32_t w = 0; w < 4; ++w) {
+            const std::vector<uint32_t>& values = channels[batch_word_name(slot, w)];
+            for (size_t p = 0; p < values.size(); ++p)
+                b.sums[p * MAX_ERROR_BATCHES + slot] |= ExactSum(values[p]) << (32 * w);
+        }
+    f.has_batches = true;
+}
+
 FilmFile read_film_file(const std::filesystem::path& file, const std::string& why) {
     const std::string prefix = file.string() + ": " + why + ": ";
     FilmFile f;
@@ -142,6 +205,7 @@ FilmFile read_film_file(const std::filesystem::path& file, const std::string& wh
                                      " samples, not the " + std::to_string(f.end_sample - f.first_sample) +
                                      " of its metadata");
     }
+    read_error_batches(file, f, prefix);
     return f;
 }
 

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "io/exr.h"
+#include "render/error_estimate.h"
 #include "shared/layout.h"
 
 namespace fh {
@@ -15,6 +16,14 @@ namespace fh {
 // fredholm.count, all UINT.
 const std::vector<std::string>& film_channel_names();
 ExtraChannels film_channels(const std::vector<gpu::FilmPixel>& film);
+
+// The error batches (render/error_estimate.h) in the EXR: channels fredholm.batch.<slot>.{0..3} (UINT, a slot's exact
+// luminance sum, least significant word first) for the slots in use, metadata fredholm:batch_size and
+// fredholm:first_batch; and what a reader wants: the variance layer variance.Y (the variance of each pixel's mean
+// luminance, FLOAT) and fredholm:relative_error, fredholm:error_batches. Without two complete batches (a render of
+// one sample) only the batches are written.
+void add_error_channels(const ErrorBatches& batches, const Image& image, ExtraChannels& channels, FloatChannels& floats,
+                        ImageMetadata& metadata);
 
 // Metadata whose values must be equal for films to continue or join each other: the settings that decide each
 // sample's value, the scene file's hash and the image size.
@@ -30,11 +39,13 @@ struct FilmFile {
     uint32_t first_sample = 0, end_sample = 0;   // it holds samples [first_sample, end_sample) of each pixel
     uint32_t image_width = 0, image_height = 0;  // the whole image
     uint32_t x0 = 0, y0 = 0, x1 = 0, y1 = 0;     // the pixels it covers (the whole image unless cropped)
+    bool has_batches = false;  // written before error batches existed: false
+    ErrorBatches batches;      // over [first_sample, end_sample)
 };
 
 // Reads and checks a film file: throws std::runtime_error with one line "FILE: <why> ..." (`why`, e.g. "cannot
 // resume") for a missing or malformed fredholm:spp, fredholm:first_sample, fredholm:crop or film channel, or a pixel
-// whose sample count is not end_sample - first_sample.
+// whose sample count is not end_sample - first_sample, or error batches that do not fit its samples.
 FilmFile read_film_file(const std::filesystem::path& file, const std::string& why);
 
 // Reads a render to continue and checks it against this render: the image size, crop and every matching key of

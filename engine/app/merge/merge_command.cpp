@@ -140,13 +140,36 @@ int run_merge(const MergeCommand& c) {
         }
     }
     ImageMetadata metadata = parts.front().film.metadata;
-    // Only fredholm's own keys: OpenEXR's standard attributes are written anew.
-    for (auto it = metadata.begin(); it != metadata.end();) it = it->first.rfind("fredholm:", 0) == 0 ? std::next(it) : metadata.erase(it);
+    // Only fredholm's own keys, less the error estimate's (written anew below): OpenEXR's standard attributes are
+    // written anew.
+    for (auto it = metadata.begin(); it != metadata.end();) {
+        const bool error_key = it->first == "fredholm:relative_error" || it->first == "fredholm:error_batches" ||
+                               it->first == "fredholm:batch_size" || it->first == "fredholm:first_batch";
+        it = it->first.rfind("fredholm:", 0) == 0 && !error_key ? std::next(it) : metadata.erase(it);
+    }
     metadata["fredholm:first_sample"] = std::to_string(samples.first);
     metadata["fredholm:spp"] = std::to_string(samples.second);
     metadata["fredholm:crop"] = "none";
     const Image image = resolve_film(film, int(width), int(height));
-    write_exr(c.output, image, metadata, film_channels(film));
+    ExtraChannels channels = film_channels(film);
+    FloatChannels floats;
+    const bool estimate = std::all_of(parts.begin(), parts.end(), [](const Part& p) { return p.film.has_batches; });
+    if (estimate) {
+        uint32_t largest = 1;
+        for (const Part& p : parts) largest = std::max(largest, p.film.batches.batch_size);
+        ErrorBatches batches = make_joined_batches(film.size(), samples.first, samples.second, largest);
+        for (const Part& p : parts) {
+            const uint32_t part_width = p.film.x1 - p.film.x0;
+            std::vector<size_t> into(p.film.film.size());
+            for (size_t i = 0; i < into.size(); ++i) into[i] = (p.film.y0 + i / part_width) * width + p.film.x0 + i % part_width;
+            add_part(batches, p.film.batches, into);
+        }
+        add_error_channels(batches, image, channels, floats, metadata);
+    } else if (!c.quiet) {
+        std::fprintf(stderr, "fredholm: note: a part has no error batches (written by an older fredholm), so the "
+                             "merged image has no error estimate\n");
+    }
+    write_exr(c.output, image, metadata, channels, {}, floats);
     if (!c.png.empty()) write_png(c.png, image, c.exposure_ev, c.tone_curve);
     if (!c.quiet)
         std::fprintf(stderr, "fredholm: %s: merged %zu part(s) in %zu region(s): %ux%u, samples %s\n",

@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <map>
@@ -20,6 +21,7 @@
 #include "io/png.h"
 #include "render/camera/camera_setup.h"
 #include "render/camera/lens.h"
+#include "render/estimated_render.h"
 #include "render/memory_estimate.h"
 #include "render/techniques.h"
 #include "render/device_defaults.h"
@@ -28,6 +30,7 @@ namespace fh {
 namespace {
 
 const char* VERSION = "fredholm 0.1.0";
+constexpr uint32_t DEFAULT_MAX_SPP = 65536;  // --target-error without --max-spp
 
 // The settings that decide every sample's value (what a resume must match), plus the samples done.
 ImageMetadata make_metadata(const RenderCommand& c, const std::string& scene_hash, uint32_t spp_done, EffectBits effects) {
@@ -49,7 +52,7 @@ ImageMetadata make_metadata(const RenderCommand& c, const std::string& scene_has
 
 void write_stats(const std::filesystem::path& file, const RenderCommand& c, const PreparedScene& prepared,
                  const SceneCamera& camera, const RenderStats& stats, uint32_t first_sample, const std::string& device,
-                 const CameraMedia& camera_media) {
+                 const CameraMedia& camera_media, double relative_error) {
     const RenderSettings& s = c.settings;
     double samples = double(s.film_width()) * s.film_height() * (stats.spp_done - first_sample);
     double rays = double(stats.traced_rays + stats.traced_shadow_rays);
@@ -109,6 +112,9 @@ void write_stats(const std::filesystem::path& file, const RenderCommand& c, cons
     j["texture_bytes"] = prepared.packed.texels.size() * 4;
     j["render_origin"] = {prepared.scene.origin.x, prepared.scene.origin.y, prepared.scene.origin.z};
     j["stage_seconds"] = stats.stage_seconds;
+    // The image's estimated relative error (error_estimate.h); null where it has none.
+    j["relative_error"] = std::isfinite(relative_error) && relative_error >= 0 ? nlohmann::json(relative_error)
+                                                                               : nlohmann::json(nullptr);
     for (const SettingInfo& e : setting_table())  // the settings as asked for
         if (e.stats_key) j[e.stats_key] = e.stats ? e.stats(s) : nlohmann::json(e.describe(s));
     write_file_atomically(file, [&](const std::filesystem::path& temp) {
@@ -116,6 +122,14 @@ void write_stats(const std::filesystem::path& file, const RenderCommand& c, cons
         out << j.dump(2) << "\n";
         if (!out) throw IoError(temp.string() + ": cannot write statistics");
     });
+}
+
+// "; relative error 1.23%" (or "not estimated yet" below two complete batches).
+std::string describe_error(double error) {
+    if (!std::isfinite(error)) return "; relative error not estimated (fewer than 2 batches of samples)";
+    char text[96];
+    std::snprintf(text, sizeof text, "; estimated relative error %.3g%%", 100.0 * error);
+    return text;
 }
 
 void parse_sample_range(const std::string& text, uint32_t& first, uint32_t& end) {
@@ -157,6 +171,16 @@ void add_render_options(CLI::App& app, RenderCommand& c) {
            "--samples", [&c](const std::string& text) { parse_sample_range(text, c.first_sample, c.settings.spp); },
            "render only sample indices A..B-1 of every pixel (A:B), a part for fredholm merge (replaces --spp)")
         ->excludes(spp);
+    app.add_option("--target-error", c.target_error,
+                   "render until the image's estimated relative error (relative RMSE of luminance) is at most this, "
+                   "e.g. 0.01; up to --max-spp")
+        ->check(CLI::Range(1e-6, 10.0))
+        ->excludes(spp);
+    app.add_option("--max-spp", c.max_spp, "with --target-error: stop at this many samples per pixel (default 65536)")
+        ->check(CLI::Range(1u, 1u << 24))
+        ->excludes(spp);
+    app.add_option("--max-seconds", c.max_seconds, "stop after this many seconds of rendering (at a sample index)")
+        ->check(CLI::Range(1e-3, 1e9));
     app.add_option("--crop", c.crop, "render only pixels X0..X1-1 by Y0..Y1-1 (X0,Y0,X1,Y1) of the image, a part for "
                                      "fredholm merge");
     add_setting_options(app, s, {"max-depth", "seed", "camera"});
@@ -292,6 +316,16 @@ int run_frame(const RenderCommand& command, vk::Context* shared_context) {
         std::fprintf(stderr, "fredholm: usage error: --bdpt-strategy needs --integrator bdpt, not auto\n");
         return 2;
     }
+    if (c.max_spp != 0 && c.target_error == 0) {
+        std::fprintf(stderr, "fredholm: usage error: --max-spp is the sample limit of --target-error; without a "
+                             "target give --spp\n");
+        return 2;
+    }
+    if (c.target_error > 0 && c.first_sample != 0) {
+        std::fprintf(stderr, "fredholm: usage error: --target-error renders the whole sample range (not --samples)\n");
+        return 2;
+    }
+    if (c.target_error > 0) c.settings.spp = c.max_spp != 0 ? c.max_spp : DEFAULT_MAX_SPP;
     // Fail before any work if an output cannot be written or the render to continue does not match.
     check_writable(c.output);
     if (!c.png.empty()) check_writable(c.png);
@@ -335,37 +369,57 @@ int run_frame(const RenderCommand& command, vk::Context* shared_context) {
     if (!c.resume) renderer.clear_film();
     else renderer.write_film_state(saved.film);
 
+    // The error batches go on from the saved film's; a film saved before they existed gets no error estimate.
+    const bool estimate = !c.resume || saved.has_batches;
+    if (!estimate && c.target_error > 0)
+        throw std::runtime_error((c.resume_file.empty() ? c.output : c.resume_file).string() +
+                                 ": cannot resume to a target error: it was written without error batches");
+    if (!estimate && !c.quiet)
+        std::fprintf(stderr, "fredholm: note: the film to continue has no error batches (written by an older "
+                             "fredholm), so this render has no error estimate\n");
+    ErrorBatches batches = saved.has_batches ? saved.batches
+                                             : make_error_batches(size_t(settings.film_width()) * settings.film_height(),
+                                                                  saved.end_sample);
     // Stop only once a wave has finished a sample index for every pixel (the film then holds samples
     // [0, spp_done) everywhere, so it can be resumed exactly); waves that cover part of the pixels continue.
     ProgressLine progress;
-    uint32_t reached = saved.end_sample;
-    RenderStats stats = renderer.render_samples(saved.end_sample, settings.spp, [&](uint32_t done, uint32_t total) {
-        progress.update(done, total);
-        const bool at_sample_boundary = done != reached;
-        reached = done;
-        return !(interrupt_requested() && at_sample_boundary);
-    });
+    const RenderGoal goal{settings.spp, c.target_error, c.max_seconds};
+    const EstimatedRenderResult result =
+        render_estimated(renderer, batches, goal, [&](const EstimatedRenderStatus& status) {
+            if (c.target_error > 0) progress.update_target(status.spp_done, status.error, c.target_error);
+            else progress.update(status.spp_done, status.spp_total);
+            return !interrupt_requested();
+        });
     progress.finish();
+    const RenderStats& stats = result.stats;
 
     const Image image = renderer.read_film();
     ImageWindow window;
     if (settings.has_crop())
         window = {int(settings.crop_x0), int(settings.crop_y0), int(settings.width), int(settings.height)};
-    write_exr(c.output, image, make_metadata(c, scene_hash, stats.spp_done, prepared.packed.effects.bits),
-              film_channels(renderer.read_film_state()), window);
+    ImageMetadata metadata = make_metadata(c, scene_hash, stats.spp_done, prepared.packed.effects.bits);
+    ExtraChannels channels = film_channels(renderer.read_film_state());
+    FloatChannels floats;
+    if (estimate) add_error_channels(batches, image, channels, floats, metadata);
+    write_exr(c.output, image, metadata, channels, window, floats);
     if (!c.png.empty()) write_png(c.png, image, c.exposure_ev, c.tone_curve);
     if (!c.stats.empty()) write_stats(c.stats, c, prepared, camera, stats, saved.end_sample, context->device_name(),
-                                         renderer.camera_media());
+                                         renderer.camera_media(), estimate ? result.error : -1.0);
 
     const uint32_t rendered = stats.spp_done - saved.end_sample;
     if (!c.quiet)
-        std::fprintf(stderr, "fredholm: %s: %ux%u, %u spp (%u new) in %.3f s (%.2f Msamples/s) on %s; %llu non-finite samples\n",
+        std::fprintf(stderr, "fredholm: %s: %ux%u, %u spp (%u new) in %.3f s (%.2f Msamples/s) on %s; %llu non-finite "
+                             "samples%s\n",
                      c.output.string().c_str(), settings.film_width(), settings.film_height(), stats.spp_done, rendered,
                      stats.render_seconds,
                      stats.render_seconds > 0
                          ? double(settings.film_width()) * settings.film_height() * rendered / stats.render_seconds * 1e-6
                          : 0.0,
-                     context->device_name().c_str(), (unsigned long long)stats.nonfinite_samples);
+                     context->device_name().c_str(), (unsigned long long)stats.nonfinite_samples,
+                     estimate ? describe_error(result.error).c_str() : "");
+    if (!c.quiet && (c.target_error > 0 || c.max_seconds > 0) && result.stop != StopReason::interrupted)
+        std::fprintf(stderr, "fredholm: stopped by %s%s\n", describe_stop(result.stop),
+                     c.target_error > 0 && result.stop != StopReason::target ? " before the target error" : "");
     if (context->validation_message_count() > 0) {
         std::fprintf(stderr, "fredholm: error: %u Vulkan validation message(s)\n", context->validation_message_count());
         return 1;
