@@ -122,4 +122,26 @@ EstimatedRenderResult render_estimated(Renderer& renderer, ErrorBatches& batches
     return result;
 }
 
+void RunningErrorEstimate::reset(size_t pixels) {
+    batches_ = make_error_batches(pixels, 0);
+    before_.assign(pixels, 0);
+    error_ = std::numeric_limits<double>::quiet_NaN();
+}
+
+bool RunningErrorEstimate::update(const Renderer& renderer, uint32_t spp) {
+    if (spp <= batches_.end_sample) return false;
+    uint32_t size = std::max(batches_.batch_size, batch_size_for(batches_.first_sample, spp));
+    while (batches_.end_sample / size != (spp - 1) / size) size *= 2;
+    if (size > batches_.batch_size) coarsen(batches_, size);
+    if (spp % size != 0) return false;  // the batch is not complete yet: its samples wait in the film
+    const std::vector<gpu::FilmPixel> film = renderer.read_film_state();
+    std::vector<ExactSum> now = film_luminance(film), added(now.size());
+    for (size_t i = 0; i < now.size(); ++i) added[i] = subtract_sums(now[i], before_[i]);
+    add_samples(batches_, batches_.end_sample, spp, added);
+    before_ = std::move(now);
+    error_ = film_relative_error(film, batches_, int(renderer.settings().film_width()),
+                                 int(renderer.settings().film_height()));
+    return true;
+}
+
 }  // namespace fh

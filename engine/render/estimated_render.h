@@ -40,6 +40,24 @@ struct EstimatedRenderResult {
 EstimatedRenderResult render_estimated(Renderer& renderer, ErrorBatches& batches, const RenderGoal& goal,
                                        const EstimatedProgress& progress = {});
 
+// The error estimate of a film that grows a few samples at a time, outside render_estimated (the viewer): after each
+// frame, update() adds the finished sample indices to the batches once a batch is complete (reading the film back
+// then, not every frame). Samples a frame adds across a batch's end make the batches coarser, so a frame may add any
+// number of them.
+class RunningErrorEstimate {
+public:
+    void reset(size_t pixels);
+    // The film holds samples [0, spp) of every pixel; returns true when the estimate changed.
+    bool update(const Renderer& renderer, uint32_t spp);
+    double error() const { return error_; }        // NaN until two batches are complete
+    uint32_t complete_batches() const { return complete_batch_count(batches_); }
+
+private:
+    ErrorBatches batches_;
+    std::vector<ExactSum> before_;  // the film's luminance at batches_.end_sample
+    double error_ = 0;
+};
+
 // The luminance sums of every pixel of a film (error_estimate.h luminance_sum).
 std::vector<ExactSum> film_luminance(const std::vector<gpu::FilmPixel>& film);
 

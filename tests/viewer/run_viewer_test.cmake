@@ -83,6 +83,18 @@ elseif(MODE STREQUAL "lens")
     message(FATAL_ERROR "lens: validation messages, non-finite samples, or no lens in the printed command\n"
                         "  reproduce: ${printable}")
   endif()
+elseif(MODE STREQUAL "target")
+  # --target-error: the viewer estimates the film's error as it grows and stops adding samples once it is reached
+  # (120 frames of 2 spp would be 240 spp; 5% is reached long before).
+  run_checked(EXPECT 0 COMMAND ${xvfb} ${FREDHOLM} view ${SCENE} --width 128 --height 128 --frames 120
+              --spp-per-frame 2 --target-error 0.05)
+  if(NOT stderr_text MATCHES "target error 5% reached at ([0-9]+) spp")
+    message(FATAL_ERROR "target: no line saying the target was reached\n  reproduce: ${printable}")
+  endif()
+  set(reached ${CMAKE_MATCH_1})
+  if(NOT stderr_text MATCHES "128x128, ${reached} spp, .*estimated relative error [0-9.]+%" OR reached GREATER_EQUAL 240)
+    message(FATAL_ERROR "target: kept rendering after the target (reached at ${reached} spp)\n  reproduce: ${printable}")
+  endif()
 else()
   message(FATAL_ERROR "unknown MODE ${MODE}")
 endif()

@@ -8,6 +8,7 @@
 #include <GLFW/glfw3.h>
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <sstream>
@@ -21,6 +22,7 @@
 #include "io/png.h"
 #include "render/camera/camera_setup.h"
 #include "render/camera/lens.h"
+#include "render/estimated_render.h"
 #include "render/renderer.h"
 #include "vk/check.h"
 #include "vk/swapchain.h"
@@ -144,6 +146,9 @@ void add_view_options(CLI::App& app, ViewCommand& c) {
         ->check(CLI::Range(1u, 1024u));
     app.add_option("--frame-ms", c.frame_ms, "target render time per frame when --spp-per-frame is not given")
         ->check(CLI::Range(5.0, 10000.0));
+    app.add_option("--target-error", c.target_error, "stop adding samples once the image's estimated relative error "
+                                                     "is at most this (the title shows the error and the time left)")
+        ->check(CLI::Range(1e-6, 10.0));
     app.add_option("--frames", c.frames, "render this many frames without interaction, save --screenshot, exit");
     app.add_option("--screenshot", c.screenshot, "EXR written by P or after --frames (a PNG is written beside it)");
     add_tone_options(app, c.exposure_ev, c.tone_curve, "display");
@@ -204,6 +209,15 @@ int run_view(const ViewCommand& c) {
         }
         return apply_lens(*context, prepared.packed, camera, s.settings);
     };
+    // The error estimate of the film so far (reset with it), and the time since it was cleared, for the time left.
+    RunningErrorEstimate estimate;
+    auto film_cleared = Clock::now();
+    auto restart_estimate = [&] {
+        estimate.reset(size_t(s.settings.width) * s.settings.height);
+        film_cleared = Clock::now();
+        s.error = estimate.error();
+        s.target_reached = false;
+    };
     auto build = [&] {
         renderer.reset();
         s.settings.width = swapchain->extent().width;
@@ -212,7 +226,9 @@ int run_view(const ViewCommand& c) {
         renderer->clear_film();
         s.spp = 0;
         slicer.cursor = 0;
+        restart_estimate();
     };
+    s.target_error = c.target_error;
     build();
     if (c.frames == 0) print_help();
 
@@ -250,14 +266,19 @@ int run_view(const ViewCommand& c) {
             renderer->clear_film();
             s.spp = 0;
             slicer.cursor = 0;
+            restart_estimate();
         }
         s.rebuild = s.restart = false;
 
         const auto start_frame = Clock::now();
         const uint32_t pixels = s.settings.width * s.settings.height;
         RenderStats stats;
+        stats.spp_done = s.spp;
         uint64_t samples = 0;
-        if (c.spp_per_frame > 0) {
+        if (s.target_reached) {
+            // Nothing more to render until the view changes: wait for input instead of spinning.
+            window.wait_events(0.1);
+        } else if (c.spp_per_frame > 0) {
             stats = renderer->render_samples(s.spp, s.spp + c.spp_per_frame);
             samples = uint64_t(pixels) * c.spp_per_frame;
         } else {
@@ -268,7 +289,17 @@ int run_view(const ViewCommand& c) {
             slicer.observe(count, stats.render_seconds);
         }
         s.spp = stats.spp_done;
-        s.pass_fraction = double(slicer.cursor) / pixels;
+        s.pass_fraction = s.target_reached ? 0.0 : double(slicer.cursor) / pixels;
+        if (estimate.update(*renderer, s.spp)) {
+            s.error = estimate.error();
+            const double seconds = seconds_since(film_cleared), ratio = s.error / s.target_error;
+            s.seconds_left = std::isfinite(ratio) ? std::max(0.0, seconds * (ratio * ratio - 1)) : 0.0;
+            if (s.target_error > 0 && estimate.complete_batches() >= 3 && s.error <= s.target_error) {
+                s.target_reached = true;
+                std::fprintf(stderr, "fredholm view: target error %.3g%% reached at %u spp (%.3g%%) in %.1f s\n",
+                             100 * s.target_error, s.spp, 100 * s.error, seconds);
+            }
+        }
         nonfinite += stats.nonfinite_samples;
         if (stats.render_seconds > 0) samples_per_second = double(samples) / stats.render_seconds;
         if (!presenter.present(renderer->film_buffer(), s.settings.width, s.settings.height, s.exposure_ev,
@@ -284,9 +315,10 @@ int run_view(const ViewCommand& c) {
         }
     }
     if (c.frames > 0 && !c.screenshot.empty()) write_screenshot(c.screenshot, *renderer, s, c);
-    std::fprintf(stderr, "fredholm view: %ux%u, %u spp, %.2f Msamples/s, %.0f ms/frame on %s; %llu non-finite samples\n",
+    std::fprintf(stderr, "fredholm view: %ux%u, %u spp, %.2f Msamples/s, %.0f ms/frame on %s; %llu non-finite samples; "
+                         "estimated relative error %.3g%%\n",
                  s.settings.width, s.settings.height, s.spp, samples_per_second * 1e-6, ms_per_frame,
-                 context->device_name().c_str(), (unsigned long long)nonfinite);
+                 context->device_name().c_str(), (unsigned long long)nonfinite, 100 * s.error);
     renderer.reset();
     swapchain.reset();
     if (context->validation_message_count() > 0) {

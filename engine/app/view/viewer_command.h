@@ -26,6 +26,7 @@ struct ViewCommand {
     bool validation = false;
     std::string device;
     std::string script;             // hidden, for tests: actions spread over a --frames run
+    double target_error = 0;        // --target-error: stop adding samples at this estimated relative error
 };
 
 void add_view_options(CLI::App& app, ViewCommand& command);

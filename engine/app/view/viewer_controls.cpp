@@ -3,6 +3,7 @@
 
 #include <GLFW/glfw3.h>
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include "app/cli/camera_options.h"
@@ -131,12 +132,22 @@ void apply_input(ViewerState& s, const WindowInput& input, const ViewerWindow& w
     }
 }
 
+// "err 1.23%", with a target "err 1.23% (target 1%: 12 s left)" or "(target 1% reached)".
+std::string error_text(const ViewerState& s) {
+    if (!std::isfinite(s.error)) return "err estimating";
+    char text[96];
+    if (s.target_error <= 0) std::snprintf(text, sizeof text, "err %.3g%%", 100 * s.error);
+    else if (s.target_reached) std::snprintf(text, sizeof text, "err %.3g%% (target %.3g%% reached)", 100 * s.error, 100 * s.target_error);
+    else std::snprintf(text, sizeof text, "err %.3g%% (target %.3g%%: %.0f s left)", 100 * s.error, 100 * s.target_error, s.seconds_left);
+    return text;
+}
+
 std::string make_title(const ViewerState& s, double samples_per_second, double ms_per_frame) {
     char title[512];
     std::snprintf(title, sizeof(title),
-                  "fredholm view | %.2f spp | %.2f Msamples/s | %.0f ms/frame | %ux%u depth %s NEE %s RR %s %s | "
+                  "fredholm view | %.2f spp | %s | %.2f Msamples/s | %.0f ms/frame | %ux%u depth %s NEE %s RR %s %s | "
                   "EV %+.1f %s | drag orbit, shift/right drag pan, wheel zoom, WASDQE fly, H help",
-                  s.spp + s.pass_fraction, samples_per_second * 1e-6, ms_per_frame, s.settings.width, s.settings.height,
+                  s.spp + s.pass_fraction, error_text(s).c_str(), samples_per_second * 1e-6, ms_per_frame, s.settings.width, s.settings.height,
                   depth_text(s.settings.max_depth).c_str(), on_off(s.settings.nee), on_off(s.settings.russian_roulette),
                   lens_text(s.settings.lens).c_str(), s.exposure_ev, curve_name(s.tone_curve));
     return title;

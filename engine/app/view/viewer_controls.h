@@ -24,6 +24,10 @@ struct ViewerState {
     bool focus_request = false;  // clicked: focus on the surface at (focus_x, focus_y), framebuffer pixels
     double focus_x = 0, focus_y = 0;
     bool quit = false;
+    double error = 0;             // the film's estimated relative error (NaN until it can be estimated)
+    double target_error = 0;      // --target-error (0: none)
+    double seconds_left = 0;      // to the target, assuming the error falls as 1 / sqrt(time)
+    bool target_reached = false;  // no more samples until the view changes
 };
 
 // Applies one frame's input: mouse moves, wheel, key presses, held fly keys (over `frame_seconds`).

@@ -76,6 +76,8 @@ VkExtent2D ViewerWindow::framebuffer_size() const {
 }
 
 void ViewerWindow::set_size(uint32_t width, uint32_t height) { glfwSetWindowSize(window_, int(width), int(height)); }
+void ViewerWindow::wait_events(double seconds) { glfwWaitEventsTimeout(seconds); }
+
 void ViewerWindow::set_title(const std::string& title) { glfwSetWindowTitle(window_, title.c_str()); }
 bool ViewerWindow::key_down(int key) const { return glfwGetKey(window_, key) == GLFW_PRESS; }
 

@@ -39,6 +39,8 @@ public:
     VkSurfaceKHR create_surface(VkInstance instance);
 
     void poll();
+    // Sleeps until an input event arrives or `seconds` pass (when there is nothing to render).
+    void wait_events(double seconds);
     bool should_close() const;
     void request_close();
     VkExtent2D framebuffer_size() const;
