@@ -2,13 +2,15 @@
 // (lib/core/film.glsl): each sample's radiance is rounded once to 2^-FILM_FRACTION_BITS and then added exactly, so the
 // film holds the same bits whatever the split of the samples into waves, resumed runs or merged parts. Non-finite
 // radiance, and radiance too large for the film (|L| >= 2^FILM_MAX_LOG2), is counted, then dropped.
-// Reads: paths[].radiance, push (wave ranges). Writes: film, counters.nonfinite_samples.
+// With `--aov` it also sums the paths' AOVs into aov_film (lib/core/aov.glsl), in the same fixed point.
+// Reads: paths[].radiance, path_aovs, push (wave ranges). Writes: film, aov_film, counters.nonfinite_samples.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "lib/core/bindings.glsl"
 #include "lib/core/film.glsl"
 #include "lib/core/queue.glsl"
 #include "lib/core/techniques.glsl"
+#include "lib/core/aov.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE) in;
 
@@ -26,6 +28,30 @@ bool add_sample(inout uvec4 sum, float radiance) {
     if (!encode_fixed(radiance, value)) return false;
     sum = add_fixed(sum, value);
     return true;
+}
+
+// Adds the wave's AOVs of one pixel: a value the fixed point cannot hold (not finite, or too large) adds nothing.
+void add_to(inout uint words[FILM_WORDS], float value) {
+    uvec4 sum = load_words(words), v;
+    if (!encode_fixed(value, v)) return;
+    sum = add_fixed(sum, v);
+    for (uint w = 0u; w < FILM_WORDS; ++w) words[w] = sum[w];
+}
+
+void accumulate_aovs(uint pixel, uint j) {
+    AovPixel a = aov_film[pixel];
+    for (uint s = 0u; s < push.sample_count; ++s) {
+        PathAov p = load_path_aov(s * push.pixel_count + j);
+        add_to(a.albedo_r, p.albedo_r);
+        add_to(a.albedo_g, p.albedo_g);
+        add_to(a.albedo_b, p.albedo_b);
+        add_to(a.normal_x, p.normal_x);
+        add_to(a.normal_y, p.normal_y);
+        add_to(a.normal_z, p.normal_z);
+        add_to(a.depth, p.depth);
+        if ((p.flags & AOV_HIT) != 0u) a.hit_count += 1u;
+    }
+    aov_film[pixel] = a;
 }
 
 void main() {
@@ -59,5 +85,6 @@ void main() {
     }
     f.sample_count += push.sample_count;
     film[pixel] = f;
+    if (aovs_on) accumulate_aovs(pixel, j);
     COUNT_IN_SUBGROUP(counters.nonfinite_samples, nonfinite);
 }

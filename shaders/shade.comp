@@ -9,6 +9,7 @@
 // spectra, rays[queue (depth + 1) & 1], shadow_rays, counters.ray_count / shadow_count.
 // The steps: load the path, the light of an escaped ray, what a hit shows and emits, the BSDF, next-event estimation,
 // scattering with Russian roulette, store the path.
+// With `--aov` it also records the path's AOVs (lib/core/aov.glsl; writes path_aovs).
 // `--integrator bdpt` (the shade_bdpt SPIR-V, FH_INTEGRATOR) weights emission and NEE against every strategy of bidirectional path tracing
 // and carries the camera subpath's MIS quantities (path_mis; lib/integrator/bdpt.glsl) instead of the path tracer's two-way MIS.
 #version 460
@@ -27,6 +28,7 @@
 #include "lib/bsdf/surface_bsdf.glsl"
 #include "lib/integrator/bdpt.glsl"
 #include "lib/core/ray_order.glsl"
+#include "lib/core/aov.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE) in;
 
@@ -309,6 +311,7 @@ void shade_vertex(uint i, uint parity, out bool push_ray, out RayItem next, out 
     vec3 dir = vec3(ray.dir_x, ray.dir_y, ray.dir_z);
 
     if (hit.triangle == INVALID_INDEX && effect_on(EFFECT_ENVIRONMENT)) add_escaped_light(v, dir);
+    if (aovs_on && hit.triangle == INVALID_INDEX) record_aovs(v.path, push.depth, false, 0.0f, true, vec3(0.0f), vec3(0.0f));
     if (hit.triangle != INVALID_INDEX) {
         vec3 wo = -dir;
         // The shading point as the light subpaths' stages build it (lib/bsdf/surface_bsdf.glsl), in two halves: a
@@ -326,8 +329,12 @@ void shade_vertex(uint i, uint parity, out bool push_ray, out RayItem next, out 
         bool double_sided = (sp.m.flags & MATERIAL_DOUBLE_SIDED) != 0u;
         if (bdpt) account_segment(v.mis, hit.t, abs(dot(sp.s.ng, wo)), camera_segment_has_distance(v.segments));
         add_emission(v, sp, hit, wo, unlit, front, double_sided);
+        vec3 albedo = clamp(sp.m.base_color.rgb, vec3(0.0f), vec3(1.0f));
+        if (aovs_on && !may_extend)
+            record_aovs(v.path, push.depth, true, hit.t, false, albedo, front ? sp.s.ns : -sp.s.ns);
         if (may_extend) {
             Scattering sc = make_scattering(v, sp, wo, front);
+            if (aovs_on) record_aovs(v.path, push.depth, true, hit.t, aovs_see_through(sc.bsdf), albedo, sc.frame.n);
             VertexSamples u = draw_vertex_samples(v.path, push.depth, v.rng);
             push_shadow = sample_light(v, sp, sc, wo, u, shadow);
             push_ray = scatter(v, sp, sc, wo, u, next);

@@ -123,6 +123,8 @@ GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& sce
     b.material_layers = make_texel_buffer(context, scene.material_layers);
     b.path_media = make_state_buffer(context, path_media_bytes(frame.wave_capacity, effects));
     b.path_light_points = make_state_buffer(context, path_light_points_bytes(frame.wave_capacity, effects));
+    b.path_aovs = make_state_buffer(context, path_aovs_bytes(frame.wave_capacity, store));
+    b.aov_film = make_state_buffer(context, aov_film_bytes(frame.film_width, frame.film_height, store));
     b.path_spectra = make_state_buffer(context, path_spectra_bytes(frame.wave_capacity, effects));
     b.path_times = make_state_buffer(context, path_times_bytes(frame.wave_capacity, effects));
     b.glass_albedo = make_filled_buffer(context, flatten_glass_albedo_table(effects));
@@ -137,7 +139,7 @@ GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& sce
                                      &b.shadow_rays, &b.film, &b.tri_attributes, &b.texture_slots, &b.texture_images,
                                      &b.texels, &b.env_radiance, &b.env_cdf, &b.instances, &b.material_layers, &b.path_media,
                                      &b.path_spectra, &b.path_times, &b.glass_albedo, &b.light_vertices, &b.path_mis, &b.ray_sort,
-                                     &b.light_tree, &b.path_light_points})
+                                     &b.light_tree, &b.path_light_points, &b.path_aovs, &b.aov_film})
         allocated += buffer->size();
     if (allocated !=
         estimate_render_memory(scene, frame.film_width, frame.film_height, frame.wave_capacity, effects, store).device_bytes())
@@ -181,6 +183,8 @@ void bind_gpu_buffers(vk::BindingTable& table, const GpuBuffers& b) {
     table.bind_buffer(gpu::BINDING_GLASS_ALBEDO, b.glass_albedo);
     table.bind_buffer(gpu::BINDING_LIGHT_TREE, b.light_tree);
     table.bind_buffer(gpu::BINDING_PATH_LIGHT_POINTS, b.path_light_points);
+    table.bind_buffer(gpu::BINDING_PATH_AOVS, b.path_aovs);
+    table.bind_buffer(gpu::BINDING_AOV_FILM, b.aov_film);
 }
 
 }  // namespace fh

@@ -40,6 +40,8 @@ struct GpuBuffers {
     vk::Buffer instances;          // two-level BVH (one dummy element when the scene has none)
     vk::Buffer material_layers;    // KHR material extensions, one per material
     vk::Buffer path_light_points;  // per path: where its last NEE stood (EFFECT_LIGHT_TREE; else one element)
+    vk::Buffer path_aovs;          // per path: its AOVs (--aov; else one element)
+    vk::Buffer aov_film;           // per pixel: the AOVs' sums (--aov; else one element)
     vk::Buffer path_media;         // the volumes each path is inside (EFFECT_VOLUME, _ABSORPTION; else one stack)
     vk::Buffer path_spectra;       // each path's wavelengths (EFFECT_SPECTRAL; else one element)
     vk::Buffer path_times;         // each path's time in the shutter (EFFECT_MOTION_BLUR; else one word)

@@ -63,7 +63,16 @@ PathStore make_path_store(const RenderSettings& settings) {
     b.bdpt = settings.integrator == Integrator::bdpt;
     b.light_vertex_slots = count_light_vertex_slots(settings);
     b.sort_rays = settings.sort_rays.value_or(false);  // resolved by with_device_defaults before any estimate
+    b.aovs = settings.aovs;
     return b;
+}
+
+uint64_t path_aovs_bytes(uint32_t wave_capacity, const PathStore& store) {
+    return uint64_t(store.aovs ? wave_capacity : 1u) * sizeof(gpu::PathAov);
+}
+
+uint64_t aov_film_bytes(uint32_t width, uint32_t height, const PathStore& store) {
+    return (store.aovs ? uint64_t(width) * height : 1u) * sizeof(gpu::AovPixel);
 }
 
 uint64_t ray_sort_bytes(uint32_t wave_capacity, const PathStore& store) {
@@ -122,6 +131,8 @@ MemoryEstimate estimate_render_memory(const PackedScene& scene, uint32_t width, 
         {"path_mis", path_mis_bytes(wave_capacity, store), storage},
         {"ray_sort", ray_sort_bytes(wave_capacity, store), storage},
         {"path_light_points", path_light_points_bytes(wave_capacity, effects), storage},
+        {"path_aovs", path_aovs_bytes(wave_capacity, store), storage},
+        {"aov_film", aov_film_bytes(width, height, store), storage},
     };
     e.film_readback_bytes = film;
     return e;

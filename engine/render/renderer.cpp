@@ -123,6 +123,7 @@ StageOptions make_stage_options(const PackedScene& scene, const RenderSettings& 
     o.integrator = s.integrator;
     o.sort_rays = s.sort_rays.value_or(false);  // resolved (with_device_defaults) but for check_render_settings
     o.wide_stores = s.wide_stores;
+    o.aovs = s.aovs;
     check_light_tracing(scene.source.empty() ? std::string("scene") : scene.source, scene, s, camera, o.effects);
     return o;
 }
@@ -179,6 +180,7 @@ RenderStats Renderer::render(const ProgressCallback& progress) {
 void Renderer::clear_film() {
     recorder_.begin();
     recorder_.fill_buffer(buffers_.film, 0);
+    recorder_.fill_buffer(buffers_.aov_film, 0);
     recorder_.fill_buffer(buffers_.counters, 0);
     recorder_.submit_and_wait();
 }
@@ -339,6 +341,13 @@ void Renderer::write_film_state(const std::vector<gpu::FilmPixel>& film) {
     if (film.size() != size_t(settings_.film_width()) * settings_.film_height())
         throw std::invalid_argument("write_film_state: the film has a different size than the render");
     vk::upload_to_buffer(context_, buffers_.film, film.data(), film.size() * sizeof(gpu::FilmPixel));
+}
+
+std::vector<gpu::AovPixel> Renderer::read_aov_film() const {
+    if (!settings_.aovs) throw std::logic_error("read_aov_film: the render has no AOVs");
+    std::vector<gpu::AovPixel> aovs(size_t(settings_.film_width()) * settings_.film_height());
+    vk::download_from_buffer(context_, buffers_.aov_film, aovs.data(), aovs.size() * sizeof(gpu::AovPixel));
+    return aovs;
 }
 
 Image Renderer::read_film() const {

@@ -66,6 +66,8 @@ public:
     // The raw film (exact fixed-point sums and sample counts), to save a render and resume it bit-exactly.
     std::vector<gpu::FilmPixel> read_film_state() const;
     void write_film_state(const std::vector<gpu::FilmPixel>& film);
+    // The AOVs' exact sums per pixel (settings.aovs; render/aov_image.h turns them into layers).
+    std::vector<gpu::AovPixel> read_aov_film() const;
 
     // Moves the camera (same film size); the film keeps its samples, so clear it to start afresh. Its lens may
     // change but not appear or vanish (the stages are compiled with or without EFFECT_THIN_LENS): throws

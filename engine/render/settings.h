@@ -75,6 +75,7 @@ struct RenderSettings {
     // --wide-stores: shade stores its structs a texel (uvec4) at a time; off: field by field (to measure what the
     // wide stores buy). The image is the same.
     bool wide_stores = true;
+    bool aovs = false;  // --aov albedo, normal or depth: shade records them and accumulate sums them (lib/core/aov.glsl)
     Microfacet microfacet = Microfacet::compensated;
     uint32_t disabled_techniques = 0;  // layout.h TECHNIQUE_* bits switched off (cost measurements only)
     uint32_t bvh_max_leaf_size = 4;    // triangles per BVH leaf at most

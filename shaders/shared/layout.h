@@ -80,7 +80,11 @@ FH_CONST uint BINDING_SHADOW_RAY_TEXELS = 32u;  // TEXELS ShadowRayItem[wave cap
 // point whose tree probabilities NEE used, for the MIS weight of the emitter the path's next ray hits (lib/light/light_tree.glsl).
 FH_CONST uint BINDING_LIGHT_TREE = 33u;       // TEXELS LightTreeNode[]: interior nodes, then one leaf per tree light
 FH_CONST uint BINDING_PATH_LIGHT_POINTS = 34u;  // uvec4[wave capacity]: position bits and packed normal (light_tree.glsl)
-FH_CONST uint BINDING_COUNT = 35u;
+// The AOVs (`--aov`, SPEC_AOVS; else one element each): what each path's first non-specular hit showed, and their sums
+// per pixel (lib/core/aov.glsl).
+FH_CONST uint BINDING_PATH_AOVS = 35u;       // PathAov[wave capacity]
+FH_CONST uint BINDING_AOV_FILM = 36u;        // AovPixel[width * height]
+FH_CONST uint BINDING_COUNT = 37u;
 FH_CONST uint TEXEL_BYTES = 16u;             // one RGBA32UI texel of a TEXELS binding
 
 // ---- Specialization constants (constant_id) -------------------------------------------------------------
@@ -90,7 +94,8 @@ FH_CONST uint SPEC_HAS_INSTANCES = 2u;             // bool: two-level BVH (meshe
 FH_CONST uint SPEC_SAMPLER = 3u;                   // SAMPLER_*: where a path's random numbers come from
 FH_CONST uint SPEC_SORT_RAYS = 4u;                 // bool: the ray sort's stages are built (shade bins what it pushes)
 FH_CONST uint SPEC_EFFECTS_2 = 5u;                 // EFFECT2_* bits: the effects beyond the first word's 32
-FH_CONST uint SPEC_CONSTANT_COUNT = 6u;
+FH_CONST uint SPEC_AOVS = 6u;                      // bool: shade records and accumulate sums the AOVs (`--aov`)
+FH_CONST uint SPEC_CONSTANT_COUNT = 7u;
 
 // ---- Effects (engine/scene/effects.h decides them by value; a stage compiles only the code of those set) ----
 FH_CONST uint EFFECT_BASE_COLOR_TEXTURE = 1u;      // some visible material has a baseColorTexture
@@ -613,6 +618,34 @@ FH_CONST int FILM_MAX_LOG2 = 47;
 // A sum of -2^127 (only this top word set), which no samples reach: the pixel a non-finite sample reached with the
 // finite guard off; it reads as NaN.
 FH_CONST uint FILM_NAN_TOP_WORD = 0x80000000u;
+
+// The AOVs of one path (`--aov`, lib/core/aov.glsl): at its first non-specular hit (a surface that is not a smooth
+// mirror or glass) the surface's base colour and its shading normal (world space, towards the camera); at its first
+// hit the distance from the camera. Zero where the path escaped first. 32 bytes.
+struct PathAov {
+    float albedo_r, albedo_g, albedo_b;
+    float depth;                // distance along the camera ray to the first hit
+    float normal_x, normal_y, normal_z;
+    uint flags;                 // AOV_CAPTURED, AOV_HIT
+};
+FH_CONST uint AOV_CAPTURED = 1u;  // albedo and normal are set (a non-specular surface was reached)
+FH_CONST uint AOV_HIT = 2u;       // the camera ray hit a surface (depth is set)
+// A surface whose every lobe is GGX at most this alpha (roughness 0.1) and that has no diffuse part passes the AOVs on
+// to what it reflects or refracts (Intel Open Image Denoise's advice for mirrors and glass).
+FH_CONST float AOV_SPECULAR_ALPHA = 0.01f;
+
+// The AOVs' sums per pixel, exact like the film's (same fixed point, FILM_WORDS words each): albedo, normal, the
+// depth of the samples that hit something and how many did.
+struct AovPixel {
+    uint albedo_r[FILM_WORDS];
+    uint albedo_g[FILM_WORDS];
+    uint albedo_b[FILM_WORDS];
+    uint normal_x[FILM_WORDS];
+    uint normal_y[FILM_WORDS];
+    uint normal_z[FILM_WORDS];
+    uint depth[FILM_WORDS];
+    uint hit_count;
+};
 struct FilmPixel {
     uint sum_r[FILM_WORDS];
     uint sum_g[FILM_WORDS];

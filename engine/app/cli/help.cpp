@@ -21,7 +21,7 @@ const std::map<std::string, std::string>& help_groups() {
         auto put = [&g](const char* group, std::initializer_list<const char*> names) {
             for (const char* n : names) g[n] = group;
         };
-        put("Output", {"output", "png", "exposure", "tonemap", "stats", "quiet", "resume"});
+        put("Output", {"output", "png", "exposure", "tonemap", "stats", "quiet", "resume", "aov"});
         put("Quality", {"width", "height", "spp", "max-depth", "seed", "sampler", "integrator", "filter",
                         "filter-radius", "microfacet"});
         put("Accuracy", {"target-error", "max-spp", "max-seconds"});

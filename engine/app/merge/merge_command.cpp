@@ -169,6 +169,13 @@ int run_merge(const MergeCommand& c) {
         std::fprintf(stderr, "fredholm: note: a part has no error batches (written by an older fredholm), so the "
                              "merged image has no error estimate\n");
     }
+    const bool aovs = std::any_of(parts.begin(), parts.end(), [](const Part& p) {
+        return p.film.metadata.count("fredholm:aovs") != 0;
+    });
+    if (aovs && !c.quiet)
+        std::fprintf(stderr, "fredholm: note: the parts' --aov layers are not merged (their sums are not saved in the "
+                             "EXR); render AOVs in one run\n");
+    metadata.erase("fredholm:aovs");
     write_exr(c.output, image, metadata, channels, {}, floats);
     if (!c.png.empty()) write_png(c.png, image, c.exposure_ev, c.tone_curve);
     if (!c.quiet)

@@ -187,6 +187,19 @@ void add_render_options(CLI::App& app, RenderCommand& c) {
     app.add_option("--png", c.png, "also write a tone-mapped sRGB PNG preview");
     add_tone_options(app, c.exposure_ev, c.tone_curve, "PNG");
     app.add_option("--stats", c.stats, "write render statistics as JSON");
+    app.add_option_function<std::string>(
+        "--aov",
+        [&c](const std::string& list) {
+            try {
+                c.aovs = parse_aovs(list);
+            } catch (const std::invalid_argument& e) {
+                throw CLI::ValidationError("--aov", e.what());
+            }
+            c.aov_list = list;
+            c.settings.aovs = c.aovs.any_recorded();
+        },
+        "extra EXR layers: albedo, normal (the first non-specular hit's, for denoisers), depth (distance to the first "
+        "hit), spp, variance (always written), comma-separated");
     add_sampling_options(app, s);
     app.add_option_function<std::string>(
         "--bdpt-strategy",
@@ -326,6 +339,16 @@ int run_frame(const RenderCommand& command, vk::Context* shared_context) {
         return 2;
     }
     if (c.target_error > 0) c.settings.spp = c.max_spp != 0 ? c.max_spp : DEFAULT_MAX_SPP;
+    if (c.settings.aovs && c.settings.integrator == Integrator::light) {
+        std::fprintf(stderr, "fredholm: usage error: --aov albedo, normal and depth come from camera paths, which "
+                             "--integrator light does not trace\n");
+        return 2;
+    }
+    if (c.settings.aovs && c.resume) {
+        std::fprintf(stderr, "fredholm: usage error: --aov albedo, normal and depth cannot continue a render (their "
+                             "sums are not saved in the EXR): render it in one run\n");
+        return 2;
+    }
     // Fail before any work if an output cannot be written or the render to continue does not match.
     check_writable(c.output);
     if (!c.png.empty()) check_writable(c.png);
@@ -401,6 +424,13 @@ int run_frame(const RenderCommand& command, vk::Context* shared_context) {
     ExtraChannels channels = film_channels(renderer.read_film_state());
     FloatChannels floats;
     if (estimate) add_error_channels(batches, image, channels, floats, metadata);
+    if (c.aovs.any_recorded() || c.aovs.spp) {
+        const FloatChannels layers =
+            aov_layers(c.aovs, c.settings.aovs ? renderer.read_aov_film() : std::vector<gpu::AovPixel>{},
+                       renderer.read_film_state());
+        floats.insert(layers.begin(), layers.end());
+        metadata["fredholm:aovs"] = c.aov_list;
+    }
     write_exr(c.output, image, metadata, channels, window, floats);
     if (!c.png.empty()) write_png(c.png, image, c.exposure_ev, c.tone_curve);
     if (!c.stats.empty()) write_stats(c.stats, c, prepared, camera, stats, saved.end_sample, context->device_name(),

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "app/cli/camera_options.h"
+#include "render/aov_image.h"
 #include "io/tone_curve.h"
 #include "render/renderer.h"
 #include "render/settings.h"
@@ -36,6 +37,8 @@ struct RenderCommand {
     double target_error = 0;            // --target-error: stop once the relative error estimate is at most this
     uint32_t max_spp = 0;               // --max-spp: the sample limit with a target (0: not given)
     double max_seconds = 0;             // --max-seconds: stop at the first sample index past this (0: none)
+    std::string aov_list;               // --aov as given
+    AovChoice aovs;                     // ... parsed
 };
 
 void add_render_options(CLI::App& app, RenderCommand& command);

@@ -20,6 +20,9 @@ layout(std430, binding = BINDING_LIGHT_VERTICES) buffer LightVertexBuffer { Ligh
 layout(std430, binding = BINDING_PATH_MIS) buffer PathMisBuffer { PathMis path_mis[]; };
 layout(std430, binding = BINDING_RAY_SORT) buffer RaySortBuffer { uint ray_sort_words[]; };  // lib/core/ray_order.glsl
 layout(std430, binding = BINDING_PATH_LIGHT_POINTS) buffer PathLightPointBuffer { uvec4 path_light_points[]; };
+// Two uvec4 per path (layout.h PathAov): stored a texel at a time, not word by word (lib/core/aov.glsl).
+layout(std430, binding = BINDING_PATH_AOVS) buffer PathAovBuffer { uvec4 path_aov_words[]; };
+layout(std430, binding = BINDING_AOV_FILM) buffer AovFilmBuffer { AovPixel aov_film[]; };
 // The scene's read-only structs (layout.h TEXELS bindings): load_bvh_node, load_triangle_positions,
 // load_triangle_shading, load_material, load_emitter, load_punctual_light, load_triangle_attributes, load_instance,
 // load_material_layers, load_light_tree_node, written at build time from layout.h.

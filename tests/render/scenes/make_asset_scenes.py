@@ -23,6 +23,8 @@ Each scene has an analytic or comparative criterion, stated beside its test in t
                            two triangles), seen from between them by an orthographic camera of half extent 1: with
                            --max-depth 2 a point reads RHO x L x its form factor to the rectangle (analytic;
                            tests/converge/test_light_pick_error.cpp).
+  aov_glass_over_plane.gltf  env_plane.gltf under a smooth thin glass sheet at z = 1: `--aov` looks through the glass
+                           (tests/render/test_aovs.cpp).
 """
 import base64
 import json
@@ -173,6 +175,21 @@ def textured_emitter():
     return g
 
 
+def glass_over_plane():
+    """env_plane.gltf under a smooth, thin glass sheet of base colour 0.5 at z = 1: the AOVs look through the glass
+    (the albedo is the plane's RHO but for the share the glass reflects; the first hit is the glass, 1 away)."""
+    g = AssetGltf()
+    g.doc["extensionsUsed"].append("KHR_materials_transmission")
+    plane = g.add_raw_material(diffuse((RHO, RHO, RHO, 1.0)))
+    glass = g.add_raw_material({"pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1.0], "metallicFactor": 0.0,
+                                                         "roughnessFactor": 0.0},
+                                "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0}}})
+    g.add_node({"mesh": g.add_uv_mesh(quad(-10, -10, 10, 10, 0.0), quad_uv(), plane)})
+    g.add_node({"mesh": g.add_uv_mesh(quad(-10, -10, 10, 10, 1.0), quad_uv(), glass)})
+    g.add_orthographic_camera({"translation": [0.0, 0.0, 2.0]}, 1.0)
+    return g
+
+
 QUAD_FLOOR_RHO = 0.5
 QUAD_LIGHT_HALF = 0.5
 QUAD_LIGHT_HEIGHT = 0.5
@@ -205,6 +222,7 @@ def main():
     textured_emitter().write(out / "textured_emitter.gltf")
     minified_checker().write(out / "minified_checker.gltf")
     quad_light_floor().write(out / "quad_light_floor.gltf")
+    glass_over_plane().write(out / "aov_glass_over_plane.gltf")
 
 
 if __name__ == "__main__":
