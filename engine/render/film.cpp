@@ -43,6 +43,17 @@ void add_film_pixel(gpu::FilmPixel& into, const gpu::FilmPixel& part) {
     into.sample_count += part.sample_count;
 }
 
+void add_aov_pixel(gpu::AovPixel& into, const gpu::AovPixel& part) {
+    add_fixed(into.albedo_r, part.albedo_r);
+    add_fixed(into.albedo_g, part.albedo_g);
+    add_fixed(into.albedo_b, part.albedo_b);
+    add_fixed(into.normal_x, part.normal_x);
+    add_fixed(into.normal_y, part.normal_y);
+    add_fixed(into.normal_z, part.normal_z);
+    add_fixed(into.depth, part.depth);
+    into.hit_count += part.hit_count;
+}
+
 Image resolve_film(const std::vector<gpu::FilmPixel>& film, int width, int height) {
     Image image;
     image.width = width;

@@ -17,6 +17,9 @@ double read_fixed_sum(const uint32_t (&words)[gpu::FILM_WORDS]);
 // into += part: sums and sample counts (128-bit two's complement, wrapping like the device's).
 void add_film_pixel(gpu::FilmPixel& into, const gpu::FilmPixel& part);
 
+// into += part for the AOVs' sums (layout.h AovPixel), the same way.
+void add_aov_pixel(gpu::AovPixel& into, const gpu::AovPixel& part);
+
 // Mean radiance per pixel (sum / sample count; 0 where no sample landed), width x height pixels.
 Image resolve_film(const std::vector<gpu::FilmPixel>& film, int width, int height);
 

@@ -350,6 +350,12 @@ std::vector<gpu::AovPixel> Renderer::read_aov_film() const {
     return aovs;
 }
 
+void Renderer::write_aov_film(const std::vector<gpu::AovPixel>& aovs) {
+    if (!settings_.aovs || aovs.size() != size_t(settings_.film_width()) * settings_.film_height())
+        throw std::invalid_argument("write_aov_film: the render has no AOVs, or they are another size");
+    vk::upload_to_buffer(context_, buffers_.aov_film, aovs.data(), aovs.size() * sizeof(gpu::AovPixel));
+}
+
 Image Renderer::read_film() const {
     return resolve_film(read_film_state(), int(settings_.film_width()), int(settings_.film_height()));
 }

@@ -68,6 +68,7 @@ public:
     void write_film_state(const std::vector<gpu::FilmPixel>& film);
     // The AOVs' exact sums per pixel (settings.aovs; render/aov_image.h turns them into layers).
     std::vector<gpu::AovPixel> read_aov_film() const;
+    void write_aov_film(const std::vector<gpu::AovPixel>& aovs);
 
     // Moves the camera (same film size); the film keeps its samples, so clear it to start afresh. Its lens may
     // change but not appear or vanish (the stages are compiled with or without EFFECT_THIN_LENS): throws

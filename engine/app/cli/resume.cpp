@@ -155,6 +155,62 @@ void read_error_batches(const std::filesystem::path& file, FilmFile& f, const st
     f.has_batches = true;
 }
 
+namespace {
+
+// The AOV sums' channels, in AovPixel's order.
+struct AovField {
+    const char* name;
+    uint32_t (gpu::AovPixel::*words)[gpu::FILM_WORDS];
+};
+constexpr AovField AOV_FIELDS[] = {{"albedo_r", &gpu::AovPixel::albedo_r}, {"albedo_g", &gpu::AovPixel::albedo_g},
+                                   {"albedo_b", &gpu::AovPixel::albedo_b}, {"normal_x", &gpu::AovPixel::normal_x},
+                                   {"normal_y", &gpu::AovPixel::normal_y}, {"normal_z", &gpu::AovPixel::normal_z},
+                                   {"depth", &gpu::AovPixel::depth}};
+const char* const AOV_HITS = "fredholm.aov.hits";
+
+std::string aov_word_name(const AovField& f, uint32_t w) {
+    return std::string("fredholm.aov.") + f.name + "." + std::to_string(w);
+}
+
+// The AOV sums of a film file that has them (channel fredholm.aov.hits).
+void read_aov_sums(const std::filesystem::path& file, FilmFile& f, const std::string& prefix) {
+    const auto aovs = f.metadata.find("fredholm:aovs");
+    if (aovs != f.metadata.end()) f.aovs = aovs->second;
+    if (!exr_has_channel(file, AOV_HITS)) return;
+    std::vector<std::string> names = {AOV_HITS};
+    for (const AovField& field : AOV_FIELDS)
+        for (uint32_t w = 0; w < gpu::FILM_WORDS; ++w) names.push_back(aov_word_name(field, w));
+    ExtraChannels channels;
+    try {
+        channels = read_exr_channels(file, names);
+    } catch (const IoError& e) {
+        throw std::runtime_error(prefix + "its AOV sums are incomplete (" + e.what() + ")");
+    }
+    f.aov_sums.assign(f.film.size(), gpu::AovPixel{});
+    for (size_t p = 0; p < f.aov_sums.size(); ++p) {
+        for (const AovField& field : AOV_FIELDS)
+            for (uint32_t w = 0; w < gpu::FILM_WORDS; ++w) (f.aov_sums[p].*field.words)[w] = channels[aov_word_name(field, w)][p];
+        f.aov_sums[p].hit_count = channels[AOV_HITS][p];
+    }
+    f.has_aov_sums = true;
+}
+
+}  // namespace
+
+ExtraChannels aov_sum_channels(const std::vector<gpu::AovPixel>& aovs) {
+    ExtraChannels channels;
+    for (const AovField& field : AOV_FIELDS)
+        for (uint32_t w = 0; w < gpu::FILM_WORDS; ++w) {
+            std::vector<uint32_t>& values = channels[aov_word_name(field, w)];
+            values.resize(aovs.size());
+            for (size_t p = 0; p < aovs.size(); ++p) values[p] = (aovs[p].*field.words)[w];
+        }
+    std::vector<uint32_t>& hits = channels[AOV_HITS];
+    hits.resize(aovs.size());
+    for (size_t p = 0; p < aovs.size(); ++p) hits[p] = aovs[p].hit_count;
+    return channels;
+}
+
 FilmFile read_film_file(const std::filesystem::path& file, const std::string& why) {
     const std::string prefix = file.string() + ": " + why + ": ";
     FilmFile f;
@@ -206,6 +262,7 @@ FilmFile read_film_file(const std::filesystem::path& file, const std::string& wh
                                      " of its metadata");
     }
     read_error_batches(file, f, prefix);
+    read_aov_sums(file, f, prefix);
     return f;
 }
 

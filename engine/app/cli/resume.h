@@ -25,6 +25,11 @@ ExtraChannels film_channels(const std::vector<gpu::FilmPixel>& film);
 void add_error_channels(const ErrorBatches& batches, const Image& image, ExtraChannels& channels, FloatChannels& floats,
                         ImageMetadata& metadata);
 
+// The AOVs' exact sums (layout.h AovPixel, `--aov albedo,normal,depth`) in the EXR, so a render with AOVs resumes and
+// merges like the film: UINT channels fredholm.aov.{albedo_r,albedo_g,albedo_b,normal_x,normal_y,normal_z,depth}.{0..3}
+// and fredholm.aov.hits.
+ExtraChannels aov_sum_channels(const std::vector<gpu::AovPixel>& aovs);
+
 // Metadata whose values must be equal for films to continue or join each other: the settings that decide each
 // sample's value, the scene file's hash and the image size.
 const std::vector<std::string>& matching_film_keys();
@@ -41,6 +46,9 @@ struct FilmFile {
     uint32_t x0 = 0, y0 = 0, x1 = 0, y1 = 0;     // the pixels it covers (the whole image unless cropped)
     bool has_batches = false;  // written before error batches existed: false
     ErrorBatches batches;      // over [first_sample, end_sample)
+    std::string aovs;          // fredholm:aovs, the --aov list it was rendered with ("" none)
+    bool has_aov_sums = false; // it holds the sums of albedo, normal and depth
+    std::vector<gpu::AovPixel> aov_sums;
 };
 
 // Reads and checks a film file: throws std::runtime_error with one line "FILE: <why> ..." (`why`, e.g. "cannot

@@ -13,6 +13,7 @@
 #include "io/atomic_write.h"
 #include "io/exr.h"
 #include "io/png.h"
+#include "render/aov_image.h"
 #include "render/film.h"
 
 namespace fh {
@@ -88,6 +89,37 @@ void check_regions_tile(const std::map<Region, std::vector<const Part*>>& region
                                      std::to_string(height) + " image");
 }
 
+// Where pixel i of a part (its crop, row by row) lies in the merged image of `width` pixels a row.
+size_t image_pixel(const FilmFile& part, size_t i, uint32_t width) {
+    const uint32_t part_width = part.x1 - part.x0;
+    return (part.y0 + i / part_width) * size_t(width) + part.x0 + i % part_width;
+}
+
+// The parts' AOVs (`--aov`), joined like the film: every part must have been rendered with the same list.
+void add_aov_layers(const std::vector<Part>& parts, const std::vector<gpu::FilmPixel>& film, ExtraChannels& channels,
+                    FloatChannels& floats, ImageMetadata& metadata) {
+    const FilmFile& first = parts.front().film;
+    for (const Part& p : parts)
+        if (p.film.aovs != first.aovs || p.film.has_aov_sums != first.has_aov_sums)
+            throw std::runtime_error("cannot merge: " + p.file.string() + " has --aov '" + p.film.aovs + "' but " +
+                                     parts.front().file.string() + " has '" + first.aovs + "'");
+    if (first.aovs.empty()) return;
+    std::vector<gpu::AovPixel> sums(film.size(), gpu::AovPixel{});
+    const uint32_t width = first.image_width;
+    if (first.has_aov_sums)
+        for (const Part& p : parts) {
+            for (size_t i = 0; i < p.film.aov_sums.size(); ++i)
+                add_aov_pixel(sums[image_pixel(p.film, i, width)], p.film.aov_sums[i]);
+        }
+    const FloatChannels layers = aov_layers(parse_aovs(first.aovs), sums, film);
+    floats.insert(layers.begin(), layers.end());
+    if (first.has_aov_sums) {
+        const ExtraChannels sum_channels = aov_sum_channels(sums);
+        channels.insert(sum_channels.begin(), sum_channels.end());
+    }
+    metadata["fredholm:aovs"] = first.aovs;
+}
+
 }  // namespace
 
 void add_merge_options(CLI::App& app, MergeCommand& c) {
@@ -133,11 +165,7 @@ int run_merge(const MergeCommand& c) {
 
     std::vector<gpu::FilmPixel> film(size_t(width) * height, gpu::FilmPixel{});
     for (const Part& p : parts) {
-        const uint32_t part_width = p.film.x1 - p.film.x0;
-        for (size_t i = 0; i < p.film.film.size(); ++i) {
-            const size_t x = p.film.x0 + i % part_width, y = p.film.y0 + i / part_width;
-            add_film_pixel(film[y * width + x], p.film.film[i]);
-        }
+        for (size_t i = 0; i < p.film.film.size(); ++i) add_film_pixel(film[image_pixel(p.film, i, width)], p.film.film[i]);
     }
     ImageMetadata metadata = parts.front().film.metadata;
     // Only fredholm's own keys, less the error estimate's (written anew below): OpenEXR's standard attributes are
@@ -159,9 +187,8 @@ int run_merge(const MergeCommand& c) {
         for (const Part& p : parts) largest = std::max(largest, p.film.batches.batch_size);
         ErrorBatches batches = make_joined_batches(film.size(), samples.first, samples.second, largest);
         for (const Part& p : parts) {
-            const uint32_t part_width = p.film.x1 - p.film.x0;
             std::vector<size_t> into(p.film.film.size());
-            for (size_t i = 0; i < into.size(); ++i) into[i] = (p.film.y0 + i / part_width) * width + p.film.x0 + i % part_width;
+            for (size_t i = 0; i < into.size(); ++i) into[i] = image_pixel(p.film, i, width);
             add_part(batches, p.film.batches, into);
         }
         add_error_channels(batches, image, channels, floats, metadata);
@@ -169,13 +196,7 @@ int run_merge(const MergeCommand& c) {
         std::fprintf(stderr, "fredholm: note: a part has no error batches (written by an older fredholm), so the "
                              "merged image has no error estimate\n");
     }
-    const bool aovs = std::any_of(parts.begin(), parts.end(), [](const Part& p) {
-        return p.film.metadata.count("fredholm:aovs") != 0;
-    });
-    if (aovs && !c.quiet)
-        std::fprintf(stderr, "fredholm: note: the parts' --aov layers are not merged (their sums are not saved in the "
-                             "EXR); render AOVs in one run\n");
-    metadata.erase("fredholm:aovs");
+    add_aov_layers(parts, film, channels, floats, metadata);
     write_exr(c.output, image, metadata, channels, {}, floats);
     if (!c.png.empty()) write_png(c.png, image, c.exposure_ev, c.tone_curve);
     if (!c.quiet)

@@ -344,11 +344,6 @@ int run_frame(const RenderCommand& command, vk::Context* shared_context) {
                              "--integrator light does not trace\n");
         return 2;
     }
-    if (c.settings.aovs && c.resume) {
-        std::fprintf(stderr, "fredholm: usage error: --aov albedo, normal and depth cannot continue a render (their "
-                             "sums are not saved in the EXR): render it in one run\n");
-        return 2;
-    }
     // Fail before any work if an output cannot be written or the render to continue does not match.
     check_writable(c.output);
     if (!c.png.empty()) check_writable(c.png);
@@ -360,6 +355,10 @@ int run_frame(const RenderCommand& command, vk::Context* shared_context) {
     if (c.resume) {
         const std::filesystem::path& file = c.resume_file.empty() ? c.output : c.resume_file;
         saved = read_saved_film(file, make_metadata(c, scene_hash, 0, 0));
+        if (saved.has_aov_sums != settings.aovs)
+            throw std::runtime_error(file.string() + ": cannot resume: it was rendered " +
+                                     (saved.has_aov_sums ? "with" : "without") + " --aov albedo, normal or depth, "
+                                     "this render " + (settings.aovs ? "with" : "without") + " (give the same --aov)");
         if (saved.end_sample > settings.spp)
             throw std::runtime_error(file.string() + ": cannot resume: it already has " +
                                      std::to_string(saved.end_sample) + " spp, more than --spp " +
@@ -391,6 +390,7 @@ int run_frame(const RenderCommand& command, vk::Context* shared_context) {
     Renderer renderer(*context, prepared.packed, camera, settings);
     if (!c.resume) renderer.clear_film();
     else renderer.write_film_state(saved.film);
+    if (c.resume && settings.aovs) renderer.write_aov_film(saved.aov_sums);
 
     // The error batches go on from the saved film's; a film saved before they existed gets no error estimate.
     const bool estimate = !c.resume || saved.has_batches;
@@ -425,10 +425,13 @@ int run_frame(const RenderCommand& command, vk::Context* shared_context) {
     FloatChannels floats;
     if (estimate) add_error_channels(batches, image, channels, floats, metadata);
     if (c.aovs.any_recorded() || c.aovs.spp) {
-        const FloatChannels layers =
-            aov_layers(c.aovs, c.settings.aovs ? renderer.read_aov_film() : std::vector<gpu::AovPixel>{},
-                       renderer.read_film_state());
+        const std::vector<gpu::AovPixel> sums = settings.aovs ? renderer.read_aov_film() : std::vector<gpu::AovPixel>{};
+        const FloatChannels layers = aov_layers(c.aovs, sums, renderer.read_film_state());
         floats.insert(layers.begin(), layers.end());
+        if (settings.aovs) {
+            const ExtraChannels sum_channels = aov_sum_channels(sums);
+            channels.insert(sum_channels.begin(), sum_channels.end());
+        }
         metadata["fredholm:aovs"] = c.aov_list;
     }
     write_exr(c.output, image, metadata, channels, window, floats);
