@@ -64,13 +64,14 @@ int compare(const fs::path& a, const fs::path& b, const std::string& more = "") 
     return r.exit_code;
 }
 
-// Pairs of renders that differ only in their seed: at alpha 0.05, 40 pairs give 2 false alarms on average; 7 or more
-// has a chance of 1.4% if the rate is right (binomial), so more means the test calls noise a difference too often.
-// With Sobol' samples the batches overstate the variance (engine/render/README.md "Error estimate"), so false alarms are rarer
-// still; the independent sampler's estimate is unbiased, which tests the statistics themselves.
+// Pairs of renders that differ only in their seed, 50 per sampler (100 in all): at alpha 0.05, 2.5 false alarms
+// expected per 50; 8 or more has a chance of 0.3% if the rate is right (binomial), so more means the test calls noise
+// a difference too often. With Sobol' samples the batches overstate the variance (engine/render/README.md "Error
+// estimate"), so false alarms are rarer still; the independent sampler's estimate is unbiased, which tests the
+// statistics themselves.
 void expect_false_alarm_rate(const std::string& sampler) {
     int differs = 0;
-    const int pairs = 40;
+    const int pairs = 50;
     for (int i = 0; i < pairs; ++i) {
         const fs::path a = render(CORNELL_SCENE, sampler + "_a", 32, 32, 2 * i + 1, "--sampler " + sampler);
         const fs::path b = render(CORNELL_SCENE, sampler + "_b", 32, 32, 2 * i + 2, "--sampler " + sampler);
@@ -80,7 +81,7 @@ void expect_false_alarm_rate(const std::string& sampler) {
     }
     std::printf("[compare] %s: %d of %d pairs of seeds called different at alpha 0.05\n", sampler.c_str(), differs,
                 pairs);
-    EXPECT_LE(differs, 6);
+    EXPECT_LE(differs, 7);
 }
 
 TEST(Compare, FalseAlarmsAtMostAlphaSobol) { expect_false_alarm_rate("sobol"); }
