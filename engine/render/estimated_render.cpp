@@ -69,7 +69,7 @@ EstimatedRenderResult render_estimated(Renderer& renderer, ErrorBatches& batches
     const bool track_error = goal.target_error > 0;
     if (batches.end_sample == batches.first_sample && !track_error)
         coarsen(batches, first_batch_size(renderer, batches.first_sample, goal.end_sample));
-    result.error = film_relative_error(film, batches, width, height);
+    result.error = track_error ? film_relative_error(film, batches, width, height) : std::nan("");
     const auto start = std::chrono::steady_clock::now();
     const auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
     bool stop_asked = false;

@@ -52,8 +52,6 @@ double upper_quantile(double upper, Tail tail) {
     return 0.5 * (lo + hi);
 }
 
-double luminance(const Image& image, size_t p) { return pixel_luminance(image, p); }
-
 }  // namespace
 
 double normal_upper_quantile(double upper) {
@@ -81,7 +79,7 @@ CompareResult compare_images(const NoisyImage& a, const NoisyImage& b, const Com
     std::vector<double> difference(r.pixels), variance(r.pixels, 0.0);
     double difference_sum = 0, noise_sum = 0;
     for (size_t p = 0; p < r.pixels; ++p) {
-        const double ya = luminance(a.image, p), yb = luminance(b.image, p), y = 0.5 * (ya + yb);
+        const double ya = pixel_luminance(a.image, p), yb = pixel_luminance(b.image, p), y = 0.5 * (ya + yb);
         difference[p] = ya - yb;
         // A floor far below any noise, so a pixel both renders see without noise (a constant background) tests
         // exactly but rounding does not.
