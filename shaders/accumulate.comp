@@ -3,7 +3,8 @@
 // film holds the same bits whatever the split of the samples into waves, resumed runs or merged parts. Non-finite
 // radiance, and radiance too large for the film (|L| >= 2^FILM_MAX_LOG2), is counted, then dropped.
 // With `--aov` it also sums the paths' AOVs into aov_film (lib/core/aov.glsl), in the same fixed point.
-// Reads: paths[].radiance, path_aovs, push (wave ranges). Writes: film, aov_film, counters.nonfinite_samples.
+// Reads: paths[].radiance, path_aovs, push (wave ranges), pixel_list and path_work (`--adaptive`). Writes: film,
+// aov_film, pixel_work (`--adaptive`), counters.nonfinite_samples.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "lib/core/bindings.glsl"
@@ -11,6 +12,7 @@
 #include "lib/core/queue.glsl"
 #include "lib/core/techniques.glsl"
 #include "lib/core/aov.glsl"
+#include "lib/core/wave_pixels.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE) in;
 
@@ -57,12 +59,13 @@ void accumulate_aovs(uint pixel, uint j) {
 void main() {
     uint j = gl_GlobalInvocationID.x;
     if (j >= push.pixel_count) return;
-    uint pixel = push.pixel_begin + j;
+    uint pixel = wave_film_pixel(j);
     FilmPixel f = film[pixel];
     uvec4 sum_r = load_words(f.sum_r), sum_g = load_words(f.sum_g), sum_b = load_words(f.sum_b);
-    uint nonfinite = 0u;
+    uint nonfinite = 0u, work = 0u;
     for (uint s = 0u; s < push.sample_count; ++s) {
         uint path = s * push.pixel_count + j;
+        if (pixel_list_on) work += path_work[path];
         PathState state = load_path_state(path);
         vec3 radiance = vec3(state.radiance_r, state.radiance_g, state.radiance_b);
         bool finite = !(any(isnan(radiance)) || any(isinf(radiance)));
@@ -86,5 +89,6 @@ void main() {
     f.sample_count += push.sample_count;
     film[pixel] = f;
     if (aovs_on) accumulate_aovs(pixel, j);
+    if (pixel_list_on) pixel_work[pixel] += work;
     COUNT_IN_SUBGROUP(counters.nonfinite_samples, nonfinite);
 }

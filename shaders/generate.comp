@@ -2,7 +2,8 @@
 // Reads: params, push (wave's pixel and sample ranges). Writes: rays[queue 0], paths, path media (cameras
 // start outside every volume), path spectra (a spectral render's wavelengths, EFFECT_SPECTRAL), path times (when
 // in the shutter, EFFECT_MOTION_BLUR), counters (queue 0 length, indirect size of the first extend/shade), and with
-// `--integrator bdpt` the camera subpath's MIS quantities (path_mis).
+// `--integrator bdpt` the camera subpath's MIS quantities (path_mis); with `--adaptive` it takes the wave's pixels
+// from the pixel list and zeroes path_work (lib/core/wave_pixels.glsl).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "lib/core/bindings.glsl"
@@ -33,6 +34,7 @@ void main() {
     vec2 film = vec2(float(pixel % params.width), float(pixel / params.width)) + vec2(0.5f) + offset;
     CameraRay ray = make_camera_ray(film, camera_u.lens, camera_u.time);
     if (effect_on(EFFECT_MOTION_BLUR)) path_times[i] = camera_u.time;
+    if (pixel_list_on) path_work[i] = 0u;
 
     RayItem item;
     item.origin_x = ray.origin.x;

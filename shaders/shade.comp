@@ -9,7 +9,8 @@
 // spectra, rays[queue (depth + 1) & 1], shadow_rays, counters.ray_count / shadow_count.
 // The steps: load the path, the light of an escaped ray, what a hit shows and emits, the BSDF, next-event estimation,
 // scattering with Russian roulette, store the path.
-// With `--aov` it also records the path's AOVs (lib/core/aov.glsl; writes path_aovs).
+// With `--aov` it also records the path's AOVs (lib/core/aov.glsl; writes path_aovs); with `--adaptive` it counts the
+// path's work (lib/core/wave_pixels.glsl; path_work).
 // `--integrator bdpt` (the shade_bdpt SPIR-V, FH_INTEGRATOR) weights emission and NEE against every strategy of bidirectional path tracing
 // and carries the camera subpath's MIS quantities (path_mis; lib/integrator/bdpt.glsl) instead of the path tracer's two-way MIS.
 #version 460
@@ -350,7 +351,12 @@ void main() {
     RayItem next;
     ShadowRayItem shadow;
     bool escaped = false;
-    if (i < counters.ray_count[parity]) shade_vertex(i, parity, push_ray, next, push_shadow, shadow, escaped);
+    if (i < counters.ray_count[parity]) {
+        shade_vertex(i, parity, push_ray, next, push_shadow, shadow, escaped);
+        if (pixel_list_on)
+            path_work[next.path] +=
+                (escaped ? PATH_WORK_ESCAPE : PATH_WORK_HIT) + (push_shadow ? PATH_WORK_SHADOW_RAY : 0u);
+    }
     // Every invocation of the workgroup gets here: the queues' slots are taken with one atomic per workgroup.
     uint ray_slot_index, shadow_slot;
     PUSH_VERTEX_RESULTS_IN_WORKGROUP(counters.ray_count[parity ^ 1u], push_ray, ray_slot_index, counters.shadow_count,

@@ -9,8 +9,6 @@
 #include "render/film.h"
 
 namespace fh {
-namespace {
-
 void add_stats(RenderStats& into, const RenderStats& part) {
     into.spp_done = part.spp_done;
     into.render_seconds += part.render_seconds;
@@ -20,6 +18,8 @@ void add_stats(RenderStats& into, const RenderStats& part) {
     into.nonfinite_samples += part.nonfinite_samples;
     into.escaped_rays += part.escaped_rays;
 }
+
+namespace {
 
 // Complete batches needed before a target is trusted (from 6 samples on there are always 3 or more).
 constexpr uint32_t MIN_BATCHES_FOR_TARGET = 3;

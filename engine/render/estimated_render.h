@@ -16,6 +16,9 @@ struct RenderGoal {
     double max_seconds = 0;       // stop at the first sample index past this many seconds of rendering (0: none)
 };
 
+// Adds `part`'s times and counts to `into` (spp_done: part's).
+void add_stats(RenderStats& into, const RenderStats& part);
+
 // Why a render stopped.
 enum class StopReason { samples, target, time, interrupted };
 const char* describe_stop(StopReason reason);

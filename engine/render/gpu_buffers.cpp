@@ -125,6 +125,9 @@ GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& sce
     b.path_light_points = make_state_buffer(context, path_light_points_bytes(frame.wave_capacity, effects));
     b.path_aovs = make_state_buffer(context, path_aovs_bytes(frame.wave_capacity, store));
     b.aov_film = make_state_buffer(context, aov_film_bytes(frame.film_width, frame.film_height, store));
+    b.pixel_list = make_state_buffer(context, pixel_list_bytes(frame.film_width, frame.film_height, store));
+    b.pixel_work = make_state_buffer(context, pixel_list_bytes(frame.film_width, frame.film_height, store));
+    b.path_work = make_state_buffer(context, path_work_bytes(frame.wave_capacity, store));
     b.path_spectra = make_state_buffer(context, path_spectra_bytes(frame.wave_capacity, effects));
     b.path_times = make_state_buffer(context, path_times_bytes(frame.wave_capacity, effects));
     b.glass_albedo = make_filled_buffer(context, flatten_glass_albedo_table(effects));
@@ -139,7 +142,8 @@ GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& sce
                                      &b.shadow_rays, &b.film, &b.tri_attributes, &b.texture_slots, &b.texture_images,
                                      &b.texels, &b.env_radiance, &b.env_cdf, &b.instances, &b.material_layers, &b.path_media,
                                      &b.path_spectra, &b.path_times, &b.glass_albedo, &b.light_vertices, &b.path_mis, &b.ray_sort,
-                                     &b.light_tree, &b.path_light_points, &b.path_aovs, &b.aov_film})
+                                     &b.light_tree, &b.path_light_points, &b.path_aovs, &b.aov_film, &b.pixel_list, &b.pixel_work,
+                                     &b.path_work})
         allocated += buffer->size();
     if (allocated !=
         estimate_render_memory(scene, frame.film_width, frame.film_height, frame.wave_capacity, effects, store).device_bytes())
@@ -185,6 +189,9 @@ void bind_gpu_buffers(vk::BindingTable& table, const GpuBuffers& b) {
     table.bind_buffer(gpu::BINDING_PATH_LIGHT_POINTS, b.path_light_points);
     table.bind_buffer(gpu::BINDING_PATH_AOVS, b.path_aovs);
     table.bind_buffer(gpu::BINDING_AOV_FILM, b.aov_film);
+    table.bind_buffer(gpu::BINDING_PIXEL_LIST, b.pixel_list);
+    table.bind_buffer(gpu::BINDING_PIXEL_WORK, b.pixel_work);
+    table.bind_buffer(gpu::BINDING_PATH_WORK, b.path_work);
 }
 
 }  // namespace fh

@@ -64,7 +64,16 @@ PathStore make_path_store(const RenderSettings& settings) {
     b.light_vertex_slots = count_light_vertex_slots(settings);
     b.sort_rays = settings.sort_rays.value_or(false);  // resolved by with_device_defaults before any estimate
     b.aovs = settings.aovs;
+    b.pixel_list = settings.adaptive;
     return b;
+}
+
+uint64_t pixel_list_bytes(uint32_t width, uint32_t height, const PathStore& store) {
+    return (store.pixel_list ? uint64_t(width) * height : 1u) * sizeof(uint32_t);
+}
+
+uint64_t path_work_bytes(uint32_t wave_capacity, const PathStore& store) {
+    return uint64_t(store.pixel_list ? wave_capacity : 1u) * sizeof(uint32_t);
 }
 
 uint64_t path_aovs_bytes(uint32_t wave_capacity, const PathStore& store) {
@@ -133,6 +142,9 @@ MemoryEstimate estimate_render_memory(const PackedScene& scene, uint32_t width, 
         {"path_light_points", path_light_points_bytes(wave_capacity, effects), storage},
         {"path_aovs", path_aovs_bytes(wave_capacity, store), storage},
         {"aov_film", aov_film_bytes(width, height, store), storage},
+        {"pixel_list", pixel_list_bytes(width, height, store), storage},
+        {"pixel_work", pixel_list_bytes(width, height, store), storage},
+        {"path_work", path_work_bytes(wave_capacity, store), storage},
     };
     e.film_readback_bytes = film;
     return e;

@@ -64,6 +64,7 @@ struct PathStore {
     uint32_t light_vertex_slots = 0;
     bool sort_rays = false;
     bool aovs = false;  // --aov: a PathAov per path and an AovPixel per pixel
+    bool pixel_list = false;  // --adaptive: per pixel its place in the waves' order and its work, per path its work
 };
 PathStore make_path_store(const RenderSettings& settings);
 uint64_t light_vertices_bytes(uint32_t wave_capacity, const PathStore& store);
@@ -71,6 +72,8 @@ uint64_t path_mis_bytes(uint32_t wave_capacity, const PathStore& store);
 uint64_t ray_sort_bytes(uint32_t wave_capacity, const PathStore& store);
 uint64_t path_aovs_bytes(uint32_t wave_capacity, const PathStore& store);
 uint64_t aov_film_bytes(uint32_t width, uint32_t height, const PathStore& store);
+uint64_t pixel_list_bytes(uint32_t width, uint32_t height, const PathStore& store);  // also pixel_work's
+uint64_t path_work_bytes(uint32_t wave_capacity, const PathStore& store);
 
 MemoryEstimate estimate_render_memory(const PackedScene& scene, uint32_t width, uint32_t height,
                                       uint32_t wave_capacity, EffectBits effects, const PathStore& store = {});

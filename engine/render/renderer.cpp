@@ -124,6 +124,7 @@ StageOptions make_stage_options(const PackedScene& scene, const RenderSettings& 
     o.sort_rays = s.sort_rays.value_or(false);  // resolved (with_device_defaults) but for check_render_settings
     o.wide_stores = s.wide_stores;
     o.aovs = s.aovs;
+    o.pixel_list = s.adaptive;
     check_light_tracing(scene.source.empty() ? std::string("scene") : scene.source, scene, s, camera, o.effects);
     return o;
 }
@@ -147,6 +148,31 @@ Renderer::Renderer(const vk::Context& context, const PackedScene& scene, const S
       scene_(scene) {
     bind_gpu_buffers(stages_.bindings(), buffers_);
     update_camera_medium();
+    if (settings_.adaptive) {
+        std::vector<uint32_t> identity(size_t(settings_.film_width()) * settings_.film_height());
+        for (size_t i = 0; i < identity.size(); ++i) identity[i] = uint32_t(i);
+        set_pixel_order(identity);
+    }
+}
+
+void Renderer::set_pixel_order(const std::vector<uint32_t>& order) {
+    if (!settings_.adaptive) throw std::logic_error("Renderer::set_pixel_order needs settings.adaptive");
+    if (order.size() != size_t(settings_.film_width()) * settings_.film_height())
+        throw std::logic_error("Renderer::set_pixel_order: the order must list every film pixel");
+    vk::upload_to_buffer(context_, buffers_.pixel_list, order.data(), order.size() * sizeof(uint32_t));
+}
+
+std::vector<uint32_t> Renderer::read_pixel_work() const {
+    if (!settings_.adaptive) throw std::logic_error("Renderer::read_pixel_work needs settings.adaptive");
+    std::vector<uint32_t> work(size_t(settings_.film_width()) * settings_.film_height());
+    vk::download_from_buffer(context_, buffers_.pixel_work, work.data(), work.size() * sizeof(uint32_t));
+    return work;
+}
+
+void Renderer::set_seed(uint32_t seed) {
+    settings_.seed = seed;
+    frame_.seed = seed;
+    vk::upload_to_buffer(context_, buffers_.params, &frame_, sizeof(frame_));
 }
 
 void Renderer::update_camera_medium() {
@@ -181,19 +207,34 @@ void Renderer::clear_film() {
     recorder_.begin();
     recorder_.fill_buffer(buffers_.film, 0);
     recorder_.fill_buffer(buffers_.aov_film, 0);
+    recorder_.fill_buffer(buffers_.pixel_work, 0);
     recorder_.fill_buffer(buffers_.counters, 0);
     recorder_.submit_and_wait();
 }
 
 RenderStats Renderer::render_samples(uint32_t sample_begin, uint32_t sample_end, const ProgressCallback& progress) {
+    return render_waves(0, settings_.film_width() * settings_.film_height(), sample_begin, sample_end, progress);
+}
+
+RenderStats Renderer::render_listed(uint32_t first, uint32_t count, uint32_t sample_begin, uint32_t sample_end,
+                                    const ProgressCallback& progress) {
+    if (!settings_.adaptive) throw std::logic_error("Renderer::render_listed needs settings.adaptive");
+    if (first > settings_.film_width() * settings_.film_height() ||
+        count > settings_.film_width() * settings_.film_height() - first)
+        throw std::logic_error("Renderer::render_listed: entries past the film's pixels");
+    return render_waves(first, count, sample_begin, sample_end, progress);
+}
+
+RenderStats Renderer::render_waves(uint32_t first, uint32_t pixels, uint32_t sample_begin, uint32_t sample_end,
+                                   const ProgressCallback& progress) {
     RenderStats stats;
     stats.spp_done = sample_begin;
-    const uint32_t pixels = settings_.film_width() * settings_.film_height();
     const auto start = std::chrono::steady_clock::now();
-    for (const Wave& wave : plan_waves(pixels, sample_begin, sample_end, frame_.wave_capacity)) {
+    for (Wave wave : plan_waves(pixels, sample_begin, sample_end, frame_.wave_capacity)) {
+        wave.pixel_begin += first;
         trace_wave(wave, stats);
         // A wave ends a sample index once it reaches the last pixel.
-        if (wave.pixel_begin + wave.pixel_count == pixels) stats.spp_done = wave.sample_begin + wave.sample_count;
+        if (wave.pixel_begin + wave.pixel_count == first + pixels) stats.spp_done = wave.sample_begin + wave.sample_count;
         if (progress && !progress(stats.spp_done, sample_end)) break;
     }
     stats.render_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -58,6 +58,16 @@ public:
     // continue a render or to grow one progressively; spp_done in the result is the sample index reached.
     RenderStats render_samples(uint32_t sample_begin, uint32_t sample_end, const ProgressCallback& progress = {});
     void clear_film();
+    // With settings.adaptive (render/adaptive_render.h): the order the waves take the film's pixels in, a permutation
+    // of them (the identity until set), and a render of samples [sample_begin, sample_end) of the pixels at entries
+    // [first, first + count) of that order. Without it both throw std::logic_error.
+    void set_pixel_order(const std::vector<uint32_t>& order);
+    RenderStats render_listed(uint32_t first, uint32_t count, uint32_t sample_begin, uint32_t sample_end,
+                              const ProgressCallback& progress = {});
+    // Per film pixel, the work its samples since the film was cleared took, in PATH_WORK_* units (settings.adaptive).
+    std::vector<uint32_t> read_pixel_work() const;
+    // The seed of the samples rendered from now on (adaptive sampling's pilot draws with a seed of its own).
+    void set_seed(uint32_t seed);
     // Adds sample index `sample` of pixels [pixel_begin, pixel_begin + pixel_count) only: a slice of one pass,
     // so an interactive frame stays short. The film receives the same samples render_samples would add.
     RenderStats render_pixels(uint32_t pixel_begin, uint32_t pixel_count, uint32_t sample);
@@ -89,6 +99,10 @@ private:
     void update_camera_medium();
     enum class Subpaths { camera, light };
     void trace_wave(const Wave& wave, RenderStats& stats);
+    // Samples [sample_begin, sample_end) of the wave pixels [first, first + pixels) (film pixels, or the pixel list's
+    // entries).
+    RenderStats render_waves(uint32_t first, uint32_t pixels, uint32_t sample_begin, uint32_t sample_end,
+                             const ProgressCallback& progress);
     // One side's subpaths of a wave, generated and extended to the end (submitting every DEPTHS_PER_SUBMIT bounces).
     void trace_subpaths(const Wave& wave, Subpaths side, RenderStats& stats);
     void record_bounce(uint32_t depth, const Wave& wave, Subpaths side);

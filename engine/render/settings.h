@@ -76,6 +76,9 @@ struct RenderSettings {
     // wide stores buy). The image is the same.
     bool wide_stores = true;
     bool aovs = false;  // --aov albedo, normal or depth: shade records them and accumulate sums them (lib/core/aov.glsl)
+    // --adaptive: waves take their pixels from a list (lib/core/wave_pixels.glsl), so that each pixel can get its own
+    // number of samples (render/adaptive_render.h).
+    bool adaptive = false;
     Microfacet microfacet = Microfacet::compensated;
     uint32_t disabled_techniques = 0;  // layout.h TECHNIQUE_* bits switched off (cost measurements only)
     uint32_t bvh_max_leaf_size = 4;    // triangles per BVH leaf at most

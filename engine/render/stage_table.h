@@ -25,6 +25,7 @@ struct StageOptions {
     bool sort_rays = false;                 // the ray sort's stages (bin_rays, sum_ray_bins, scan_ray_bins, scatter_rays) are built
     bool wide_stores = true;                // shade stores a uvec4 at a time; off: field by field (FH_STRUCT_STORES)
     bool aovs = false;                      // shade records the AOVs and accumulate sums them (SPEC_AOVS)
+    bool pixel_list = false;                // waves take their pixels from the pixel list (SPEC_PIXEL_LIST, --adaptive)
 };
 
 class StageTable {

@@ -84,7 +84,19 @@ FH_CONST uint BINDING_PATH_LIGHT_POINTS = 34u;  // uvec4[wave capacity]: positio
 // per pixel (lib/core/aov.glsl).
 FH_CONST uint BINDING_PATH_AOVS = 35u;       // PathAov[wave capacity]
 FH_CONST uint BINDING_AOV_FILM = 36u;        // AovPixel[width * height]
-FH_CONST uint BINDING_COUNT = 37u;
+// Adaptive sampling (`--adaptive`, SPEC_PIXEL_LIST; else one word each): the film's pixels in the order the waves
+// take them, those that get the most samples first (render/adaptive_render.h; a wave's pixel range indexes this list),
+// and the work its samples took, per path and summed per pixel, in units of PATH_WORK_* (the pilot's cost per sample).
+FH_CONST uint BINDING_PIXEL_LIST = 37u;      // uint[film width * film height]
+FH_CONST uint BINDING_PATH_WORK = 38u;       // uint[wave capacity]
+FH_CONST uint BINDING_PIXEL_WORK = 39u;      // uint[film width * film height]
+FH_CONST uint BINDING_COUNT = 40u;
+// Measured on DamagedHelmet under the courtyard (tests/bench/RESULTS.md "2026-11-29: adaptive sampling"), from the
+// stage seconds of two renders with different mixes: a vertex on a surface (extend and shade) 1.2 us, one whose ray
+// escaped 0.28 us, a shadow ray (connect) 0.33 us.
+FH_CONST uint PATH_WORK_HIT = 4u;
+FH_CONST uint PATH_WORK_ESCAPE = 1u;
+FH_CONST uint PATH_WORK_SHADOW_RAY = 1u;
 FH_CONST uint TEXEL_BYTES = 16u;             // one RGBA32UI texel of a TEXELS binding
 
 // ---- Specialization constants (constant_id) -------------------------------------------------------------
@@ -95,7 +107,8 @@ FH_CONST uint SPEC_SAMPLER = 3u;                   // SAMPLER_*: where a path's 
 FH_CONST uint SPEC_SORT_RAYS = 4u;                 // bool: the ray sort's stages are built (shade bins what it pushes)
 FH_CONST uint SPEC_EFFECTS_2 = 5u;                 // EFFECT2_* bits: the effects beyond the first word's 32
 FH_CONST uint SPEC_AOVS = 6u;                      // bool: shade records and accumulate sums the AOVs (`--aov`)
-FH_CONST uint SPEC_CONSTANT_COUNT = 7u;
+FH_CONST uint SPEC_PIXEL_LIST = 7u;                // bool: a wave's pixels come from BINDING_PIXEL_LIST (`--adaptive`)
+FH_CONST uint SPEC_CONSTANT_COUNT = 8u;
 
 // ---- Effects (engine/scene/effects.h decides them by value; a stage compiles only the code of those set) ----
 FH_CONST uint EFFECT_BASE_COLOR_TEXTURE = 1u;      // some visible material has a baseColorTexture
@@ -485,7 +498,8 @@ struct FrameParams {
 // Push constants: what changes per wave and per depth.
 struct StagePush {
     uint depth;             // segments traced so far (0 while tracing camera rays)
-    uint pixel_begin;       // the wave covers pixels [pixel_begin, pixel_begin + pixel_count)
+    uint pixel_begin;       // the wave covers pixels [pixel_begin, pixel_begin + pixel_count) (of the pixel list
+                            // with SPEC_PIXEL_LIST)
     uint pixel_count;
     uint sample_begin;      // and sample indices [sample_begin, sample_begin + sample_count)
     uint sample_count;

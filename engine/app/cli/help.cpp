@@ -24,7 +24,7 @@ const std::map<std::string, std::string>& help_groups() {
         put("Output", {"output", "png", "exposure", "tonemap", "stats", "quiet", "resume", "aov"});
         put("Quality", {"width", "height", "spp", "max-depth", "seed", "sampler", "integrator", "filter",
                         "filter-radius", "microfacet"});
-        put("Accuracy", {"target-error", "max-spp", "max-seconds"});
+        put("Accuracy", {"target-error", "max-spp", "max-seconds", "adaptive"});
         put("Camera and lens", {"camera", "look-from", "look-at", "up", "yfov", "aperture", "aperture-radius",
                                 "sensor-height", "focus-distance", "focus-on", "aperture-blades",
                                 "aperture-rotation"});

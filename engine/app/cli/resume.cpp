@@ -118,7 +118,13 @@ void add_error_channels(const ErrorBatches& batches, const Image& image, ExtraCh
                                          std::to_string(batches.batch_size) + " samples";
     if (complete < 2) return;
     std::vector<float> variance = pixel_variance(batches);
-    metadata["fredholm:relative_error"] = format_number(relative_error(image, variance));
+    const double error = relative_error(image, variance);
+    add_variance_layer(std::move(variance), error, floats, metadata);
+}
+
+void add_variance_layer(std::vector<float> variance, double relative_error, FloatChannels& floats,
+                        ImageMetadata& metadata) {
+    metadata["fredholm:relative_error"] = format_number(relative_error);
     floats["variance.Y"] = std::move(variance);
 }
 
@@ -219,6 +225,9 @@ FilmFile read_film_file(const std::filesystem::path& file, const std::string& wh
     // strategies, NEE picking lights by power).
     for (const SettingInfo& e : setting_table())
         if (e.before_it_existed) f.metadata.emplace(e.metadata_key, e.before_it_existed);
+    if (f.metadata.count("fredholm:adaptive"))
+        throw std::runtime_error(prefix + "it is an adaptive render (--adaptive): its pixels hold different numbers "
+                                          "of samples, so it cannot be continued or merged");
     f.end_sample = read_count(f.metadata, "fredholm:spp", prefix);
     f.first_sample = read_count(f.metadata, "fredholm:first_sample", prefix);
     if (f.first_sample > f.end_sample) throw std::runtime_error(prefix + "fredholm:first_sample is above fredholm:spp");

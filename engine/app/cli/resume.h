@@ -24,6 +24,9 @@ ExtraChannels film_channels(const std::vector<gpu::FilmPixel>& film);
 // one sample) only the batches are written.
 void add_error_channels(const ErrorBatches& batches, const Image& image, ExtraChannels& channels, FloatChannels& floats,
                         ImageMetadata& metadata);
+// The reader's part alone: variance.Y and fredholm:relative_error (an adaptive render's, which has no batches).
+void add_variance_layer(std::vector<float> variance, double relative_error, FloatChannels& floats,
+                        ImageMetadata& metadata);
 
 // The AOVs' exact sums (layout.h AovPixel, `--aov albedo,normal,depth`) in the EXR, so a render with AOVs resumes and
 // merges like the film: UINT channels fredholm.aov.{albedo_r,albedo_g,albedo_b,normal_x,normal_y,normal_z,depth}.{0..3}

@@ -16,6 +16,7 @@
 #include "app/cli/resume.h"
 #include "app/cli/session.h"
 #include "app/cli/setting_table.h"
+#include "app/render/render_passes.h"
 #include "io/atomic_write.h"
 #include "io/exr.h"
 #include "io/png.h"
@@ -51,10 +52,11 @@ ImageMetadata make_metadata(const RenderCommand& c, const std::string& scene_has
 }
 
 void write_stats(const std::filesystem::path& file, const RenderCommand& c, const PreparedScene& prepared,
-                 const SceneCamera& camera, const RenderStats& stats, uint32_t first_sample, const std::string& device,
-                 const CameraMedia& camera_media, double relative_error) {
+                 const SceneCamera& camera, const RenderOutcome& outcome, uint32_t first_sample, const std::string& device,
+                 const CameraMedia& camera_media) {
     const RenderSettings& s = c.settings;
-    double samples = double(s.film_width()) * s.film_height() * (stats.spp_done - first_sample);
+    const RenderStats& stats = outcome.stats;
+    const double samples = double(outcome.samples);
     double rays = double(stats.traced_rays + stats.traced_shadow_rays);
     nlohmann::json j;
     j["scene"] = c.scene.string();
@@ -113,8 +115,9 @@ void write_stats(const std::filesystem::path& file, const RenderCommand& c, cons
     j["render_origin"] = {prepared.scene.origin.x, prepared.scene.origin.y, prepared.scene.origin.z};
     j["stage_seconds"] = stats.stage_seconds;
     // The image's estimated relative error (error_estimate.h); null where it has none.
-    j["relative_error"] = std::isfinite(relative_error) && relative_error >= 0 ? nlohmann::json(relative_error)
-                                                                               : nlohmann::json(nullptr);
+    j["relative_error"] = outcome.estimate && std::isfinite(outcome.error) ? nlohmann::json(outcome.error)
+                                                                            : nlohmann::json(nullptr);
+    j.update(outcome.stats_json);
     for (const SettingInfo& e : setting_table())  // the settings as asked for
         if (e.stats_key) j[e.stats_key] = e.stats ? e.stats(s) : nlohmann::json(e.describe(s));
     write_file_atomically(file, [&](const std::filesystem::path& temp) {
@@ -168,7 +171,11 @@ void add_render_options(CLI::App& app, RenderCommand& c) {
     app.add_option("--height", s.height, "image height in pixels")->check(CLI::Range(1u, 16384u));
     auto* spp = app.add_option("--spp", s.spp, "samples per pixel")->check(CLI::Range(1u, 1u << 24));
     app.add_option_function<std::string>(
-           "--samples", [&c](const std::string& text) { parse_sample_range(text, c.first_sample, c.settings.spp); },
+           "--samples",
+           [&c](const std::string& text) {
+               parse_sample_range(text, c.first_sample, c.settings.spp);
+               c.sample_range = true;
+           },
            "render only sample indices A..B-1 of every pixel (A:B), a part for fredholm merge (replaces --spp)")
         ->excludes(spp);
     app.add_option("--target-error", c.target_error,
@@ -181,6 +188,10 @@ void add_render_options(CLI::App& app, RenderCommand& c) {
         ->excludes(spp);
     app.add_option("--max-seconds", c.max_seconds, "stop after this many seconds of rendering (at a sample index)")
         ->check(CLI::Range(1e-3, 1e9));
+    app.add_flag("--adaptive", c.adaptive,
+                 "spend samples where the noise is: a pilot of a few spp with its own seed measures each pixel, then "
+                 "each 4x4 tile gets its own count, in the time of a uniform --spp render (or, with --target-error, "
+                 "the least time predicted to reach it); unbiased, path tracing only");
     app.add_option("--crop", c.crop, "render only pixels X0..X1-1 by Y0..Y1-1 (X0,Y0,X1,Y1) of the image, a part for "
                                      "fredholm merge");
     add_setting_options(app, s, {"max-depth", "seed", "camera"});
@@ -338,6 +349,21 @@ int run_frame(const RenderCommand& command, vk::Context* shared_context) {
         std::fprintf(stderr, "fredholm: usage error: --target-error renders the whole sample range (not --samples)\n");
         return 2;
     }
+    if (c.adaptive && (c.resume || c.sample_range)) {
+        std::fprintf(stderr, "fredholm: usage error: --adaptive renders a whole image afresh (not --resume or "
+                             "--samples): its pixels hold different numbers of samples\n");
+        return 2;
+    }
+    if (c.adaptive && c.settings.integrator != Integrator::path) {
+        std::fprintf(stderr, "fredholm: usage error: --adaptive needs --integrator path (light subpaths land on "
+                             "every pixel, whatever samples it was given)\n");
+        return 2;
+    }
+    if (c.adaptive && c.target_error == 0 && c.settings.spp < 8) {
+        std::fprintf(stderr, "fredholm: usage error: --adaptive needs --spp 8 or more (a pilot of 4 spp comes first)\n");
+        return 2;
+    }
+    c.settings.adaptive = c.adaptive;
     if (c.target_error > 0) c.settings.spp = c.max_spp != 0 ? c.max_spp : DEFAULT_MAX_SPP;
     if (c.settings.aovs && c.settings.integrator == Integrator::light) {
         std::fprintf(stderr, "fredholm: usage error: --aov albedo, normal and depth come from camera paths, which "
@@ -392,38 +418,39 @@ int run_frame(const RenderCommand& command, vk::Context* shared_context) {
     else renderer.write_film_state(saved.film);
     if (c.resume && settings.aovs) renderer.write_aov_film(saved.aov_sums);
 
-    // The error batches go on from the saved film's; a film saved before they existed gets no error estimate.
-    const bool estimate = !c.resume || saved.has_batches;
-    if (!estimate && c.target_error > 0)
+    const bool old_film = c.resume && !saved.has_batches;  // saved before error batches existed: no estimate
+    if (old_film && c.target_error > 0)
         throw std::runtime_error((c.resume_file.empty() ? c.output : c.resume_file).string() +
                                  ": cannot resume to a target error: it was written without error batches");
-    if (!estimate && !c.quiet)
+    if (old_film && !c.quiet)
         std::fprintf(stderr, "fredholm: note: the film to continue has no error batches (written by an older "
                              "fredholm), so this render has no error estimate\n");
-    ErrorBatches batches = saved.has_batches ? saved.batches
-                                             : make_error_batches(size_t(settings.film_width()) * settings.film_height(),
-                                                                  saved.end_sample);
     // Stop only once a wave has finished a sample index for every pixel (the film then holds samples
     // [0, spp_done) everywhere, so it can be resumed exactly); waves that cover part of the pixels continue.
     ProgressLine progress;
-    const RenderGoal goal{settings.spp, c.target_error, c.max_seconds};
-    const EstimatedRenderResult result =
-        render_estimated(renderer, batches, goal, [&](const EstimatedRenderStatus& status) {
-            if (c.target_error > 0) progress.update_target(status.spp_done, status.error, c.target_error);
-            else progress.update(status.spp_done, status.spp_total);
-            return !interrupt_requested();
-        });
+    const auto show_progress = [&](const EstimatedRenderStatus& status) {
+        if (c.target_error > 0 && !c.adaptive) progress.update_target(status.spp_done, status.error, c.target_error);
+        else progress.update(status.spp_done, status.spp_total);
+        return !interrupt_requested();
+    };
+    RenderOutcome outcome = c.adaptive ? render_adaptive_pass(c, renderer, show_progress)
+                                       : render_uniform(c, renderer, saved, c.resume, show_progress);
     progress.finish();
-    const RenderStats& stats = result.stats;
+    const RenderStats& stats = outcome.stats;
+    if (c.adaptive && !outcome.estimate) {  // interrupted before the image began
+        std::fprintf(stderr, "fredholm: interrupted during the adaptive pilot: nothing written\n");
+        return 130;
+    }
 
     const Image image = renderer.read_film();
     ImageWindow window;
     if (settings.has_crop())
         window = {int(settings.crop_x0), int(settings.crop_y0), int(settings.width), int(settings.height)};
     ImageMetadata metadata = make_metadata(c, scene_hash, stats.spp_done, prepared.packed.effects.bits);
+    metadata.insert(outcome.metadata.begin(), outcome.metadata.end());
     ExtraChannels channels = film_channels(renderer.read_film_state());
-    FloatChannels floats;
-    if (estimate) add_error_channels(batches, image, channels, floats, metadata);
+    channels.insert(outcome.channels.begin(), outcome.channels.end());
+    FloatChannels& floats = outcome.floats;
     if (c.aovs.any_recorded() || c.aovs.spp) {
         const std::vector<gpu::AovPixel> sums = settings.aovs ? renderer.read_aov_film() : std::vector<gpu::AovPixel>{};
         const FloatChannels layers = aov_layers(c.aovs, sums, renderer.read_film_state());
@@ -436,23 +463,19 @@ int run_frame(const RenderCommand& command, vk::Context* shared_context) {
     }
     write_exr(c.output, image, metadata, channels, window, floats);
     if (!c.png.empty()) write_png(c.png, image, c.exposure_ev, c.tone_curve);
-    if (!c.stats.empty()) write_stats(c.stats, c, prepared, camera, stats, saved.end_sample, context->device_name(),
-                                         renderer.camera_media(), estimate ? result.error : -1.0);
+    if (!c.stats.empty()) write_stats(c.stats, c, prepared, camera, outcome, saved.end_sample, context->device_name(),
+                                         renderer.camera_media());
 
-    const uint32_t rendered = stats.spp_done - saved.end_sample;
     if (!c.quiet)
-        std::fprintf(stderr, "fredholm: %s: %ux%u, %u spp (%u new) in %.3f s (%.2f Msamples/s) on %s; %llu non-finite "
-                             "samples%s\n",
-                     c.output.string().c_str(), settings.film_width(), settings.film_height(), stats.spp_done, rendered,
-                     stats.render_seconds,
-                     stats.render_seconds > 0
-                         ? double(settings.film_width()) * settings.film_height() * rendered / stats.render_seconds * 1e-6
-                         : 0.0,
+        std::fprintf(stderr, "fredholm: %s: %ux%u, %s in %.3f s (%.2f Msamples/s) on %s; %llu non-finite samples%s\n",
+                     c.output.string().c_str(), settings.film_width(), settings.film_height(),
+                     outcome.samples_text.c_str(), stats.render_seconds,
+                     stats.render_seconds > 0 ? double(outcome.samples) / stats.render_seconds * 1e-6 : 0.0,
                      context->device_name().c_str(), (unsigned long long)stats.nonfinite_samples,
-                     estimate ? describe_error(result.error).c_str() : "");
-    if (!c.quiet && (c.target_error > 0 || c.max_seconds > 0) && result.stop != StopReason::interrupted)
-        std::fprintf(stderr, "fredholm: stopped by %s%s\n", describe_stop(result.stop),
-                     c.target_error > 0 && result.stop != StopReason::target ? " before the target error" : "");
+                     outcome.estimate ? describe_error(outcome.error).c_str() : "");
+    if (!c.quiet && (c.target_error > 0 || c.max_seconds > 0) && outcome.stop != StopReason::interrupted)
+        std::fprintf(stderr, "fredholm: stopped by %s%s\n", describe_stop(outcome.stop),
+                     c.target_error > 0 && outcome.stop != StopReason::target ? " before the target error" : "");
     if (context->validation_message_count() > 0) {
         std::fprintf(stderr, "fredholm: error: %u Vulkan validation message(s)\n", context->validation_message_count());
         return 1;

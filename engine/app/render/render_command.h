@@ -33,10 +33,12 @@ struct RenderCommand {
     std::string frames;                 // --frames A:B: a sequence, frame f at time f / fps; "" one image
     double fps = 24.0;                  // --fps
     uint32_t first_sample = 0;          // --samples A:B: sample indices [A, B) of every pixel (B is settings.spp)
+    bool sample_range = false;          // --samples given
     std::string crop;                   // --crop X0,Y0,X1,Y1 as given (checked against the image size when run)
     double target_error = 0;            // --target-error: stop once the relative error estimate is at most this
     uint32_t max_spp = 0;               // --max-spp: the sample limit with a target (0: not given)
     double max_seconds = 0;             // --max-seconds: stop at the first sample index past this (0: none)
+    bool adaptive = false;              // --adaptive: a pilot, then each pixel its own samples (app/render/render_passes.h)
     std::string aov_list;               // --aov as given
     AovChoice aovs;                     // ... parsed
 };

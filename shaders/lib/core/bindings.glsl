@@ -23,6 +23,9 @@ layout(std430, binding = BINDING_PATH_LIGHT_POINTS) buffer PathLightPointBuffer 
 // Two uvec4 per path (layout.h PathAov): stored a texel at a time, not word by word (lib/core/aov.glsl).
 layout(std430, binding = BINDING_PATH_AOVS) buffer PathAovBuffer { uvec4 path_aov_words[]; };
 layout(std430, binding = BINDING_AOV_FILM) buffer AovFilmBuffer { AovPixel aov_film[]; };
+layout(std430, binding = BINDING_PIXEL_LIST) readonly buffer PixelListBuffer { uint pixel_list[]; };
+layout(std430, binding = BINDING_PATH_WORK) buffer PathWorkBuffer { uint path_work[]; };
+layout(std430, binding = BINDING_PIXEL_WORK) buffer PixelWorkBuffer { uint pixel_work[]; };
 // The scene's read-only structs (layout.h TEXELS bindings): load_bvh_node, load_triangle_positions,
 // load_triangle_shading, load_material, load_emitter, load_punctual_light, load_triangle_attributes, load_instance,
 // load_material_layers, load_light_tree_node, written at build time from layout.h.

@@ -9,14 +9,15 @@
 #include "lib/core/effects.glsl"
 #include "lib/sampling/rng.glsl"
 #include "lib/sampling/sobol.glsl"
+#include "lib/core/wave_pixels.glsl"
 
 layout(constant_id = SPEC_SAMPLER) const uint path_sampler = SAMPLER_INDEPENDENT;
 
 // Where path `path` of the current wave sits: its pixel in the whole image (a cropped film's pixel p is the image's
 // pixel at crop offset + p; FrameParams) and its sample index (generate.comp's sample-major order). Both decide its
-// random numbers, so a pixel gets the same samples with or without a crop.
+// random numbers, so a pixel gets the same samples with or without a crop, and with or without `--adaptive`.
 uint path_pixel(uint path) {
-    uint film_pixel = push.pixel_begin + path % push.pixel_count;
+    uint film_pixel = wave_film_pixel(path % push.pixel_count);
     return (params.crop_y + film_pixel / params.film_width) * params.width + params.crop_x + film_pixel % params.film_width;
 }
 uint path_sample_index(uint path) { return push.sample_begin + path / push.pixel_count; }
