@@ -150,7 +150,7 @@ public:
         std::vector<uint32_t> growing, resting;
         for (uint32_t t = 0; t < growth.size(); ++t) {
             (growth[t] > 1 ? growing : resting).push_back(t);
-            added += uint64_t(a_.tile_samples(t)) * (growth[t] - 1) * a_.pixels_of({t}).size();
+            added += uint64_t(a_.tile_samples(t)) * (growth[t] - 1) * a_.tile_pixels(t);
         }
         if (growing.empty()) return StopReason::samples;
         if (double(added) > samples_left) return StopReason::time;
@@ -167,7 +167,7 @@ public:
             const uint32_t n = a_.tile_samples(growing[i]), f = growth[growing[i]];
             size_t end = i, run_pixels = 0;
             for (; end < growing.size() && a_.tile_samples(growing[end]) == n && growth[growing[end]] == f; ++end)
-                run_pixels += a_.pixels_of({growing[end]}).size();
+                run_pixels += a_.tile_pixels(growing[end]);
             for (size_t e = entry; e < entry + run_pixels; ++e) {
                 quarters_.grow(listed_[e], f);
                 a_.samples[listed_[e]] = n * f;

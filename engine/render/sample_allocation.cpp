@@ -175,6 +175,11 @@ uint32_t SampleAllocation::tile_samples(size_t tile) const {
     return samples[y * width + x];
 }
 
+size_t SampleAllocation::tile_pixels(size_t tile) const {
+    const int x = int(tile % tile_columns) * ALLOCATION_TILE, y = int(tile / tile_columns) * ALLOCATION_TILE;
+    return size_t(std::min(ALLOCATION_TILE, width - x)) * size_t(std::min(ALLOCATION_TILE, height - y));
+}
+
 // Tile by tile, each tile's pixels in scanline order: a wave's eight consecutive paths (lavapipe's SIMD group) are
 // two rows of four pixels of one tile.
 std::vector<uint32_t> SampleAllocation::pixels_of(const std::vector<uint32_t>& tiles) const {

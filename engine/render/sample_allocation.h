@@ -48,6 +48,7 @@ struct SampleAllocation {
     uint64_t total_samples() const;
     size_t tile_count() const { return tile_weights.size(); }
     uint32_t tile_samples(size_t tile) const;  // the count its pixels share
+    size_t tile_pixels(size_t tile) const;     // ALLOCATION_TILE^2, fewer at the right and bottom edges
     // The film's pixels of these tiles, in that order, each tile's in scanline order.
     std::vector<uint32_t> pixels_of(const std::vector<uint32_t>& tiles) const;
     // order, levels and level_pixels again from the samples (after they changed).

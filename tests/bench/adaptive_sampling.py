@@ -26,7 +26,7 @@ import tempfile
 
 import numpy as np
 
-from error_calibration import REPO, SCENES, luminance
+from error_calibration import REPO, SCENES, luminance, scene_entries
 
 MODES = {"uniform": [], "adaptive": ["--adaptive"]}
 
@@ -86,13 +86,8 @@ def main():
     with tempfile.TemporaryDirectory() as out:
         print(f"{'scene':16} {'true u':>8} {'true a':>8} {'s u':>6} {'s a':>6} {'eff a/u':>7} {'rep/true a':>10} "
               f"{'|z|>4':>6} {'mean a/u':>8}" + ("  to target: s u, s a (true u, true a)" if args.target else ""))
-        for entry in args.scene or SCENES:
-            name, rest = entry.split("=", 1)
-            path, _, extra = rest.partition(",")
-            if not os.path.exists(os.path.join(REPO, path)):
-                print(f"{name:16} skipped: {path} not found")
-                continue
-            r = compare(args, name, path, extra.split(), out)
+        for name, path, extra in scene_entries(args.scene or SCENES):
+            r = compare(args, name, path, extra, out)
             rows.append(r)
             u, a = r["uniform"], r["adaptive"]
             line = (f"{name:16} {u['true']:8.4f} {a['true']:8.4f} {u['seconds']:6.2f} {a['seconds']:6.2f} "

@@ -67,6 +67,18 @@ def calibrate(args, name, scene, extra, out):
             "command": " ".join(["fredholm", "render", scene] + extra)}
 
 
+def scene_entries(entries):
+    """(name, path, extra args) of each NAME=PATH[,extra args] entry whose file exists; the others are named as
+    skipped."""
+    for entry in entries:
+        name, rest = entry.split("=", 1)
+        path, _, extra = rest.partition(",")
+        if not os.path.exists(os.path.join(REPO, path)):
+            print(f"{name:16} skipped: {path} not found")
+            continue
+        yield name, path, extra.split()
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("--fredholm", default=os.path.join(REPO, "build", "fredholm"))
@@ -79,13 +91,8 @@ def main():
     rows = []
     with tempfile.TemporaryDirectory() as out:
         print(f"{'scene':16} {'spp':>5} {'reported':>9} {'true':>9} {'ratio':>6}  single renders")
-        for entry in args.scene or SCENES:
-            name, rest = entry.split("=", 1)
-            path, _, extra = rest.partition(",")
-            if not os.path.exists(os.path.join(REPO, path)):
-                print(f"{name:16} skipped: {path} not found")
-                continue
-            r = calibrate(args, name, path, extra.split(), out)
+        for name, path, extra in scene_entries(args.scene or SCENES):
+            r = calibrate(args, name, path, extra, out)
             rows.append(r)
             print(f"{name:16} {r['spp']:5d} {r['reported']:9.4f} {r['true']:9.4f} {r['ratio']:6.3f}  "
                   f"{r['single_min']:.2f} to {r['single_max']:.2f}", flush=True)

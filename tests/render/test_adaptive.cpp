@@ -4,15 +4,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <map>
-#include <set>
 #include <string>
-#include <sys/wait.h>
 
 #include "io/exr.h"
+#include "run_fredholm.h"
 
 namespace {
 
@@ -20,20 +17,8 @@ namespace fs = std::filesystem;
 const fs::path OUT = fs::path(FH_TEST_OUTPUT) / "adaptive";
 const std::string SIZE = " --width 40 --height 32 --max-depth 8 -q";
 
-int fredholm(const std::string& args) {
-    fs::create_directories(OUT);
-    const std::string line = std::string(FREDHOLM_EXE) + " " + args + " 2>>" + (OUT / "log.txt").string();
-    std::printf("%s\n", line.c_str());
-    const int status = std::system(line.c_str());
-    return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
-}
-
-std::string last_log_line() {
-    std::ifstream log(OUT / "log.txt");
-    std::string line, last;
-    while (std::getline(log, line)) last = line;
-    return last;
-}
+int fredholm(const std::string& args) { return fh::test::run_fredholm(FREDHOLM_EXE, OUT, args); }
+std::string last_log_line() { return fh::test::last_log_line(OUT); }
 
 std::string path(const char* name) { return (OUT / name).string(); }
 

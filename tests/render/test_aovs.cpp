@@ -6,27 +6,19 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <string>
-#include <sys/wait.h>
 
 #include "io/exr.h"
+#include "run_fredholm.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 const fs::path OUT = fs::path(FH_TEST_OUTPUT) / "aovs";
 
-int fredholm(const std::string& args) {
-    fs::create_directories(OUT);
-    const std::string line = std::string(FREDHOLM_EXE) + " " + args + " 2>>" + (OUT / "log.txt").string();
-    std::printf("%s\n", line.c_str());
-    const int status = std::system(line.c_str());
-    return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
-}
+int fredholm(const std::string& args) { return fh::test::run_fredholm(FREDHOLM_EXE, OUT, args); }
 
 fh::FloatChannels layers(const fs::path& file) {
     return fh::read_exr_float_channels(file, {"albedo.R", "albedo.G", "albedo.B", "normal.X", "normal.Y", "normal.Z",
@@ -118,9 +110,7 @@ TEST(Aovs, ResumeAndMergeBitForBit) {
     EXPECT_EQ(fredholm("merge " + path("part_a.exr") + " " + path("part_plain.exr") + " " + path("part_c.exr") +
                        " -o " + path("bad.exr") + " -q"),
               1);
-    std::ifstream log(OUT / "log.txt");
-    std::string line, last;
-    while (std::getline(log, line)) last = line;
+    const std::string last = fh::test::last_log_line(OUT);
     EXPECT_NE(last.find("cannot merge: "), std::string::npos) << last;
     EXPECT_NE(last.find("has --aov"), std::string::npos) << last;
 }

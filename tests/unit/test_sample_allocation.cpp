@@ -98,6 +98,19 @@ TEST(SampleAllocation, OrderAndLevelsDescribeTheWaves) {
     for (int y = 0; y < 12; ++y)
         for (int x = 0; x < 24; ++x)
             EXPECT_EQ(a.samples[size_t(y) * 24 + x], a.samples[size_t(y / 4 * 4) * 24 + x / 4 * 4]);
+    size_t pixels = 0;
+    for (size_t t = 0; t < a.tile_count(); ++t) {
+        pixels += a.tile_pixels(t);
+        EXPECT_EQ(a.tile_pixels(t), a.pixels_of({uint32_t(t)}).size());
+    }
+    EXPECT_EQ(pixels, a.samples.size());
+    const SampleAllocation edges = allocate_samples(halves(10, 7, 1.0, 4.0), 10 * 7 * 16, 65536);  // partial tiles
+    pixels = 0;
+    for (size_t t = 0; t < edges.tile_count(); ++t) {
+        pixels += edges.tile_pixels(t);
+        EXPECT_EQ(edges.tile_pixels(t), edges.pixels_of({uint32_t(t)}).size());
+    }
+    EXPECT_EQ(pixels, 70u);
     EXPECT_EQ(a.order[1], a.order[0] + 1);
     EXPECT_EQ(a.order[4], a.order[0] + 24);
     ASSERT_EQ(a.levels.size(), a.level_pixels.size());
