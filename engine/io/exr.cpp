@@ -6,8 +6,11 @@
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
+#include <ImfStdIO.h>
 #include <ImfStringAttribute.h>
+#include <ImfVersion.h>
 
+#include <cstdio>
 #include <exception>
 #include <stdexcept>
 #include <string>
@@ -46,6 +49,20 @@ Imf::Slice make_single_slice(const float* values, const Imath::Box2i& window) {
                             sizeof(float) * std::size_t(window.max.x - window.min.x + 1));
 }
 
+// Refuses an image larger than MAX_EXR_SIDE per side from its header, before OpenEXR or this file allocates for it
+// (OpenEXR sizes its line offsets by the declared height when the file is opened); OpenEXR's own limit is set to
+// the same as a second guard.
+void check_exr_size(const fs::path& path) {
+    Imf::Header::setMaxImageSize(MAX_EXR_SIDE, MAX_EXR_SIDE);
+    const ImageSize size = read_exr_size(path);
+    if (size.width > 0 && size.height > 0 && size.width <= MAX_EXR_SIDE && size.height <= MAX_EXR_SIDE) return;
+    char gib[32];
+    std::snprintf(gib, sizeof gib, "%.1f", double(size.width) * double(size.height) * 12.0 / double(1u << 30));
+    throw IoError(path.string() + ": EXR image of " + std::to_string(size.width) + " x " + std::to_string(size.height) +
+                  " pixels declared (" + gib + " GiB as float RGB), more than the limit of " +
+                  std::to_string(MAX_EXR_SIDE) + " per side");
+}
+
 template <typename Channels>
 void check_channel_shapes(const fs::path& path, const Image& image, const Channels& channels) {
     for (const auto& [name, values] : channels) {
@@ -63,6 +80,7 @@ void check_channel_shapes(const fs::path& path, const Image& image, const Channe
 template <typename Channels, typename Value>
 Channels read_channels(const fs::path& path, const std::vector<std::string>& names, bool need_uint) {
     try {
+        check_exr_size(path);
         Imf::InputFile in(path.c_str());
         const Imath::Box2i window = in.header().dataWindow();
         const std::size_t pixels =
@@ -130,8 +148,28 @@ void write_exr(const fs::path& path, const Image& image, const ImageMetadata& me
     }
 }
 
+ImageSize read_exr_size(const fs::path& path) {
+    try {
+        Imf::StdIFStream in(path.c_str());
+        char magic_and_version[8] = {};
+        in.read(magic_and_version, 8);
+        if (!Imf::isImfMagic(magic_and_version)) throw IoError(path.string() + ": not an OpenEXR file");
+        int version = 0;
+        for (int i = 3; i >= 0; --i) version = version << 8 | static_cast<unsigned char>(magic_and_version[4 + i]);
+        Imf::Header header;
+        header.readFrom(in, version);
+        const Imath::Box2i window = header.dataWindow();
+        return {int64_t(window.max.x) - window.min.x + 1, int64_t(window.max.y) - window.min.y + 1};
+    } catch (const IoError&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw IoError(path.string() + ": cannot read EXR: " + e.what());
+    }
+}
+
 Image read_exr(const fs::path& path, ImageMetadata* metadata) {
     try {
+        check_exr_size(path);
         Imf::InputFile in(path.c_str());
         const Imf::Header& header = in.header();
         for (const char* name : CHANNEL_NAMES) {

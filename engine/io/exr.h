@@ -31,6 +31,19 @@ struct ImageWindow {
 void write_exr(const std::filesystem::path& path, const Image& image, const ImageMetadata& metadata = {},
                const ExtraChannels& extra = {}, const ImageWindow& window = {}, const FloatChannels& floats = {});
 
+// The largest EXR read, per side (fredholm render's --width/--height limit; environment maps keep theirs).
+constexpr int64_t MAX_EXR_SIDE = 16384;
+
+struct ImageSize {
+    int64_t width = 0, height = 0;
+};
+// The data window's size as the file's header declares it, read without opening the image. IoError for a file that
+// is not OpenEXR or whose header does not parse.
+ImageSize read_exr_size(const std::filesystem::path& path);
+
+// The readers below refuse an image of more than MAX_EXR_SIDE pixels per side (IoError giving the declared size, the
+// bytes it would take and the limit) before anything is allocated for it.
+
 // Reads channels R, G and B of any pixel type (HALF, FLOAT, UINT) as float; other channels are ignored.
 // A missing R, G or B channel is an IoError. If `metadata` is given it receives every string attribute.
 Image read_exr(const std::filesystem::path& path, ImageMetadata* metadata = nullptr);

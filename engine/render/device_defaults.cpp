@@ -1,5 +1,7 @@
 #include "render/device_defaults.h"
 
+#include <algorithm>
+
 #include "scene/effects.h"
 #include "vk/context.h"
 
@@ -19,20 +21,17 @@ uint32_t choose_wave_paths(bool cpu_device, const DeviceMemoryLimits& limits, co
     return paths;
 }
 
-namespace {
-
 bool is_cpu_device(const vk::Context& context) {
     VkPhysicalDeviceProperties properties;
     vkGetPhysicalDeviceProperties(context.physical_device(), &properties);
     return properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
 }
 
-}  // namespace
-
 uint32_t choose_wave_paths(const vk::Context& context, const PackedScene& scene, EffectBits effects,
-                           uint32_t film_width, uint32_t film_height, const PathStore& store) {
-    return choose_wave_paths(is_cpu_device(context), query_memory_limits(context), scene, effects, film_width,
-                             film_height, store);
+                           uint32_t film_width, uint32_t film_height, const PathStore& store, uint64_t memory_limit) {
+    DeviceMemoryLimits limits = query_memory_limits(context);
+    if (memory_limit > 0) limits.device_local_heap = std::min(limits.device_local_heap, memory_limit);
+    return choose_wave_paths(is_cpu_device(context), limits, scene, effects, film_width, film_height, store);
 }
 
 bool choose_sort_rays(bool cpu_device, const PackedScene& scene) {
@@ -44,7 +43,7 @@ RenderSettings with_device_defaults(RenderSettings settings, const vk::Context& 
     if (settings.wave_paths == 0)
         settings.wave_paths = choose_wave_paths(
             context, scene, select_effects(scene.effects.bits, settings.forced_effects, settings.disabled_effects),
-            settings.film_width(), settings.film_height(), make_path_store(settings));
+            settings.film_width(), settings.film_height(), make_path_store(settings), settings.resolved_memory_limit());
     return settings;
 }
 

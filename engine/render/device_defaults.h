@@ -23,6 +23,9 @@ constexpr uint32_t MIN_AUTO_WAVE_PATHS = 1u << 16;
 // Below MIN_AUTO_WAVE_PATHS a wave shrinks only to fit a buffer limit (BDPT's light vertices at a deep --max-depth).
 constexpr uint32_t MIN_FITTING_WAVE_PATHS = 1u << 10;
 
+// VK_PHYSICAL_DEVICE_TYPE_CPU (lavapipe): its device memory is host memory.
+bool is_cpu_device(const vk::Context& context);
+
 // The preferred size for the device, halved (not below MIN_AUTO_WAVE_PATHS) until every wave buffer keeps to the
 // device's buffer limits and the wave's buffers take at most a quarter of its device-local memory; halved further
 // (not below MIN_FITTING_WAVE_PATHS) while a buffer still passes its limit.
@@ -31,8 +34,10 @@ constexpr uint32_t MIN_FITTING_WAVE_PATHS = 1u << 10;
 uint32_t choose_wave_paths(bool cpu_device, const DeviceMemoryLimits& limits, const PackedScene& scene,
                            EffectBits effects, uint32_t film_width = 1, uint32_t film_height = 1,
                            const PathStore& store = {});
+// With `memory_limit` (bytes, --memory-limit; 0: none), the device's memory counts as no more than that.
 uint32_t choose_wave_paths(const vk::Context& context, const PackedScene& scene, EffectBits effects,
-                           uint32_t film_width, uint32_t film_height, const PathStore& store = {});
+                           uint32_t film_width, uint32_t film_height, const PathStore& store = {},
+                           uint64_t memory_limit = 0);
 
 // Whether --sort-rays auto sorts: on a GPU for scenes of at least MIN_AUTO_SORT_TRIANGLES stored triangles, never on
 // a CPU device. Measured (tests/bench/RESULTS.md "Ray order", bench --compare-ray-order, 1024 x 1024): on an H100 the sort saved 5 to

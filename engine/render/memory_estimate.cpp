@@ -175,14 +175,6 @@ DeviceMemoryLimits query_memory_limits(const vk::Context& context) {
     return limits;
 }
 
-std::string format_bytes(uint64_t bytes) {
-    char text[64];
-    const double mib = double(bytes) / double(1u << 20);
-    if (mib >= 1024.0) std::snprintf(text, sizeof text, "%.2f GiB", mib / 1024.0);
-    else std::snprintf(text, sizeof text, "%.1f MiB", mib);
-    return std::string(text) + " (" + std::to_string(bytes) + " bytes)";
-}
-
 namespace {
 // What to change when a buffer is too large (buffers are not split across allocations yet).
 std::string remedy(const std::string& buffer) {
@@ -230,6 +222,33 @@ std::string find_memory_problem(const MemoryEstimate& estimate, const DeviceMemo
                format_bytes(largest->bytes) + ")";
     }
     return {};
+}
+
+std::vector<MemoryUse> host_render_uses(const Scene& scene, const MemoryEstimate& device) {
+    const auto bytes = [](const auto& v) { return uint64_t(v.size()) * sizeof(v[0]); };
+    uint64_t textures = 0;
+    for (const SceneImage& image : scene.images) textures += bytes(image.texels);
+    const uint64_t geometry = bytes(scene.positions) + bytes(scene.normals) + bytes(scene.triangle_material) +
+                              bytes(scene.triangle_has_normals) + bytes(scene.texcoords0) + bytes(scene.texcoords1) +
+                              bytes(scene.colors) + bytes(scene.tangents);
+    uint64_t packed = 0;
+    for (const BufferEstimate& b : device.buffers)
+        if (b.binding == BufferBinding::texels || b.name.rfind("env_", 0) == 0) packed += b.bytes;
+    return {{"host scene geometry", geometry}, {"host scene textures", textures}, {"host packed scene", packed},
+            {"host film readback", device.film_readback_bytes}};
+}
+
+std::string find_memory_limit_problem(const std::vector<MemoryUse>& host, const MemoryEstimate& device, uint64_t limit,
+                                      bool cpu_device) {
+    std::vector<MemoryUse> device_uses;
+    for (const BufferEstimate& b : device.buffers) device_uses.push_back({"device " + b.name, b.bytes});
+    if (cpu_device) {
+        std::vector<MemoryUse> all = host;
+        all.insert(all.end(), device_uses.begin(), device_uses.end());
+        return find_limit_problem(all, limit, "the render (host and device memory: one on a CPU device)");
+    }
+    const std::string problem = find_limit_problem(host, limit, "the render's host memory");
+    return problem.empty() ? find_limit_problem(device_uses, limit, "the render's device memory") : problem;
 }
 
 void check_render_memory(const MemoryEstimate& estimate, const DeviceMemoryLimits& limits) {

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "render/settings.h"
+#include "scene/memory_limit.h"
 #include "scene/pack.h"
 
 namespace fh {
@@ -83,6 +84,15 @@ MemoryEstimate estimate_render_memory(const PackedScene& scene, const RenderSett
 
 DeviceMemoryLimits query_memory_limits(const vk::Context& context);
 
+// Host memory a render keeps while it runs: the loaded scene's arrays and textures, and the packed copy its device
+// buffers are filled from (the estimate's scene arrays: the texel-bound buffers and the environment's).
+std::vector<MemoryUse> host_render_uses(const Scene& scene, const MemoryEstimate& device);
+
+// The render against --memory-limit (`limit` bytes): on a CPU device, whose device memory is host memory, the host
+// uses and the device buffers together; on a GPU, each against the limit. One line naming the largest uses, or empty.
+std::string find_memory_limit_problem(const std::vector<MemoryUse>& host, const MemoryEstimate& device, uint64_t limit,
+                                      bool cpu_device);
+
 // One line naming the first buffer that breaks a limit (its size and the limit), or the total needed against the
 // heap; empty when the render fits. Large scenes and films are refused, not split across buffers.
 std::string find_memory_problem(const MemoryEstimate& estimate, const DeviceMemoryLimits& limits);
@@ -92,8 +102,5 @@ void check_render_memory(const MemoryEstimate& estimate, const DeviceMemoryLimit
 // Device bytes each path in flight adds (the wave's buffers: path state, queues, and the per-path arrays of
 // `effects`), from the estimate at two wave sizes.
 double bytes_per_path(const PackedScene& scene, EffectBits effects, const PathStore& store = {});
-
-// "1.50 GiB (1610612736 bytes)"
-std::string format_bytes(uint64_t bytes);
 
 }  // namespace fh

@@ -7,6 +7,7 @@
 #include "scene/effect_bits.h"
 #include "scene/instancing.h"
 #include "scene/light/light_sampler.h"
+#include "scene/memory_limit.h"
 
 namespace fh {
 
@@ -87,6 +88,10 @@ struct RenderSettings {
     std::string variant;               // --variant: KHR_materials_variants name (empty: the file's default)
     Instancing instancing = Instancing::automatic;  // --instancing auto|on|off
     Tangents tangents = Tangents::mikktspace;       // --tangents mikktspace|triangle
+    // --memory-limit: bytes the scene on the host and the render's device buffers may take (their sum on a CPU
+    // device, whose device memory is host memory); 0: default_memory_limit() (scene/memory_limit.h).
+    uint64_t memory_limit = 0;
+    uint64_t resolved_memory_limit() const { return memory_limit ? memory_limit : default_memory_limit(); }
     // Light from outside the scene (engine/scene/README.md "Environment light"): an equirectangular map, or a constant.
     std::string environment_file;      // --env (OpenEXR or Radiance .hdr); empty: none
     float environment_intensity = 1.0f;   // --env-intensity: radiance scale

@@ -106,6 +106,9 @@ struct LoadOptions {
     // node's transform turns more than MAX_TURN_PER_MOTION_SEGMENT in one part, at most MAX_MOTION_SEGMENTS.
     double shutter_open = 0.0, shutter_close = 0.0;
     bool has_shutter() const { return shutter_close > shutter_open; }
+    // Bytes the file's buffers and decoded textures may take (scene/memory_limit.h); 0: no limit. Textures are
+    // decoded only after their declared sizes fit.
+    uint64_t memory_limit = 0;
 };
 
 struct Scene {

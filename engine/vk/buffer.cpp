@@ -1,6 +1,7 @@
 // Buffer allocation (one allocation per buffer: the renderer owns a dozen) and staged transfers.
 #include "vk/buffer.h"
 
+#include <atomic>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -12,6 +13,8 @@
 
 namespace fh::vk {
 namespace {
+
+std::atomic<uint64_t> live_bytes{0}, live_allocations{0};
 
 uint32_t find_memory_type(const Context& context, uint32_t allowed, VkMemoryPropertyFlags wanted) {
     VkPhysicalDeviceMemoryProperties props;
@@ -54,6 +57,9 @@ Buffer::Buffer(const Context& context, VkDeviceSize size, VkBufferUsageFlags usa
         release();
         throw_vk_error(result, "vkAllocateMemory", __FILE__, __LINE__);
     }
+    allocated_ = req.size;
+    live_bytes += allocated_;
+    ++live_allocations;
     FH_VK_CHECK(vkBindBufferMemory(device_, buffer_, memory_, 0));
 
     VkPhysicalDeviceMemoryProperties props;
@@ -73,6 +79,7 @@ Buffer& Buffer::operator=(Buffer&& other) noexcept {
         buffer_ = std::exchange(other.buffer_, VK_NULL_HANDLE);
         memory_ = std::exchange(other.memory_, VK_NULL_HANDLE);
         size_ = std::exchange(other.size_, 0);
+        allocated_ = std::exchange(other.allocated_, 0);
         mapped_ = std::exchange(other.mapped_, nullptr);
     }
     return *this;
@@ -80,11 +87,18 @@ Buffer& Buffer::operator=(Buffer&& other) noexcept {
 
 void Buffer::release() {
     if (buffer_) vkDestroyBuffer(device_, buffer_, nullptr);
-    if (memory_) vkFreeMemory(device_, memory_, nullptr);
+    if (memory_) {
+        vkFreeMemory(device_, memory_, nullptr);
+        live_bytes -= allocated_;
+        --live_allocations;
+    }
+    allocated_ = 0;
     buffer_ = VK_NULL_HANDLE;
     memory_ = VK_NULL_HANDLE;
     mapped_ = nullptr;
 }
+
+DeviceMemoryInUse device_memory_in_use() { return {live_bytes.load(), live_allocations.load()}; }
 
 void upload_to_buffer(const Context& context, Buffer& target, const void* data, size_t size, size_t offset) {
     if (size == 0) return;

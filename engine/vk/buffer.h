@@ -1,6 +1,7 @@
 // Storage buffers: creation, memory, and host<->device copies (mapped where possible, staged otherwise).
 #pragma once
 #include <cstddef>
+#include <cstdint>
 #include <vulkan/vulkan.h>
 
 namespace fh::vk {
@@ -32,8 +33,16 @@ private:
     VkBuffer buffer_ = VK_NULL_HANDLE;
     VkDeviceMemory memory_ = VK_NULL_HANDLE;
     VkDeviceSize size_ = 0;
+    VkDeviceSize allocated_ = 0;  // the allocation's size (at least size_), counted in device_memory_in_use
     void* mapped_ = nullptr;
 };
+
+// Vulkan memory this process holds through Buffers now, over every device: what soak tests watch for leaks.
+struct DeviceMemoryInUse {
+    uint64_t bytes = 0;
+    uint64_t allocations = 0;
+};
+DeviceMemoryInUse device_memory_in_use();
 
 // Copies host data into a buffer (staging when it is not mapped); waits for completion.
 void upload_to_buffer(const Context& context, Buffer& target, const void* data, size_t size, size_t offset = 0);

@@ -1,6 +1,8 @@
 // Creates the instance (optionally with validation), picks a device with a compute queue, creates it.
 #include "vk/context.h"
 
+#include "vk/pipeline.h"
+
 #include <cstdio>
 #include <cstring>
 
@@ -50,6 +52,7 @@ Context::Context(const ContextOptions& options) {
         create_instance(options);
         pick_physical_device(options);
         create_device(options);
+        pipeline_store_ = std::make_unique<PipelineStore>(device_);
     } catch (...) {
         this->~Context();
         throw;
@@ -57,6 +60,7 @@ Context::Context(const ContextOptions& options) {
 }
 
 Context::~Context() {
+    pipeline_store_.reset();  // its pipelines before the device
     if (device_) vkDestroyDevice(device_, nullptr);
     if (messenger_) {
         auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(

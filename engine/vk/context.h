@@ -1,11 +1,14 @@
 // The Vulkan instance, the chosen physical device, its logical device and one compute queue.
 #pragma once
 #include <atomic>
+#include <memory>
 #include <string>
 #include <vector>
 #include <vulkan/vulkan.h>
 
 namespace fh::vk {
+
+class PipelineStore;
 
 struct ContextOptions {
     bool validation = false;                     // enable VK_LAYER_KHRONOS_validation and count its messages
@@ -31,6 +34,8 @@ public:
     bool has_timestamps() const { return timestamp_bits_ > 0; }
     // Validation messages seen so far (warnings and errors); the test suite requires zero.
     uint32_t validation_message_count() const { return validation_messages_.load(); }
+    // The compute pipelines built on this device (pipeline.h), kept until the Context ends.
+    PipelineStore& pipeline_store() const { return *pipeline_store_; }
 
 private:
     void create_instance(const ContextOptions& options);
@@ -47,6 +52,7 @@ private:
     VkPhysicalDeviceProperties properties_{};
     std::string device_name_;
     std::atomic<uint32_t> validation_messages_{0};
+    std::unique_ptr<PipelineStore> pipeline_store_;
 };
 
 }  // namespace fh::vk

@@ -3,14 +3,53 @@
 
 #include <algorithm>
 #include <cassert>
+#include <mutex>
 #include <vector>
 
 #include "vk/buffer.h"
 #include "vk/check.h"
 #include "vk/context.h"
+#include "vk/spirv_cache.h"
 #include "vk/spirv_specialise.h"
 
 namespace fh::vk {
+
+namespace {
+
+VkDescriptorSetLayout create_set_layout(VkDevice device, std::span<const VkDescriptorType> types) {
+    std::vector<VkDescriptorSetLayoutBinding> bindings(types.size());
+    for (uint32_t i = 0; i < bindings.size(); ++i) {
+        bindings[i].binding = i;
+        bindings[i].descriptorType = types[i];
+        bindings[i].descriptorCount = 1;
+        bindings[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
+    }
+    VkDescriptorSetLayoutCreateInfo layout_info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    layout_info.bindingCount = uint32_t(bindings.size());
+    layout_info.pBindings = bindings.data();
+    VkDescriptorSetLayout layout;
+    FH_VK_CHECK(vkCreateDescriptorSetLayout(device, &layout_info, nullptr, &layout));
+    return layout;
+}
+
+VkPipelineLayout create_pipeline_layout(VkDevice device, VkDescriptorSetLayout set_layout, uint32_t push_constant_size) {
+    VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_constant_size};
+    VkPipelineLayoutCreateInfo pipeline_info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    pipeline_info.setLayoutCount = 1;
+    pipeline_info.pSetLayouts = &set_layout;
+    pipeline_info.pushConstantRangeCount = push_constant_size ? 1 : 0;
+    pipeline_info.pPushConstantRanges = &range;
+    VkPipelineLayout layout;
+    FH_VK_CHECK(vkCreatePipelineLayout(device, &pipeline_info, nullptr, &layout));
+    return layout;
+}
+
+template <typename T>
+std::span<const uint8_t> bytes_of(std::span<const T> items) {
+    return {reinterpret_cast<const uint8_t*>(items.data()), items.size_bytes()};
+}
+
+}  // namespace
 
 BindingTable::BindingTable(const Context& context, std::span<const VkDescriptorType> types,
                            uint32_t push_constant_size)
@@ -20,20 +59,9 @@ BindingTable::BindingTable(const Context& context, std::span<const VkDescriptorT
       max_texel_elements_(context.properties().limits.maxTexelBufferElements),
       views_(types.size(), VK_NULL_HANDLE),
       push_constant_size_(push_constant_size) {
-    const uint32_t binding_count = uint32_t(types_.size());
-    std::vector<VkDescriptorSetLayoutBinding> bindings(binding_count);
-    std::vector<VkDescriptorPoolSize> pool_sizes;
-    for (uint32_t i = 0; i < binding_count; ++i) {
-        bindings[i].binding = i;
-        bindings[i].descriptorType = types_[i];
-        bindings[i].descriptorCount = 1;
-        bindings[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
-    }
-    VkDescriptorSetLayoutCreateInfo layout_info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    layout_info.bindingCount = binding_count;
-    layout_info.pBindings = bindings.data();
-    FH_VK_CHECK(vkCreateDescriptorSetLayout(device_, &layout_info, nullptr, &set_layout_));
+    set_layout_ = create_set_layout(device_, types_);
 
+    std::vector<VkDescriptorPoolSize> pool_sizes;
     for (VkDescriptorType type : types_) {
         auto same = [type](const VkDescriptorPoolSize& p) { return p.type == type; };
         auto it = std::find_if(pool_sizes.begin(), pool_sizes.end(), same);
@@ -52,13 +80,7 @@ BindingTable::BindingTable(const Context& context, std::span<const VkDescriptorT
     alloc.pSetLayouts = &set_layout_;
     FH_VK_CHECK(vkAllocateDescriptorSets(device_, &alloc, &set_));
 
-    VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_constant_size};
-    VkPipelineLayoutCreateInfo pipeline_info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    pipeline_info.setLayoutCount = 1;
-    pipeline_info.pSetLayouts = &set_layout_;
-    pipeline_info.pushConstantRangeCount = push_constant_size ? 1 : 0;
-    pipeline_info.pPushConstantRanges = &range;
-    FH_VK_CHECK(vkCreatePipelineLayout(device_, &pipeline_info, nullptr, &pipeline_layout_));
+    pipeline_layout_ = create_pipeline_layout(device_, set_layout_, push_constant_size);
 }
 
 BindingTable::~BindingTable() {
@@ -102,9 +124,53 @@ void BindingTable::bind_buffer(uint32_t binding, const Buffer& buffer) {
     vkUpdateDescriptorSets(device_, 1, &write, 0, nullptr);
 }
 
-ComputePipeline::ComputePipeline(const Context& context, const BindingTable& table, std::string name,
-                                 std::span<const uint32_t> spirv, std::span<const uint32_t> spec_constants)
-    : device_(context.device()), name_(std::move(name)) {
+PipelineStore::~PipelineStore() {
+    for (const auto& [key, pipeline] : pipelines_) vkDestroyPipeline(device_, pipeline, nullptr);
+    for (const auto& [key, layout] : layouts_) {
+        vkDestroyPipelineLayout(device_, layout.pipeline, nullptr);
+        vkDestroyDescriptorSetLayout(device_, layout.set, nullptr);
+    }
+}
+
+size_t PipelineStore::size() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return pipelines_.size();
+}
+
+VkPipelineLayout PipelineStore::layout_for(std::span<const VkDescriptorType> types, uint32_t push_constant_size) {
+    const uint32_t push[1] = {push_constant_size};
+    const SpirvKey key = hash_spirv_key({bytes_of(types), bytes_of(std::span<const uint32_t>(push))});
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto it = layouts_.find({key.a, key.b});
+    if (it == layouts_.end()) {
+        Layout layout;
+        layout.set = create_set_layout(device_, types);
+        layout.pipeline = create_pipeline_layout(device_, layout.set, push_constant_size);
+        it = layouts_.emplace(std::make_pair(key.a, key.b), layout).first;
+    }
+    return it->second.pipeline;
+}
+
+VkPipeline PipelineStore::get(const BindingTable& table, std::span<const uint32_t> spirv,
+                              std::span<const uint32_t> spec_constants) {
+    const uint32_t push[1] = {table.push_constant_size()};
+    const SpirvKey key = hash_spirv_key({bytes_of(spirv), bytes_of(spec_constants), bytes_of(table.types()),
+                                         bytes_of(std::span<const uint32_t>(push))});
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        const auto it = pipelines_.find({key.a, key.b});
+        if (it != pipelines_.end()) return it->second;
+    }
+    // Built outside the lock (the stages compile on threads of their own); a pipeline built twice at once keeps one.
+    const VkPipeline built = build(layout_for(table.types(), table.push_constant_size()), spirv, spec_constants);
+    std::lock_guard<std::mutex> lock(mutex_);
+    const auto [it, inserted] = pipelines_.emplace(std::make_pair(key.a, key.b), built);
+    if (!inserted) vkDestroyPipeline(device_, built, nullptr);
+    return it->second;
+}
+
+VkPipeline PipelineStore::build(VkPipelineLayout layout, std::span<const uint32_t> spirv,
+                                std::span<const uint32_t> spec_constants) const {
     // The driver gets the module specialised on the host when it can be (spirv_specialise.h says why), else the
     // whole module and the constants.
     std::vector<uint32_t> specialised;
@@ -129,12 +195,16 @@ ComputePipeline::ComputePipeline(const Context& context, const BindingTable& tab
     VkSpecializationInfo specialization{uint32_t(entries.size()), entries.data(), spec_constants.size_bytes(),
                                         spec_constants.data()};
     if (!spec_constants.empty()) info.stage.pSpecializationInfo = &specialization;
-    info.layout = table.pipeline_layout();
-    VkResult result = vkCreateComputePipelines(device_, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_);
+    info.layout = layout;
+    VkPipeline pipeline = VK_NULL_HANDLE;
+    VkResult result = vkCreateComputePipelines(device_, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline);
     vkDestroyShaderModule(device_, module, nullptr);
     FH_VK_CHECK(result);
+    return pipeline;
 }
 
-ComputePipeline::~ComputePipeline() { vkDestroyPipeline(device_, pipeline_, nullptr); }
+ComputePipeline::ComputePipeline(const Context& context, const BindingTable& table, std::string name,
+                                 std::span<const uint32_t> spirv, std::span<const uint32_t> spec_constants)
+    : pipeline_(context.pipeline_store().get(table, spirv, spec_constants)), name_(std::move(name)) {}
 
 }  // namespace fh::vk

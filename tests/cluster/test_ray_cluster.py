@@ -16,6 +16,7 @@ Needs Ray in the Python that runs it (fredholm-ray runs as `python -m fredholm_r
 installed). Prints one line per check; exits 1 on any failure, leaving the images and node logs in --workdir.
 """
 import argparse
+import re
 import os
 import shlex
 import shutil
@@ -51,6 +52,9 @@ def parse_args():
     p.add_argument("--kill-spp", type=int, help="spp of the run with the kill (default --spp; raise it if no "
                    "chunk lives long enough to be caught)")
     p.add_argument("--kill-chunks", type=int, help="chunks of the run with the kill (default --chunks)")
+    p.add_argument("--kills", type=int, default=1, help="Ray workers killed one after another in that run (the soak: "
+                   "tests/soak/README.md; raise --kill-chunks and --kill-spp with it)")
+    p.add_argument("--only-kills", action="store_true", help="run the check with the kills alone (b), not (a), (c), (d)")
     p.add_argument("--workers", type=int, default=2, help="worker nodes, one CPU each")
     p.add_argument("--node-ip", default="127.0.0.2", help="loopback address the nodes advertise")
     p.add_argument("--ray", help="ray command (default: the one beside this Python)")
@@ -176,27 +180,37 @@ def check_plain_render(args, cluster, workdir):
 def check_render_with_kill(args, cluster, workdir, reference):
     spp = args.kill_spp or args.spp
     chunks = args.kill_chunks or args.chunks
-    if spp != args.spp:
+    if spp != args.spp or reference is None:
         reference = os.path.join(workdir, "reference_kill.exr")
         render_reference(args, spp, reference)
     output = os.path.join(workdir, "ray_kill.exr")
     log_path = os.path.join(workdir, "fredholm_ray_b.log")
     command, process, log = start_fredholm_ray(args, cluster, spp, chunks, output, log_path)
     groups = {p.pid for name, p in cluster.nodes if name != "head"}
+    kills = []
     try:
-        killed = kill_one_worker(os.path.abspath(args.fredholm), groups, process, args.timeout)
+        while len(kills) < args.kills:
+            killed = kill_one_worker(os.path.abspath(args.fredholm), groups, process, args.timeout)
+            if killed is None:
+                break
+            kills.append(killed)
+            print(f"ok (b): kill {len(kills)} of {args.kills}: {killed}", flush=True)
     except BaseException:
         process.kill()
         process.wait()
         log.close()
         raise
     text = finish_fredholm_ray(command, process, log, log_path, args.timeout)
-    if killed is None:
-        raise CheckFailed("no Ray worker was caught running a chunk (raise --kill-spp so chunks last longer)")
-    print(f"ok (b): killed 1 Ray worker mid-chunk: {killed}")
-    summary = text.strip().splitlines()[-1]
-    if "retries 0" in summary:
-        raise CheckFailed(f"fredholm-ray saw no retry after the kill: {summary}")
+    if len(kills) < args.kills:
+        raise CheckFailed(f"{len(kills)} of {args.kills} Ray workers were caught running a chunk (raise --kill-spp "
+                          "and --kill-chunks so chunks last longer)")
+    print(f"ok (b): killed {len(kills)} Ray worker(s) mid-chunk")
+    # fredholm-ray's last line says how many chunks were retried (Ray's own log lines may follow it).
+    summaries = [line for line in text.strip().splitlines() if re.search(r", retries (\d+|unknown)", line)]
+    summary = summaries[-1] if summaries else text.strip().splitlines()[-1]
+    retries = re.search(r"retries (\d+)", summary)
+    if "retries 0" in summary or (retries and int(retries.group(1)) < len(kills)):
+        raise CheckFailed(f"fredholm-ray saw fewer retries than the {len(kills)} kill(s): {summary}")
     compare(args, output, reference)
     print(f"ok (b): image after the kill == single-process render ({summary.split(', ')[-1]})")
 
@@ -264,10 +278,13 @@ def main():
         with cluster:
             times = ", ".join(f"{name} {s:.1f} s" for name, s in cluster.start_seconds.items())
             print(f"cluster up at {cluster.address} in {time.monotonic() - began:.1f} s ({times})")
-            reference = check_plain_render(args, cluster, workdir)
-            check_render_with_kill(args, cluster, workdir, reference)
-            check_worker_without_device(args, cluster, workdir)
-            check_tiles(args, cluster, workdir, reference)
+            if args.only_kills:
+                check_render_with_kill(args, cluster, workdir, None)
+            else:
+                reference = check_plain_render(args, cluster, workdir)
+                check_render_with_kill(args, cluster, workdir, reference)
+                check_worker_without_device(args, cluster, workdir)
+                check_tiles(args, cluster, workdir, reference)
     except (CheckFailed, RuntimeError) as e:
         print(f"FAIL: {e}")
         failed = True

@@ -2,7 +2,7 @@
 # exactly one line on stderr that names the scene file and matches EXPECT, nothing on stdout, and no output
 # image (nor temporary file).
 #
-#   cmake -DFREDHOLM=exe -DSCENE=file -DNAME=name -DOUT=dir [-DARGS="--width 4096 ..."] -DEXPECT=regex
+#   cmake -DFREDHOLM=exe -DSCENE=file -DNAME=name -DOUT=dir [-DARGS="--width 4096 ..."] -DEXPECT=regex [-DNAMED=file]
 #         -P run_failing_render.cmake
 cmake_minimum_required(VERSION 3.25)
 set(dir ${OUT}/${NAME})
@@ -19,7 +19,10 @@ list(JOIN command " " printable)
 set(problems "")
 include(${CMAKE_CURRENT_LIST_DIR}/one_line_failure.cmake)
 check_one_line_failure(problems "${rc}" 1 "${out}" "${err}" "${EXPECT}")
-get_filename_component(file_name ${SCENE} NAME)
+if(NOT NAMED)
+  set(NAMED ${SCENE})
+endif()
+get_filename_component(file_name ${NAMED} NAME)
 string(FIND "${err}" "${file_name}: " at)
 if(at EQUAL -1)
   string(APPEND problems "stderr does not name ${file_name}; ")

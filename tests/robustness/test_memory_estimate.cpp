@@ -123,3 +123,52 @@ TEST(RaySortChoice, ChosenByDeviceKindAndSceneSize) {
     EXPECT_FALSE(fh::choose_sort_rays(true, scene));
     EXPECT_TRUE(fh::choose_sort_rays(false, scene));
 }
+
+namespace {
+std::string size_error(const std::string& word) {
+    try {
+        fh::parse_memory_size(word);
+    } catch (const std::invalid_argument& e) {
+        return e.what();
+    }
+    return "";
+}
+}  // namespace
+
+TEST(MemoryLimit, ParsesSizesInBinaryUnits) {
+    EXPECT_EQ(fh::parse_memory_size("100M"), uint64_t(100) << 20);
+    EXPECT_EQ(fh::parse_memory_size("100MiB"), uint64_t(100) << 20);
+    EXPECT_EQ(fh::parse_memory_size("1.5G"), uint64_t(3) << 29);
+    EXPECT_EQ(fh::parse_memory_size("2gb"), uint64_t(2) << 30);
+    EXPECT_EQ(fh::parse_memory_size("64k"), uint64_t(64) << 10);
+    EXPECT_EQ(fh::parse_memory_size("1T"), uint64_t(1) << 40);
+    EXPECT_EQ(fh::parse_memory_size("4096"), 4096u);
+    for (const char* bad : {"", "M", "10Q", "-1G", "0", "1e400", "5 G", "1Gx", "nan"})
+        EXPECT_NE(size_error(bad).find("is not a size"), std::string::npos) << bad;
+    EXPECT_GT(fh::default_memory_limit(), uint64_t(0));
+}
+
+TEST(MemoryLimit, NamesTheLargestUsesWhenTheirSumIsTooLarge) {
+    const std::vector<fh::MemoryUse> uses{{"a", 10}, {"b", 300}, {"c", 20}, {"d", 5}};
+    EXPECT_EQ(fh::find_limit_problem(uses, 335, "x"), "");
+    EXPECT_EQ(fh::find_limit_problem(uses, 0, "x"), "");  // no limit
+    const std::string error = fh::find_limit_problem(uses, 334, "the thing");
+    EXPECT_EQ(error.rfind("the thing needs 0.0 MiB (335 bytes), more than the memory limit of 0.0 MiB (334 bytes) "
+                          "(--memory-limit; largest: b 0.0 MiB (300 bytes), c 0.0 MiB (20 bytes), a 0.0 MiB (10 bytes))", 0),
+              0u)
+        << error;
+}
+
+// On a CPU device the host's share and the device buffers are one pool; on a GPU each must fit on its own.
+TEST(MemoryLimit, SumsHostAndDeviceOnlyOnACpuDevice) {
+    const fh::MemoryEstimate device = fh::estimate_render_memory(fh::PackedScene{}, 64, 64, 4096, 0u);
+    const uint64_t device_bytes = device.device_bytes();
+    const std::vector<fh::MemoryUse> host{{"host scene textures", device_bytes}};
+    const uint64_t limit = device_bytes + device_bytes / 2;
+    EXPECT_EQ(fh::find_memory_limit_problem(host, device, limit, false), "");
+    const std::string error = fh::find_memory_limit_problem(host, device, limit, true);
+    EXPECT_NE(error.find("the render (host and device memory: one on a CPU device) needs"), std::string::npos) << error;
+    EXPECT_NE(error.find("largest: host scene textures"), std::string::npos) << error;
+    EXPECT_NE(fh::find_memory_limit_problem(host, device, device_bytes - 1, false).find("the render's host memory"),
+              std::string::npos);
+}

@@ -95,7 +95,7 @@ void add_effect_options(CLI::App& app, RenderSettings& s) {
 }
 
 void add_environment_options(CLI::App& app, RenderSettings& s) {
-    add_setting_options(app, s, {"variant", "instancing", "tangents"});
+    add_setting_options(app, s, {"variant", "instancing", "tangents", "memory-limit"});
     auto* env = app.add_option("--env", s.environment_file,
                                "environment light: equirectangular OpenEXR or Radiance .hdr map around the scene")
                     ->check(CLI::ExistingFile);

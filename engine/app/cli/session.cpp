@@ -10,6 +10,8 @@
 #include <iterator>
 
 #include "io/exr.h"
+#include "render/device_defaults.h"
+#include "render/memory_estimate.h"
 #include "render/camera/camera_setup.h"
 #include "scene/gltf/image_decode.h"
 #include "shared/layout.h"
@@ -50,6 +52,7 @@ PreparedScene prepare_scene(const std::filesystem::path& file, const RenderSetti
     load.time = settings.time;
     load.shutter_open = settings.shutter_open;
     load.shutter_close = settings.shutter_close;
+    load.memory_limit = settings.resolved_memory_limit();
     prepared.scene = load_gltf(file, load);
     prepared.load_seconds = seconds_since(start);
     for (const std::string& warning : prepared.scene.warnings)
@@ -75,15 +78,41 @@ PreparedScene prepare_scene(const std::filesystem::path& file, const RenderSetti
 }
 
 namespace {
-// An OpenEXR or Radiance .hdr file, told apart by its magic bytes (not by its name).
-Image read_environment_image(const std::string& file) {
+bool is_exr_file(const std::string& file) {
     std::ifstream in(file, std::ios::binary);
     if (!in) throw IoError(file + ": cannot open the environment map");
     char magic[4] = {};
     in.read(magic, 4);
-    if (in.gcount() == 4 && std::memcmp(magic, "\x76\x2f\x31\x01", 4) == 0) return read_exr(file);
-    in.seekg(0);
-    const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    return in.gcount() == 4 && std::memcmp(magic, "\x76\x2f\x31\x01", 4) == 0;
+}
+
+std::vector<unsigned char> read_bytes(const std::string& file) {
+    std::ifstream in(file, std::ios::binary);
+    if (!in) throw IoError(file + ": cannot open the environment map");
+    return std::vector<unsigned char>((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// Refuses a map larger than the environment's limit from its declared size, before it is decoded.
+void check_environment_size(const std::string& file, int64_t width, int64_t height) {
+    if (width <= int64_t(MAX_ENVIRONMENT_WIDTH) && height <= int64_t(MAX_ENVIRONMENT_WIDTH / 2)) return;
+    char gib[32];
+    std::snprintf(gib, sizeof gib, "%.1f", double(width) * double(height) * 12.0 / double(1u << 30));
+    throw IoError(file + ": environment map of " + std::to_string(width) + " x " + std::to_string(height) +
+                  " texels declared (" + gib + " GiB as float RGB), more than the limit of " +
+                  std::to_string(MAX_ENVIRONMENT_WIDTH) + " x " + std::to_string(MAX_ENVIRONMENT_WIDTH / 2));
+}
+
+// An OpenEXR or Radiance .hdr file, told apart by its magic bytes (not by its name).
+Image read_environment_image(const std::string& file) {
+    if (is_exr_file(file)) {
+        const ImageSize size = read_exr_size(file);
+        check_environment_size(file, size.width, size.height);
+        return read_exr(file);
+    }
+    const std::vector<unsigned char> bytes = read_bytes(file);
+    int64_t declared_width = 0, declared_height = 0;
+    if (read_radiance_hdr_size(bytes.data(), bytes.size(), declared_width, declared_height))
+        check_environment_size(file, declared_width, declared_height);
     Image image;
     uint32_t width = 0, height = 0;
     std::string error;
@@ -114,6 +143,19 @@ EnvironmentMap load_environment(const RenderSettings& settings) {
     } catch (const std::invalid_argument& e) {
         throw IoError(e.what());
     }
+}
+
+void check_render_fits(const PreparedScene& prepared, const RenderSettings& settings, const vk::Context& context,
+                       const std::filesystem::path& file) {
+    const RenderSettings s = with_device_defaults(settings, context, prepared.packed);
+    const MemoryEstimate device = estimate_render_memory(prepared.packed, s);
+    std::string problem = find_memory_problem(device, query_memory_limits(context));
+    if (problem.empty())
+        problem = find_memory_limit_problem(host_render_uses(prepared.scene, device), device, s.resolved_memory_limit(),
+                                            is_cpu_device(context));
+    if (!problem.empty())
+        throw std::runtime_error(file.string() + ": " + std::to_string(s.width) + "x" + std::to_string(s.height) +
+                                 " on " + context.device_name() + ": " + problem);
 }
 
 bool validation_requested_by_environment() {

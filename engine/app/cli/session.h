@@ -35,6 +35,12 @@ PreparedScene prepare_scene(const std::filesystem::path& file, const RenderSetti
 // with another integrator than path tracing.
 void apply_light_sampler(PreparedScene& prepared, const std::filesystem::path& file, const RenderSettings& settings);
 
+// Refuses a render whose buffers break the device's limits (render/memory_estimate.h find_memory_problem) or whose host
+// and device memory break --memory-limit, before anything is allocated for it: std::runtime_error with one line naming
+// `file`, the image size and the device. `settings`' wave size may still be unchosen (with_device_defaults is applied).
+void check_render_fits(const PreparedScene& prepared, const RenderSettings& settings, const vk::Context& context,
+                       const std::filesystem::path& file);
+
 // The environment light the settings ask for (--env, --background), or an empty map. Throws IoError naming
 // the file for an unreadable or invalid map.
 EnvironmentMap load_environment(const RenderSettings& settings);

@@ -14,6 +14,7 @@
 #include "render/camera/lens.h"
 #include "render/techniques.h"
 #include "scene/effects.h"
+#include "scene/memory_limit.h"
 #include "shared/layout.h"
 
 namespace fh {
@@ -187,6 +188,14 @@ std::vector<SettingInfo> make_table() {
                  "fredholm:light_sampler", nullptr, true, true, "power",
                  [](S& s, W w) { s.light_sampler = parse_light_sampler(lowercase(w)); },
                  [](const S& s) { return std::string(light_sampler_name(s.light_sampler)); }});
+    t.push_back({"memory-limit", "SIZE",
+                 "the most memory the scene and the render may take, e.g. 100M, 1.5G (host and device; their sum on a CPU "
+                 "device such as lavapipe); a scene that needs more is refused before its textures are decoded or its "
+                 "buffers allocated (default: three quarters of physical memory)",
+                 nullptr, "memory_limit", false, false, nullptr,
+                 [](S& s, W w) { s.memory_limit = parse_memory_size(w); },
+                 [](const S& s) { return s.memory_limit ? std::to_string(s.memory_limit) : std::string("default"); },
+                 [](const S& s) { return nlohmann::json(s.resolved_memory_limit()); }});
     // How the device runs the wave: the same image either way.
     t.push_back({"wave-paths", "UINT",
                  "paths in flight per wave (default: 524288 on a CPU device such as lavapipe, 4194304 on a GPU, "

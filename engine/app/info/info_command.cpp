@@ -8,6 +8,8 @@
 
 #include "app/cli/render_options.h"
 #include "app/cli/session.h"
+#include "render/device_defaults.h"
+#include "render/memory_estimate.h"
 #include "scene/effects.h"
 
 namespace fh {
@@ -30,6 +32,32 @@ void add_info_options(CLI::App& app, InfoCommand& c) {
     add_animation_options(app, c.settings);
     add_effect_options(app, c.settings);
 }
+
+namespace {
+
+// What a render of this scene takes (render/memory_estimate.h): the host's share, and the device's for the default
+// film at the wave sizes the devices default to (the render itself checks the wave it chooses).
+struct MemorySummary {
+    uint64_t host = 0, device_cpu = 0, device_gpu = 0, limit = 0;
+    double per_path = 0.0;
+};
+
+MemorySummary summarise_memory(const PreparedScene& p, const RenderSettings& settings) {
+    const EffectBits effects = select_effects(p.packed.effects.bits, settings.forced_effects, settings.disabled_effects);
+    const PathStore store = make_path_store(settings);
+    const auto device = [&](uint32_t paths) {
+        return estimate_render_memory(p.packed, settings.film_width(), settings.film_height(), paths, effects, store);
+    };
+    MemorySummary m;
+    for (const MemoryUse& use : host_render_uses(p.scene, device(1))) m.host += use.bytes;
+    m.device_cpu = device(CPU_WAVE_PATHS).device_bytes();
+    m.device_gpu = device(GPU_WAVE_PATHS).device_bytes();
+    m.per_path = bytes_per_path(p.packed, effects, store);
+    m.limit = settings.resolved_memory_limit();
+    return m;
+}
+
+}  // namespace
 
 int run_info(const InfoCommand& c) {
     const PreparedScene p = prepare_scene(c.scene, c.settings);
@@ -61,6 +89,13 @@ int run_info(const InfoCommand& c) {
     j["bvh_depth"] = p.bvh_depth;
     j["load_seconds"] = p.load_seconds;
     j["bvh_build_seconds"] = p.bvh_build_seconds;
+    const MemorySummary memory = summarise_memory(p, c.settings);
+    j["memory"] = {{"host_bytes", memory.host},
+                   {"device_bytes_cpu_wave", memory.device_cpu},
+                   {"device_bytes_gpu_wave", memory.device_gpu},
+                   {"device_bytes_per_path", memory.per_path},
+                   {"film", std::to_string(c.settings.film_width()) + "x" + std::to_string(c.settings.film_height())},
+                   {"limit_bytes", memory.limit}};
     j["effects"] = describe_effects(compiled);
     nlohmann::ordered_json table = nlohmann::ordered_json::array();
     for (const EffectDecision& d : effects.decisions)
@@ -91,6 +126,11 @@ int run_info(const InfoCommand& c) {
                 p.scene.bounds_min.z, p.scene.bounds_max.x, p.scene.bounds_max.y, p.scene.bounds_max.z);
     std::printf("  BVH                %zu nodes, depth %u (load %.3f s, build %.3f s)\n", p.bvh_nodes, p.bvh_depth,
                 p.load_seconds, p.bvh_build_seconds);
+    std::printf("  memory             host %s; device %s with %u paths in flight (a CPU device's default), %s with "
+                "%u (a GPU's), %.0f bytes per path, for %ux%u; limit %s\n",
+                format_bytes(memory.host).c_str(), format_bytes(memory.device_cpu).c_str(), CPU_WAVE_PATHS,
+                format_bytes(memory.device_gpu).c_str(), GPU_WAVE_PATHS, memory.per_path, c.settings.film_width(),
+                c.settings.film_height(), format_bytes(memory.limit).c_str());
     std::printf("effects compiled: %s\n", describe_effects(compiled).c_str());
     for (const EffectDecision& d : effects.decisions)
         std::printf("  %-3s %-27s %s\n", (compiled & d.bit) ? "on" : "off", d.name, describe_decision(d, compiled).c_str());

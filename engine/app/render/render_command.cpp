@@ -15,6 +15,7 @@
 #include "app/cli/progress.h"
 #include "app/cli/resume.h"
 #include "app/cli/session.h"
+#include "vk/buffer.h"
 #include "app/cli/setting_table.h"
 #include "app/render/render_passes.h"
 #include "io/atomic_write.h"
@@ -114,6 +115,11 @@ void write_stats(const std::filesystem::path& file, const RenderCommand& c, cons
     j["texture_bytes"] = prepared.packed.texels.size() * 4;
     j["render_origin"] = {prepared.scene.origin.x, prepared.scene.origin.y, prepared.scene.origin.z};
     j["stage_seconds"] = stats.stage_seconds;
+    // Memory held as the image is written (the renderer still alive): what the soak tests (tests/soak/) follow.
+    const vk::DeviceMemoryInUse device_memory = vk::device_memory_in_use();
+    j["device_memory_bytes"] = device_memory.bytes;
+    j["device_allocations"] = device_memory.allocations;
+    j["host_resident_bytes"] = resident_memory_bytes();
     // The image's estimated relative error (error_estimate.h); null where it has none.
     j["relative_error"] = outcome.estimate && std::isfinite(outcome.error) ? nlohmann::json(outcome.error)
                                                                             : nlohmann::json(nullptr);
@@ -407,12 +413,7 @@ int run_frame(const RenderCommand& command, vk::Context* shared_context) {
         apply_light_sampler(prepared, c.scene, c.settings);
     }
     c.settings = with_device_defaults(c.settings, *context, prepared.packed);
-    try {
-        check_render_memory(estimate_render_memory(prepared.packed, settings), query_memory_limits(*context));
-    } catch (const std::runtime_error& e) {
-        throw std::runtime_error(c.scene.string() + ": " + std::to_string(settings.width) + "x" +
-                                 std::to_string(settings.height) + " on " + context->device_name() + ": " + e.what());
-    }
+    check_render_fits(prepared, settings, *context, c.scene);
     Renderer renderer(*context, prepared.packed, camera, settings);
     if (!c.resume) renderer.clear_film();
     else renderer.write_film_state(saved.film);

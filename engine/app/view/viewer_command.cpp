@@ -24,6 +24,8 @@
 #include "render/camera/lens.h"
 #include "render/estimated_render.h"
 #include "render/renderer.h"
+#include "scene/memory_limit.h"
+#include "vk/buffer.h"
 #include "vk/check.h"
 #include "vk/swapchain.h"
 
@@ -60,10 +62,14 @@ std::vector<std::string> split_script(const std::string& script) {
     return actions;
 }
 
-// Resizes the window and waits (up to 2 s) for the new framebuffer size to arrive.
+// Resizes the window, to a smaller one and back on alternate calls (so that a long run returns to its first size),
+// and waits (up to 2 s) for the new framebuffer size to arrive.
 void scripted_resize(ViewerWindow& window) {
+    static bool shrunk = false;
     VkExtent2D before = window.framebuffer_size();
-    window.set_size(before.width * 3 / 4 + 8, before.height + 24);
+    if (!shrunk) window.set_size(before.width * 3 / 4 + 8, before.height + 24);
+    else window.set_size((before.width - 8) * 4 / 3, before.height - 24);
+    shrunk = !shrunk;
     for (auto start = Clock::now(); seconds_since(start) < 2.0;) {
         window.poll();
         VkExtent2D now = window.framebuffer_size();
@@ -108,6 +114,30 @@ void write_screenshot(const std::filesystem::path& exr, const Renderer& renderer
     std::fprintf(stderr, "fredholm view: wrote %s and %s (%ux%u, %u spp)\n", exr.string().c_str(),
                  png.string().c_str(), s.settings.width, s.settings.height, s.spp);
 }
+
+// Host and device memory after the first frame and after the last (a --frames run prints both: tests/soak/).
+class MemoryWatch {
+public:
+    void after_frame() {
+        last_ = {resident_memory_bytes(), vk::device_memory_in_use()};
+        if (frames_++ == 0) first_ = last_;
+    }
+    std::string describe() const {
+        const auto mib = [](uint64_t bytes) { return std::to_string((bytes + (1u << 19)) >> 20) + " MiB"; };
+        return "memory after frame 1 and frame " + std::to_string(frames_) + ": host resident " + mib(first_.host) +
+               ", " + mib(last_.host) + "; device " + mib(first_.device.bytes) + " in " +
+               std::to_string(first_.device.allocations) + " allocations, " + mib(last_.device.bytes) + " in " +
+               std::to_string(last_.device.allocations) + " allocations";
+    }
+
+private:
+    struct Sample {
+        uint64_t host = 0;
+        vk::DeviceMemoryInUse device;
+    };
+    Sample first_, last_;
+    uint64_t frames_ = 0;
+};
 
 // Sizes a time-sliced frame: how many pixels (one sample each) fit in the target time, from the last frames.
 struct FrameSlicer {
@@ -222,6 +252,7 @@ int run_view(const ViewCommand& c) {
         renderer.reset();
         s.settings.width = swapchain->extent().width;
         s.settings.height = swapchain->extent().height;
+        check_render_fits(prepared, s.settings, *context, c.scene);
         renderer = std::make_unique<Renderer>(*context, prepared.packed, lens_camera(), s.settings);
         renderer->clear_film();
         s.spp = 0;
@@ -234,6 +265,7 @@ int run_view(const ViewCommand& c) {
 
     uint64_t nonfinite = 0;
     double samples_per_second = 0, ms_per_frame = 0;
+    MemoryWatch memory;
     auto last_frame = Clock::now();
     for (uint32_t frame = 0; c.frames == 0 || frame < c.frames; ++frame) {
         window.poll();
@@ -306,6 +338,7 @@ int run_view(const ViewCommand& c) {
                                s.tone_curve, *swapchain))
             swapchain->recreate(window.framebuffer_size());
         ms_per_frame = 1e3 * seconds_since(start_frame);
+        memory.after_frame();
         window.set_title(make_title(s, samples_per_second, ms_per_frame));
 
         if (s.screenshot) {
@@ -319,6 +352,7 @@ int run_view(const ViewCommand& c) {
                          "estimated relative error %.3g%%\n",
                  s.settings.width, s.settings.height, s.spp, samples_per_second * 1e-6, ms_per_frame,
                  context->device_name().c_str(), (unsigned long long)nonfinite, 100 * s.error);
+    if (c.frames > 0) std::fprintf(stderr, "fredholm view: %s\n", memory.describe().c_str());
     renderer.reset();
     swapchain.reset();
     if (context->validation_message_count() > 0) {

@@ -19,6 +19,31 @@ class SceneBundle:
     files: Dict[str, bytes] = field(default_factory=dict)  # bundle path -> contents
 
 
+MAX_JSON_DEPTH = 1000  # as fredholm's own loader (engine/scene/gltf/json_limits.h)
+
+
+def json_nesting_depth(data):
+    """The deepest nesting of arrays and objects in JSON text (bytes), brackets inside strings left out."""
+    depth = deepest = 0
+    in_string = escaped = False
+    for byte in data:
+        if in_string:
+            if escaped:
+                escaped = False
+            elif byte == 0x5C:  # backslash
+                escaped = True
+            elif byte == 0x22:  # quote
+                in_string = False
+        elif byte == 0x22:
+            in_string = True
+        elif byte in (0x5B, 0x7B):  # [ {
+            depth += 1
+            deepest = max(deepest, depth)
+        elif byte in (0x5D, 0x7D):
+            depth -= 1
+    return deepest
+
+
 def read_gltf_json(path):
     """The JSON document of a .gltf, or of a .glb's first chunk."""
     try:
@@ -33,6 +58,10 @@ def read_gltf_json(path):
         if kind != GLB_JSON_CHUNK or 20 + length > len(data):
             raise UsageError(f"{path}: binary glTF without a JSON chunk first")
         data = data[20:20 + length]
+    depth = json_nesting_depth(data)
+    if depth > MAX_JSON_DEPTH:  # Python's parser would stop with a RecursionError
+        raise UsageError(f"{path}: the JSON nests arrays and objects {depth} levels deep, more than the limit "
+                         f"of {MAX_JSON_DEPTH}")
     try:
         return json.loads(data)
     except (ValueError, UnicodeDecodeError) as e:

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <string>
 
 #include <tiny_gltf.h>
@@ -134,6 +135,18 @@ void visit_elements(const tinygltf::Model& model, int index, const std::string& 
 }
 
 }  // namespace
+
+const tinygltf::Value& json_member(const tinygltf::Value& object, const char* key) {
+    static const tinygltf::Value null_value;
+    return object.IsObject() && object.Has(key) ? object.Get(key) : null_value;
+}
+
+int read_json_index(const tinygltf::Value& value) {
+    if (value.IsInt()) return std::max(value.Get<int>(), -1);
+    if (!value.IsNumber()) return -1;
+    const double v = value.Get<double>();
+    return v >= 0.0 && v <= double(std::numeric_limits<int>::max()) && v == std::floor(v) ? int(v) : -1;
+}
 
 std::vector<glm::vec3> read_float3(const tinygltf::Model& model, int index, const std::string& role) {
     const tinygltf::Accessor& accessor = find_accessor(model, index, role);

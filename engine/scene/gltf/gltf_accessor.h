@@ -8,9 +8,19 @@
 
 namespace tinygltf {
 class Model;
+class Value;
 }
 
 namespace fh::gltf {
+
+// An index an extension's JSON gives (tinygltf leaves extensions as values): an integer, or a real of integral value, in
+// [0, INT_MAX]; else -1, which the caller's range check refuses. (tinygltf's GetNumberAsInt converts any real to int,
+// undefined behaviour past its range: a fuzzer finding, tests/fuzz/regressions/ub_draco_buffer_view_3e38.gltf.)
+int read_json_index(const tinygltf::Value& value);
+
+// `object`'s member `key`, or a null value where `object` is not an object or lacks it (tinygltf's Value::Get asserts
+// on a non-object: a fuzzer finding, tests/fuzz/regressions/assert_variant_not_an_object.glb).
+const tinygltf::Value& json_member(const tinygltf::Value& object, const char* key);
 
 // Accessors with more elements are refused before anything is allocated: 2^27 elements is far beyond what the
 // renderer can hold (see render/memory_estimate.h), and keeps every element index well inside 32 bits.

@@ -8,6 +8,8 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <tiny_gltf.h>
 
+#include "scene/gltf/gltf_accessor.h"
+
 namespace fh::gltf {
 namespace {
 
@@ -48,7 +50,7 @@ void Flattener::add_camera(int camera_index, int node_index, const Placement& pl
 
 // A KHR_lights_punctual reference on a node: {"light": index}.
 void Flattener::add_light(const tinygltf::Value& extension, int node_index, const glm::dmat4& world) {
-    const tinygltf::Value& index_value = extension.Get("light");
+    const tinygltf::Value& index_value = gltf::json_member(extension, "light");
     if (!index_value.IsInt() && !index_value.IsNumber())
         throw SceneError(describe_node(model_, node_index) + ": KHR_lights_punctual has no light index");
     const double index = index_value.IsInt() ? double(index_value.Get<int>()) : index_value.Get<double>();

@@ -45,7 +45,7 @@ void decode_primitive(tinygltf::Model& model, tinygltf::Primitive& prim, const t
                       const std::string& where) {
     const tinygltf::Value& view_value = ext.Get("bufferView");
     if (!view_value.IsInt() && !view_value.IsNumber()) throw SceneError(where + ": KHR_draco_mesh_compression has no bufferView");
-    const int view_index = view_value.GetNumberAsInt();
+    const int view_index = read_json_index(view_value);
     if (view_index < 0 || size_t(view_index) >= model.bufferViews.size())
         throw SceneError(where + ": KHR_draco_mesh_compression bufferView " + std::to_string(view_index) + " does not exist");
     const tinygltf::BufferView& view = model.bufferViews[size_t(view_index)];
@@ -97,9 +97,9 @@ void decode_primitive(tinygltf::Model& model, tinygltf::Primitive& prim, const t
             throw SceneError(where + ": Draco attribute " + name + " has no accessor in the primitive");
         const tinygltf::Value& id = attributes.Get(name);
         if (!id.IsInt() && !id.IsNumber()) throw SceneError(where + ": Draco attribute " + name + " has no id");
-        const draco::PointAttribute* attribute = mesh->GetAttributeByUniqueId(uint32_t(id.GetNumberAsInt()));
+        const draco::PointAttribute* attribute = mesh->GetAttributeByUniqueId(uint32_t(read_json_index(id)));
         if (attribute == nullptr)
-            throw SceneError(where + ": the Draco stream has no attribute " + std::to_string(id.GetNumberAsInt()) + " (" + name + ")");
+            throw SceneError(where + ": the Draco stream has no attribute " + std::to_string(read_json_index(id)) + " (" + name + ")");
         tinygltf::Accessor& accessor = model.accessors[size_t(it->second)];
         const int components = component_count(accessor.type);
         if (accessor.count != size_t(mesh->num_points()) || components == 0 || attribute->num_components() < 1)

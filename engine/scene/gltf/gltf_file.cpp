@@ -198,13 +198,25 @@ std::vector<unsigned char> patch_file_for_decoders(const std::filesystem::path& 
     return glb;
 }
 
+// Refuses a file whose buffers and decoded textures would take more than the memory limit, before any texture is
+// decoded (the buffers are read by then: at most 2 GiB each, as read_regular_file allows).
+void check_load_memory(const tinygltf::Model& model, const gltf::PendingImages& pending, uint64_t memory_limit) {
+    uint64_t buffer_bytes = 0;
+    for (const tinygltf::Buffer& buffer : model.buffers) buffer_bytes += buffer.data.size();
+    std::vector<MemoryUse> uses = gltf::decoded_image_uses(model, pending);
+    uses.push_back({"buffers", buffer_bytes});
+    const std::string problem = find_limit_problem(uses, memory_limit, "loading the scene");
+    if (!problem.empty()) throw SceneError(problem);
+}
+
 }  // namespace
 
-tinygltf::Model read_model(const std::filesystem::path& file, std::vector<std::string>& warnings) {
+tinygltf::Model read_model(const std::filesystem::path& file, std::vector<std::string>& warnings, uint64_t memory_limit) {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(file, ec)) throw SceneError("file not found");
     tinygltf::TinyGLTF parser;
-    parser.SetImageLoader(&gltf::load_image_data, nullptr);
+    gltf::PendingImages pending;
+    parser.SetImageLoader(&gltf::read_image_header, &pending);
     parser.SetFsCallbacks(
         {&file_exists, &tinygltf::ExpandFilePath, &read_regular_file, &tinygltf::WriteWholeFile, nullptr});
     tinygltf::Model model;
@@ -235,6 +247,8 @@ tinygltf::Model read_model(const std::filesystem::path& file, std::vector<std::s
         const std::string message = join_lines(err, "; ");
         throw SceneError("tinygltf: " + (message.empty() ? std::string("could not parse the file") : message));
     }
+    check_load_memory(model, pending, memory_limit);
+    gltf::decode_pending_images(model, pending);
     for (const std::string& name : model.extensionsUsed) {
         if (name == "EXT_meshopt_compression") gltf::decode_meshopt_views(model, fallbacks);
         if (name == "KHR_draco_mesh_compression") gltf::decode_draco_primitives(model);

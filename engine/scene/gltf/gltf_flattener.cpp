@@ -268,11 +268,11 @@ void Flattener::record_mesh_uses(const tinygltf::Node& node, int index, const Pl
         const tinygltf::Value& accessor = attributes.Get(names[a]);
         if (!accessor.IsInt() && !accessor.IsNumber()) throw SceneError(where + ": " + names[a] + " is not an accessor index");
         const int components = a == 1 ? 4 : 3;
-        const int id = accessor.GetNumberAsInt();
+        const int id = gltf::read_json_index(accessor);
         if (id >= 0 && size_t(id) < model_.accessors.size() && model_.accessors[size_t(id)].count > MAX_NODE_INSTANCES)
             throw SceneError(where + ": " + std::to_string(model_.accessors[size_t(id)].count) +
                              " instances take the scene past " + std::to_string(MAX_NODE_INSTANCES) + " node instances");
-        columns[a] = gltf::read_vectors(model_, accessor.GetNumberAsInt(), std::string(names[a]) + " of " + where,
+        columns[a] = gltf::read_vectors(model_, id, std::string(names[a]) + " of " + where,
                                         components, components, true);
         if (any && columns[a].size() != count)
             throw SceneError(where + ": " + names[a] + " has " + std::to_string(columns[a].size()) +

@@ -7,6 +7,7 @@
 
 #include <tiny_gltf.h>
 
+#include "scene/gltf/gltf_accessor.h"
 #include "scene/gltf/gltf_animation.h"
 #include "scene/gltf/gltf_file.h"
 #include "scene/gltf/gltf_flattener.h"
@@ -104,7 +105,7 @@ int choose_variant(const tinygltf::Model& model, const std::string& wanted, std:
     if (it != model.extensions.end() && it->second.IsObject() && it->second.Has("variants")) {
         const tinygltf::Value& variants = it->second.Get("variants");
         for (size_t v = 0; variants.IsArray() && v < variants.ArrayLen(); ++v) {
-            const tinygltf::Value& name = variants.Get(int(v)).Get("name");
+            const tinygltf::Value& name = gltf::json_member(variants.Get(int(v)), "name");
             names.push_back(name.IsString() ? name.Get<std::string>() : "variant " + std::to_string(v));
         }
     }
@@ -145,7 +146,7 @@ double key_shutter(tinygltf::Model& model, int animation, const LoadOptions& opt
 Scene load_unprefixed(const std::filesystem::path& file, const LoadOptions& options) {
     Scene scene;
     scene.source = file;
-    tinygltf::Model model = read_model(file, scene.warnings);
+    tinygltf::Model model = read_model(file, scene.warnings, options.memory_limit);
     check_extensions(model, scene.warnings);
     std::vector<std::vector<glm::dmat4>> local_keys;  // motion blur: every node's transform at the shutter's keys
     if (options.animate || (options.has_shutter() && !model.animations.empty())) {

@@ -296,11 +296,11 @@ int Flattener::variant_material(const tinygltf::Primitive& prim) const {
     const tinygltf::Value& mappings = it->second.Get("mappings");
     for (size_t m = 0; mappings.IsArray() && m < mappings.ArrayLen(); ++m) {
         const tinygltf::Value& mapping = mappings.Get(int(m));
-        const tinygltf::Value& variants = mapping.Get("variants");
+        const tinygltf::Value& variants = gltf::json_member(mapping, "variants");
         for (size_t v = 0; variants.IsArray() && v < variants.ArrayLen(); ++v)
-            if (variants.Get(int(v)).IsNumber() && variants.Get(int(v)).GetNumberAsInt() == variant_ &&
-                mapping.Get("material").IsNumber())
-                return mapping.Get("material").GetNumberAsInt();
+            if (variants.Get(int(v)).IsNumber() && gltf::read_json_index(variants.Get(int(v))) == variant_ &&
+                gltf::json_member(mapping, "material").IsNumber())
+                return gltf::read_json_index(gltf::json_member(mapping, "material"));
     }
     return prim.material;
 }

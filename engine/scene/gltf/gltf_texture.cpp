@@ -6,6 +6,7 @@
 
 #include <tiny_gltf.h>
 
+#include "scene/gltf/gltf_accessor.h"
 #include "scene/gltf/image_decode.h"
 
 namespace fh::gltf {
@@ -45,8 +46,8 @@ const tinygltf::Value* find(const std::map<std::string, tinygltf::Value>* extens
 int texture_image(const tinygltf::Texture& texture, int texture_index, size_t image_count) {
     int image = texture.source;
     if (const tinygltf::Value* webp = find(&texture.extensions, "EXT_texture_webp")) {
-        const double source = read_number(*webp, "source", -1.0);
-        if (source >= 0.0) image = int(source);
+        const int source = webp->Has("source") ? read_json_index(webp->Get("source")) : -1;
+        if (source >= 0) image = source;
     }
     if (image >= 0 && size_t(image) >= image_count)
         throw SceneError("texture " + std::to_string(texture_index) + " uses image " + std::to_string(image) +
@@ -56,8 +57,21 @@ int texture_image(const tinygltf::Texture& texture, int texture_index, size_t im
 
 }  // namespace
 
-bool load_image_data(tinygltf::Image* image, int image_index, std::string* error, std::string*, int, int,
-                     const unsigned char* bytes, int size, void*) {
+namespace {
+std::string image_label(const tinygltf::Image& image, int index) {
+    const std::string name = image.uri.empty() || image.uri.rfind("data:", 0) == 0 ? image.name : image.uri;
+    return "image " + std::to_string(index) + (name.empty() ? "" : " '" + name + "'");
+}
+}  // namespace
+
+uint64_t PendingImages::decoded_bytes() const {
+    uint64_t total = 0;
+    for (const Entry& e : images) total += uint64_t(e.width) * e.height * 4;
+    return total;
+}
+
+bool read_image_header(tinygltf::Image* image, int image_index, std::string* error, std::string*, int, int,
+                       const unsigned char* bytes, int size, void* pending) {
     if (size <= 0 || bytes == nullptr) {
         *error += "image " + std::to_string(image_index) + " is empty";
         return false;
@@ -66,21 +80,45 @@ bool load_image_data(tinygltf::Image* image, int image_index, std::string* error
         image->width = image->height = image->component = 0;
         return true;
     }
-    DecodedImage decoded;
+    uint32_t width = 0, height = 0;
     std::string problem;
-    if (!decode_image(bytes, size_t(size), decoded, problem)) {
-        const std::string name = image->uri.empty() || image->uri.rfind("data:", 0) == 0 ? image->name : image->uri;
-        *error += "image " + std::to_string(image_index) + (name.empty() ? "" : " '" + name + "'") + ": " + problem;
+    if (!read_image_size(bytes, size_t(size), width, height, problem)) {
+        *error += image_label(*image, image_index) + ": " + problem;
         return false;
     }
-    image->width = int(decoded.width);
-    image->height = int(decoded.height);
+    image->width = int(width);
+    image->height = int(height);
     image->component = 4;
     image->bits = 8;
     image->pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
-    image->image.resize(decoded.texels.size() * 4);
-    std::memcpy(image->image.data(), decoded.texels.data(), image->image.size());
+    static_cast<PendingImages*>(pending)->images.push_back(
+        {image_index, width, height, std::vector<unsigned char>(bytes, bytes + size)});
     return true;
+}
+
+void decode_pending_images(tinygltf::Model& model, PendingImages& pending) {
+    for (PendingImages::Entry& entry : pending.images) {
+        tinygltf::Image& image = model.images.at(size_t(entry.index));
+        DecodedImage decoded;
+        std::string problem;
+        if (!decode_image(entry.encoded.data(), entry.encoded.size(), decoded, problem))
+            throw SceneError(image_label(image, entry.index) + ": " + problem);
+        std::vector<unsigned char>().swap(entry.encoded);
+        if (decoded.width != entry.width || decoded.height != entry.height)
+            throw SceneError(image_label(image, entry.index) + ": decoded as " + std::to_string(decoded.width) + " x " +
+                             std::to_string(decoded.height) + " texels, not the " + std::to_string(entry.width) +
+                             " x " + std::to_string(entry.height) + " its header declares");
+        image.image = std::move(decoded.rgba);
+    }
+}
+
+std::vector<MemoryUse> decoded_image_uses(const tinygltf::Model& model, const PendingImages& pending) {
+    std::vector<MemoryUse> uses;
+    for (const PendingImages::Entry& e : pending.images)
+        uses.push_back({image_label(model.images.at(size_t(e.index)), e.index) + " (" + std::to_string(e.width) +
+                            " x " + std::to_string(e.height) + ", decoded and packed)",
+                        2 * uint64_t(e.width) * e.height * 4});
+    return uses;
 }
 
 std::vector<SceneImage> take_images(tinygltf::Model& model) {
@@ -131,7 +169,9 @@ uint32_t add_texture_slot(const tinygltf::Model& model, const TextureReference& 
         offset = read_pair(*transform, "offset", offset);
         scale = read_pair(*transform, "scale", scale);
         rotation = read_number(*transform, "rotation", 0.0);
-        tex_coord = int(read_number(*transform, "texCoord", double(tex_coord)));
+        // A real of any size may stand here (a fuzzer finding: int(3.5e38) is undefined); 0 and 1 are the sets read.
+        const double set = read_number(*transform, "texCoord", double(tex_coord));
+        tex_coord = set == 0.0 || set == 1.0 ? int(set) : (set >= 0.0 && set < 1e9 ? int(set) : -1);
     }
     if (tex_coord != 0 && tex_coord != 1)
         throw SceneError("texCoord " + std::to_string(tex_coord) + " is not supported, only TEXCOORD_0 and " +

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "scene/memory_limit.h"
 #include "scene/scene.h"
 #include "shared/layout.h"
 
@@ -17,11 +18,31 @@ struct Image;
 
 namespace fh::gltf {
 
-// tinygltf's image callback (tinygltf::LoadImageDataFunction): decodes PNG, JPEG and WebP into RGBA8. KTX2
-// images are left empty (they are reported when a material uses them); anything else fails the load with the
-// image named.
-bool load_image_data(tinygltf::Image* image, int image_index, std::string* error, std::string* warning,
-                     int requested_width, int requested_height, const unsigned char* bytes, int size, void*);
+// Images tinygltf has read but not decoded: their encoded bytes and the sizes their headers declare, so that what
+// decoding takes is known (and a memory limit applied) before any image is decoded.
+struct PendingImages {
+    struct Entry {
+        int index = -1;  // into Model::images
+        uint32_t width = 0, height = 0;
+        std::vector<unsigned char> encoded;
+    };
+    std::vector<Entry> images;
+    uint64_t decoded_bytes() const;  // as RGBA8
+};
+
+// tinygltf's image callback (tinygltf::LoadImageDataFunction; `pending`: a PendingImages): reads the size a PNG, JPEG
+// or WebP header declares (refusing more than MAX_IMAGE_SIDE per side) and keeps the encoded bytes for
+// decode_pending_images. KTX2 images are left empty (they are reported when a material uses them); anything else
+// fails the load with the image named.
+bool read_image_header(tinygltf::Image* image, int image_index, std::string* error, std::string* warning,
+                       int requested_width, int requested_height, const unsigned char* bytes, int size, void* pending);
+
+// What decoding the pending images will take on the host, one use per image (its RGBA8 copy and the packed one).
+std::vector<MemoryUse> decoded_image_uses(const tinygltf::Model& model, const PendingImages& pending);
+
+// Decodes each pending image into its Model::images entry as RGBA8. Throws SceneError naming an image that does not
+// decode, or decodes to another size than its header declared.
+void decode_pending_images(tinygltf::Model& model, PendingImages& pending);
 
 // The decoded images of `model` (moved out of it) in file order.
 std::vector<SceneImage> take_images(tinygltf::Model& model);

@@ -3,6 +3,7 @@
 #include "scene/gltf/image_decode.h"
 
 #include <cstdio>
+#include <algorithm>
 #include <cstring>
 
 #include <webp/decode.h>
@@ -33,16 +34,25 @@ bool starts_with(const unsigned char* bytes, size_t size, const char* magic, siz
     return size >= at + n && std::memcmp(bytes + at, magic, n) == 0;
 }
 
-bool check_size(int width, int height, std::string& error) {
-    if (width <= 0 || height <= 0 || uint32_t(width) > MAX_IMAGE_SIDE || uint32_t(height) > MAX_IMAGE_SIDE) {
-        error = "image of " + std::to_string(width) + " x " + std::to_string(height) + " texels (at most " +
-                std::to_string(MAX_IMAGE_SIDE) + " per side)";
+// "image of W x H texels declared (G GiB as RGBA8), more than the limit of 16384 per side"
+std::string too_large(int64_t width, int64_t height, const char* as, double bytes_per_texel) {
+    char gib[32];
+    std::snprintf(gib, sizeof gib, "%.1f", double(width) * double(height) * bytes_per_texel / double(1u << 30));
+    return "image of " + std::to_string(width) + " x " + std::to_string(height) + " texels declared (" + gib +
+           " GiB as " + as + "), more than the limit of " + std::to_string(MAX_IMAGE_SIDE) + " per side";
+}
+
+bool check_size(int64_t width, int64_t height, std::string& error) {
+    if (width <= 0 || height <= 0) {
+        error = "image of " + std::to_string(width) + " x " + std::to_string(height) + " texels";
+        return false;
+    }
+    if (width > int64_t(MAX_IMAGE_SIDE) || height > int64_t(MAX_IMAGE_SIDE)) {
+        error = too_large(width, height, "RGBA8", 4.0);
         return false;
     }
     return true;
 }
-
-uint32_t pack_rgba8(uint32_t r, uint32_t g, uint32_t b, uint32_t a) { return r | g << 8 | b << 16 | a << 24; }
 
 uint32_t load_be16(const unsigned char* p) { return uint32_t(p[0]) << 8 | p[1]; }
 uint32_t load_be32(const unsigned char* p) { return load_be16(p) << 16 | load_be16(p + 2); }
@@ -83,14 +93,8 @@ bool decode_with_stb(const unsigned char* bytes, size_t size, DecodedImage& out,
     }
     int64_t declared_width = 0, declared_height = 0;
     if (read_declared_size(bytes, size, declared_width, declared_height) &&
-        (declared_width > int64_t(MAX_IMAGE_SIDE) || declared_height > int64_t(MAX_IMAGE_SIDE))) {
-        char gib[32];
-        std::snprintf(gib, sizeof gib, "%.1f", double(declared_width) * double(declared_height) * 4.0 / double(1u << 30));
-        error = "image of " + std::to_string(declared_width) + " x " + std::to_string(declared_height) +
-                " texels declared (" + gib + " GiB as RGBA8), more than the limit of " + std::to_string(MAX_IMAGE_SIDE) +
-                " per side";
+        !check_size(declared_width, declared_height, error))
         return false;
-    }
     int width = 0, height = 0, channels = 0;
     if (!stbi_info_from_memory(bytes, int(size), &width, &height, &channels)) {
         error = std::string("corrupt or truncated image (") + stbi_failure_reason() + ")";
@@ -100,16 +104,16 @@ bool decode_with_stb(const unsigned char* bytes, size_t size, DecodedImage& out,
     const size_t n = size_t(width) * size_t(height);
     out.width = uint32_t(width);
     out.height = uint32_t(height);
-    out.texels.resize(n);
+    // Allocated once stb's own buffer exists, so that at most two copies of the image are alive at once.
     if (stbi_is_16_bit_from_memory(bytes, int(size))) {
         stbi_us* data = stbi_load_16_from_memory(bytes, int(size), &width, &height, &channels, 4);
         if (data == nullptr) {
             error = std::string("corrupt or truncated image (") + stbi_failure_reason() + ")";
             return false;
         }
-        auto to8 = [](stbi_us v) { return uint32_t((uint32_t(v) * 255u + 32767u) / 65535u); };
-        for (size_t i = 0; i < n; ++i)
-            out.texels[i] = pack_rgba8(to8(data[4 * i]), to8(data[4 * i + 1]), to8(data[4 * i + 2]), to8(data[4 * i + 3]));
+        auto to8 = [](stbi_us v) { return static_cast<unsigned char>((uint32_t(v) * 255u + 32767u) / 65535u); };
+        out.rgba.resize(n * 4);
+        for (size_t i = 0; i < n * 4; ++i) out.rgba[i] = to8(data[i]);
         stbi_image_free(data);
         return true;
     }
@@ -118,7 +122,7 @@ bool decode_with_stb(const unsigned char* bytes, size_t size, DecodedImage& out,
         error = std::string("corrupt or truncated image (") + stbi_failure_reason() + ")";
         return false;
     }
-    std::memcpy(out.texels.data(), data, n * 4);  // RGBA bytes = little-endian r | g << 8 | ...
+    out.rgba.assign(data, data + n * 4);
     stbi_image_free(data);
     return true;
 }
@@ -132,9 +136,8 @@ bool decode_webp(const unsigned char* bytes, size_t size, DecodedImage& out, std
     if (!check_size(width, height, error)) return false;
     out.width = uint32_t(width);
     out.height = uint32_t(height);
-    out.texels.resize(size_t(width) * size_t(height));
-    if (!WebPDecodeRGBAInto(bytes, size, reinterpret_cast<uint8_t*>(out.texels.data()), out.texels.size() * 4,
-                            width * 4)) {
+    out.rgba.resize(size_t(width) * size_t(height) * 4);
+    if (!WebPDecodeRGBAInto(bytes, size, out.rgba.data(), out.rgba.size(), width * 4)) {
         error = "corrupt or truncated WebP image";
         return false;
     }
@@ -143,10 +146,61 @@ bool decode_webp(const unsigned char* bytes, size_t size, DecodedImage& out, std
 
 }  // namespace
 
+bool read_image_size(const unsigned char* bytes, size_t size, uint32_t& width, uint32_t& height, std::string& error) {
+    const ImageFormat format = detect_image_format(bytes, size);
+    int64_t w = 0, h = 0;
+    if (format == ImageFormat::webp) {
+        int iw = 0, ih = 0;
+        if (!WebPGetInfo(bytes, size, &iw, &ih)) {
+            error = "corrupt or truncated WebP image";
+            return false;
+        }
+        w = iw;
+        h = ih;
+    } else if (format == ImageFormat::png || format == ImageFormat::jpeg) {
+        int iw = 0, ih = 0, channels = 0;
+        if (!read_declared_size(bytes, size, w, h)) {
+            if (size > size_t(1) << 31 || !stbi_info_from_memory(bytes, int(size), &iw, &ih, &channels)) {
+                error = std::string("corrupt or truncated image (") + stbi_failure_reason() + ")";
+                return false;
+            }
+            w = iw;
+            h = ih;
+        }
+    } else {
+        DecodedImage unused;
+        return decode_image(bytes, size, unused, error);  // the format's own error (KTX2, unknown)
+    }
+    if (!check_size(w, h, error)) return false;
+    width = uint32_t(w);
+    height = uint32_t(h);
+    return true;
+}
+
+bool read_radiance_hdr_size(const unsigned char* bytes, size_t size, int64_t& width, int64_t& height) {
+    // "#?RADIANCE" (or "#?RGBE"), header lines, an empty line, then the resolution: "-Y H +X W" (stb reads only that
+    // orientation; the others are sized the same way).
+    const std::string text(reinterpret_cast<const char*>(bytes), std::min<size_t>(size, 64 * 1024));
+    const size_t blank = text.find("\n\n");
+    if (text.rfind("#?", 0) != 0 || blank == std::string::npos) return false;
+    char y_axis[3] = {}, x_axis[3] = {};
+    long long h = 0, w = 0;
+    if (std::sscanf(text.c_str() + blank + 2, "%2s %lld %2s %lld", y_axis, &h, x_axis, &w) != 4) return false;
+    height = h;
+    width = w;
+    return true;
+}
+
 bool decode_radiance_hdr(const unsigned char* bytes, size_t size, uint32_t& width, uint32_t& height,
                          std::vector<float>& rgb, std::string& error) {
     if (size > size_t(1) << 31 || !stbi_is_hdr_from_memory(bytes, int(size))) {
         error = "not a Radiance HDR image";
+        return false;
+    }
+    int64_t declared_width = 0, declared_height = 0;
+    if (read_radiance_hdr_size(bytes, size, declared_width, declared_height) &&
+        (declared_width > int64_t(MAX_IMAGE_SIDE) || declared_height > int64_t(MAX_IMAGE_SIDE))) {
+        error = too_large(declared_width, declared_height, "float RGB", 12.0);
         return false;
     }
     int w = 0, h = 0, channels = 0;

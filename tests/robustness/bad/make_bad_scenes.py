@@ -300,6 +300,27 @@ def main():
                 struct.pack("<II", len(deep_chunk), 0x4E4F534A) + deep_chunk +
                 struct.pack("<II", len(deep_bin), 0x004E4942) + deep_bin)
 
+    # Images whose headers declare 100,000 x 50,000 texels (56 GiB as float RGB) and hold no pixels: an environment map
+    # (OpenEXR and Radiance .hdr) and an EXR given to compare or resume. Refused from the header, before any allocation.
+    with open(os.path.join(HERE, "image_too_large.exr"), "wb") as f:
+        f.write(exr_header(100000, 50000))
+    with open(os.path.join(HERE, "image_too_large.hdr"), "wb") as f:
+        f.write(b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 50000 +X 100000\n")
+
+
+def exr_header(width, height):
+    """An OpenEXR scanline header (R, G, B as FLOAT, no compression) for width x height pixels, and nothing after it."""
+    def attribute(name, kind, value):
+        return name.encode() + b"\0" + kind.encode() + b"\0" + struct.pack("<i", len(value)) + value
+    channels = b"".join(c + b"\0" + struct.pack("<iB3xii", 2, 0, 1, 1) for c in (b"B", b"G", b"R")) + b"\0"
+    window = struct.pack("<iiii", 0, 0, width - 1, height - 1)
+    return (b"\x76\x2f\x31\x01" + struct.pack("<i", 2) +
+            attribute("channels", "chlist", channels) + attribute("compression", "compression", b"\0") +
+            attribute("dataWindow", "box2i", window) + attribute("displayWindow", "box2i", window) +
+            attribute("lineOrder", "lineOrder", b"\0") + attribute("pixelAspectRatio", "float", struct.pack("<f", 1)) +
+            attribute("screenWindowCenter", "v2f", struct.pack("<ff", 0, 0)) +
+            attribute("screenWindowWidth", "float", struct.pack("<f", 1)) + b"\0")
+
 
 if __name__ == "__main__":
     main()

@@ -24,7 +24,7 @@ const std::map<std::string, std::string>& sample_words() {
         {"light-pick", "separate"}, {"light-sampler", "tree"},       {"wave-paths", "2048"},
         {"sort-rays", "on"},       {"wide-stores", "off"},           {"bvh-leaf-size", "2"},
         {"variant", "Yellow"},     {"instancing", "off"},            {"microfacet", "single"},
-        {"tangents", "triangle"}};
+        {"tangents", "triangle"},  {"memory-limit", "104857600"}};
     return words;
 }
 
