@@ -64,12 +64,6 @@ std::string image_label(const tinygltf::Image& image, int index) {
 }
 }  // namespace
 
-uint64_t PendingImages::decoded_bytes() const {
-    uint64_t total = 0;
-    for (const Entry& e : images) total += uint64_t(e.width) * e.height * 4;
-    return total;
-}
-
 bool read_image_header(tinygltf::Image* image, int image_index, std::string* error, std::string*, int, int,
                        const unsigned char* bytes, int size, void* pending) {
     if (size <= 0 || bytes == nullptr) {

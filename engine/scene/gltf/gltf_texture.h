@@ -27,7 +27,6 @@ struct PendingImages {
         std::vector<unsigned char> encoded;
     };
     std::vector<Entry> images;
-    uint64_t decoded_bytes() const;  // as RGBA8
 };
 
 // tinygltf's image callback (tinygltf::LoadImageDataFunction; `pending`: a PendingImages): reads the size a PNG, JPEG
