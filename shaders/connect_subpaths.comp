@@ -1,6 +1,6 @@
 // Stage "connect_subpaths" (`--integrator bdpt`): the strategies with s, t >= 2 of bidirectional path tracing. Each
 // camera vertex just found (the queued ray's hit, before shade moves the path on) is joined to every stored vertex of
-// the light subpath with the same (pixel, sample) (light_shade.comp) whose full path keeps within --max-depth: both
+// the light subpath with the same (pixel, sample) (light_shade.comp) whose full path keeps within FrameParams.bdpt_depth: both
 // BSDFs evaluated towards each other (the light side's adjoint, with the shading-normal correction, as light tracing
 // has it), the MIS weight from both sides' quantities (lib/integrator/bdpt.glsl), and a shadow ray between them. A path's
 // connections are summed in a fixed order by one invocation, so the result is the same bits every run.
@@ -28,13 +28,15 @@ void main() {
     PathMis camera_mis = load_path_mis(path);
     uint segments = push.depth + 1u;  // camera segments up to this vertex
     // Light vertex k has k + 1 segments; the joint adds one.
-    uint last = min(min(camera_mis.light_vertices, params.light_vertex_slots), params.max_depth - segments - 1u);
-    if (params.max_depth < segments + 2u || last == 0u) return;
+    if (params.bdpt_depth < segments + 2u) return;  // longer paths are path traced (bdpt_weighs)
+    uint last = min(min(camera_mis.light_vertices, params.light_vertex_slots), params.bdpt_depth - segments - 1u);
+    if (last == 0u) return;
 
     PathState state = load_path_state(path);
     vec3 beta = vec3(state.throughput_r, state.throughput_g, state.throughput_b);
     vec3 wo = -vec3(ray.dir_x, ray.dir_y, ray.dir_z);
-    ShadingPoint y = load_shading_point(hit.triangle, hit.b1, hit.b2, hit.instance);
+    float time = load_path_time(path);  // both subpaths' shutter time (motion blur)
+    ShadingPoint y = load_shading_point(hit.triangle, hit.b1, hit.b2, hit.instance, time);
     bool front_y = dot(y.s.ng, wo) > 0.0f;
     uvec4 media_y = tracks_media() ? path_media[path] : uvec4(INVALID_INDEX);
     set_media(y, media_y, front_y);
@@ -51,7 +53,7 @@ void main() {
     for (uint k = 0u; k < last; ++k) {
         LightVertex v = load_light_vertex(path * params.light_vertex_slots + k);
         vec3 wl = vec3(v.to_light_x, v.to_light_y, v.to_light_z);
-        ShadingPoint z = load_shading_point(v.triangle, v.b1, v.b2, v.instance);
+        ShadingPoint z = load_shading_point(v.triangle, v.b1, v.b2, v.instance, time);
         z.eta_front = v.eta_front;
         vec3 d = z.s.p - y.s.p;
         float dist2 = dot(d, d);
@@ -93,7 +95,7 @@ void main() {
         float len = length(to_target);
         if (!(len > 0.0f)) continue;
         uint alpha_seed = effect_on(EFFECT_ALPHA) ? pcg_hash(state.rng ^ pcg_hash(k ^ 0x3c6ef372u)) : 0u;
-        TraceHit blocker = trace_ray(origin, to_target / len, len * (1.0f - 1e-4f), true, hit.triangle, alpha_seed, 0.5f);
+        TraceHit blocker = trace_ray(origin, to_target / len, len * (1.0f - 1e-4f), true, hit.triangle, alpha_seed, time);
         traced += 1u;
         if (blocker.triangle == INVALID_INDEX) sum += contrib;
     }

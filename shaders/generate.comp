@@ -58,7 +58,7 @@ void main() {
     state.rng = rng;
     store_path_state(i, state);
     if (bdpt) {  // the light subpath's vertex count stays for connect_subpaths
-        PathMis mis = start_camera_mis(ray.dir);
+        PathMis mis = start_camera_mis(ray.dir, camera_view_at(camera_u.time).forward);
         path_mis[i].dvcm = mis.dvcm;
         path_mis[i].dvc = mis.dvc;
     }

@@ -5,7 +5,7 @@
 // / EFFECT_ALPHA textures).
 // Writes: rays[queue 0], paths (throughput: the power the subpath carries; bsdf_pdf: its largest component at the
 // light, Russian roulette's scale; radiance 0), shadow_rays (one splat per subpath, empty where there is none),
-// counters (as generate, and the shadow queue's length), path_mis (bdpt), path media.
+// counters (as generate, and the shadow queue's length), path_mis (bdpt), path media, path_times (motion blur).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "lib/core/bindings.glsl"
@@ -34,8 +34,20 @@ void main() {
     vec2 u_point = vec2(next_float(rng), next_float(rng));
     vec2 u_dir = vec2(next_float(rng), next_float(rng));
     float u_side = next_float(rng);
+    // Motion blur: the time the camera subpath of this index has (its sampler's), shared by both subpaths; with a thin
+    // lens, where on the aperture the light's own vertex is seen from.
+    float time = 0.5f;
+    if (effect_on(EFFECT_MOTION_BLUR)) {
+        uint camera_rng = init_rng(path_pixel(i), path_sample_index(i), params.seed);
+        time = draw_camera_samples(i, camera_rng).time;
+        path_times[i] = time;
+    }
+    vec2 u_lens = effect_on(EFFECT_THIN_LENS) ? vec2(next_float(rng), next_float(rng)) : vec2(0.0f);
 
-    LightStart start = start_light_subpath(u_pick, u_point, u_dir, u_side);
+    // No light in the table (BDPT where every emitter moves): no light subpath; the camera subpaths find them.
+    LightStart start = params.emitter_count == 0u
+                           ? make_no_light_start()
+                           : start_light_subpath(u_pick, u_point, u_dir, u_side, make_splat_camera(time, u_lens), i);
 
     RayItem item;
     item.origin_x = start.origin.x;

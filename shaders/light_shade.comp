@@ -36,6 +36,8 @@ void shade_light_vertex(uint i, uint parity, out bool push_ray, out RayItem next
     vec3 beta = vec3(state.throughput_r, state.throughput_g, state.throughput_b);
     uint rng = state.rng;
     uint segments = push.depth + 1u;  // segments of the light subpath up to this vertex
+    // The longest path the subpath may make: BDPT's light subpaths stop where its strategies do (bdpt_weighs).
+    uint max_depth = bdpt ? params.bdpt_depth : params.max_depth;
     PathMis mis;
     if (bdpt) mis = load_path_mis(path);
 
@@ -52,7 +54,8 @@ void shade_light_vertex(uint i, uint parity, out bool push_ray, out RayItem next
 
     if (hit.triangle != INVALID_INDEX && max_value(beta) > 0.0f) {
         vec3 wl = -vec3(ray.dir_x, ray.dir_y, ray.dir_z);  // towards the light
-        ShadingPoint sp = load_shading_point(hit.triangle, hit.b1, hit.b2, hit.instance);
+        float time = load_path_time(path);  // the subpath's shutter time (motion blur), its camera subpath's too
+        ShadingPoint sp = load_shading_point(hit.triangle, hit.b1, hit.b2, hit.instance, time);
         SurfaceHit s = sp.s;
         bool front = dot(s.ng, wl) > 0.0f;  // the side the light arrives on
         set_media(sp, media, front);
@@ -89,8 +92,9 @@ void shade_light_vertex(uint i, uint parity, out bool push_ray, out RayItem next
 
         // t = 1: the camera sees this vertex (through the surface, if it transmits); the full path has one segment
         // more than the subpath.
-        if (cos_light_g > 0.0f && (params.max_depth == 0u || segments + 1u <= params.max_depth)) {
-            FilmSplat splat = project_to_film(s.p);
+        if (cos_light_g > 0.0f && (max_depth == 0u || segments + 1u <= max_depth)) {
+            vec2 u_lens = effect_on(EFFECT_THIN_LENS) ? vec2(next_float(rng), next_float(rng)) : vec2(0.0f);
+            FilmSplat splat = project_to_film(make_splat_camera(time, u_lens), s.p);
             float cos_camera_g = abs(dot(splat.to_camera, ng));
             if (splat.valid && cos_camera_g > 0.0f) {
                 SurfaceBsdf at_camera = make_surface_bsdf(sp, splat.to_camera);
@@ -103,7 +107,7 @@ void shade_light_vertex(uint i, uint parity, out bool push_ray, out RayItem next
                                                    mis, splat.importance * cos_camera_g,
                                                    pdf_surface_bsdf(at_camera, splat.to_camera, wl)));
                 if (max_value(contrib) > 0.0f) {
-                    shadow = make_splat_ray(s.p, s.p_error, at_camera.ng, splat, contrib, hit.triangle);
+                    shadow = make_splat_ray(s.p, s.p_error, at_camera.ng, splat, contrib, hit.triangle, path);
                     push_shadow = true;
                 }
             }
@@ -112,7 +116,7 @@ void shade_light_vertex(uint i, uint parity, out bool push_ray, out RayItem next
         // The next segment, if a path through it can still reach the camera within --max-depth.
         vec3 u_bsdf = vec3(next_float(rng), next_float(rng), next_float(rng));
         float u_roulette = next_float(rng);
-        if (cos_light_g > 0.0f && (params.max_depth == 0u || segments + 1u < params.max_depth)) {
+        if (cos_light_g > 0.0f && (max_depth == 0u || segments + 1u < max_depth)) {
             NextDirection next_dir = sample_next_direction(at_light, wl, u_bsdf);
             vec3 wi = next_dir.wi;
             float cos_next_g = abs(dot(wi, ng));

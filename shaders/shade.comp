@@ -80,7 +80,7 @@ void add_escaped_light(inout PathVertex v, vec3 dir) {
         weight = (params.flags & RENDER_MIS) != 0u
                      ? power_heuristic(v.state.bsdf_pdf, params.env_pick_pdf * pdf_environment(dir))
                      : 0.0f;
-    if (bdpt)
+    if (bdpt_weighs(v.segments))
         weight = weight_strategy(0u, v.segments + 1u, v.segments == 1u ? 1.0f
                                  : weight_environment_hit(v.mis, params.env_pick_pdf * pdf_environment(dir)));
     v.radiance += film_color(v.spectral, v.beta * lift_color(v.spectral, eval_environment(dir))) * weight *
@@ -112,7 +112,7 @@ void add_emission(inout PathVertex v, ShadingPoint sp, HitItem hit, vec3 wo, boo
                 weight = 0.0f;
             }
         }
-        if (bdpt)
+        if (bdpt_weighs(v.segments))
             weight = weight_strategy(0u, v.segments + 1u, v.segments == 1u ? 1.0f
                                      : weight_emission_hit(v.mis, s.light_pdf_area, abs(dot(s.ng, wo)), double_sided));
         v.radiance += film_color(v.spectral, v.beta * lift_color(v.spectral, emission)) * weight;
@@ -207,7 +207,7 @@ bool sample_light(PathVertex v, ShadingPoint sp, Scattering sc, vec3 wo, VertexS
     float weight = (params.flags & RENDER_MIS) != 0u && light.delta == 0u
                        ? power_heuristic(light.pdf, pdf_bsdf(sc.bsdf, sc.wo_local, wi_local))
                        : 1.0f;
-    if (bdpt)
+    if (bdpt_weighs(v.segments + 1u))
         weight = weight_strategy(1u, v.segments + 1u, weight_light_connection(
             v.mis, light.delta == 0u ? pdf_bsdf(sc.bsdf, sc.wo_local, wi_local) : 0.0f, light.pdf,
             light.emission_over_direct, abs(dot(wi, sc.ng)),

@@ -20,29 +20,30 @@ struct Unsupported {
 constexpr Unsupported UNSUPPORTED[] = {
     {gpu::EFFECT_SPECTRAL, "dispersion (KHR_materials_dispersion)", false},
     {gpu::EFFECT_UNLIT, "unlit materials (KHR_materials_unlit: only camera rays see them; --integrator bdpt does)", true},
-    {gpu::EFFECT_MOTION_BLUR, "motion blur (--shutter)", false},
 };
 
 }  // namespace
 
+uint32_t bdpt_depth(const RenderSettings& settings) {
+    return settings.max_depth == 0 ? BDPT_DEFAULT_DEPTH : std::min(settings.max_depth, BDPT_MAX_DEPTH);
+}
+
 uint32_t count_light_vertex_slots(const RenderSettings& settings) {
-    if (settings.integrator != Integrator::bdpt || settings.max_depth < 3) return 0;
-    return std::min(settings.max_depth, BDPT_MAX_DEPTH) - 2;
+    if (settings.integrator != Integrator::bdpt || bdpt_depth(settings) < 3) return 0;
+    return bdpt_depth(settings) - 2;
 }
 
 std::string find_light_tracing_obstacle(const PackedScene& scene, const RenderSettings& settings,
                                         const SceneCamera& camera, EffectBits effects) {
     if (settings.integrator == Integrator::bdpt) {
-        if (settings.max_depth == 0 || settings.max_depth > BDPT_MAX_DEPTH)
-            return "bidirectional path tracing stores each light subpath's vertices, so it needs --max-depth between 1 "
-                   "and " + std::to_string(BDPT_MAX_DEPTH) + " (e.g. --max-depth 16)";
         if (!settings.nee || !settings.mis)
             return "bidirectional path tracing always samples lights and combines its strategies by MIS (leave --nee "
                    "and --mis on)";
         const uint32_t s = settings.bdpt_strategy_s, t = settings.bdpt_strategy_t;
-        if (t != 0 && s + t - 1 > settings.max_depth)
+        if (t != 0 && s + t - 1 > bdpt_depth(settings))
             return "--bdpt-strategy " + std::to_string(s) + "," + std::to_string(t) + " makes paths of " +
-                   std::to_string(s + t - 1) + " segments, more than --max-depth " + std::to_string(settings.max_depth);
+                   std::to_string(s + t - 1) + " segments, more than the " + std::to_string(bdpt_depth(settings)) +
+                   " that every strategy reaches (--max-depth, at most " + std::to_string(BDPT_MAX_DEPTH) + ")";
         if (t != 0 && s + t < 3 && !(s == 0 && t == 2))
             return "--bdpt-strategy " + std::to_string(s) + "," + std::to_string(t) +
                    ": a path of one segment (the camera seeing a light) is made by (0,2) alone: BDPT does not splat a "
@@ -50,15 +51,22 @@ std::string find_light_tracing_obstacle(const PackedScene& scene, const RenderSe
     }
     if (effects & gpu::EFFECT_LIGHT_TREE)
         return "light subpaths start by power, and their weights assume NEE does too (--light-sampler power or uniform)";
-    if (settings.lens.on() || camera.has_lens()) return "light tracing does not handle a thin lens (--aperture) yet";
+    if ((settings.lens.on() || camera.has_lens()) && camera.orthographic)
+        return "an orthographic camera's thin lens (--aperture) is an aperture around every point of its image plane, "
+               "which no light subpath can aim at (use a perspective camera, or no --aperture)";
+    if ((effects & gpu::EFFECT_MOTION_BLUR) && scene.moving_emitting_triangles > 0 &&
+        settings.integrator == Integrator::light)
+        return "light tracing does not start light subpaths on emitters that move over the shutter (" +
+               std::to_string(scene.moving_emitting_triangles) +
+               " triangles; --integrator bdpt sees them through its camera subpaths)";
     for (const Unsupported& u : UNSUPPORTED)
         if ((effects & u.bit) && !(u.bdpt_handles && settings.integrator == Integrator::bdpt))
             return std::string("light tracing does not handle ") + u.what + " yet";
-    if (scene.emitters.empty()) return "nothing in the scene emits, and there is no --env or --background";
+    if (scene.emitters.empty() && !(settings.integrator == Integrator::bdpt && scene.moving_emitting_triangles > 0))
+        return "nothing in the scene emits, and there is no --env or --background";
     if (camera.orthographic && (effects & gpu::EFFECT_ENVIRONMENT))
         return "an orthographic camera sees the environment along one direction only, which no light subpath can "
                "sample (use a perspective camera, or no --env / --background)";
-    if (settings.filter != PixelFilter::box) return "light tracing splats with the box filter only (--filter box)";
     return {};
 }
 

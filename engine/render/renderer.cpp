@@ -80,6 +80,7 @@ gpu::FrameParams make_frame(const PackedScene& scene, const SceneCamera& camera,
     f.film_height = s.film_height();
     f.camera_medium = f.camera_medium_outer = f.camera_medium_outermost = gpu::INVALID_INDEX;
     f.light_vertex_slots = count_light_vertex_slots(s);
+    f.bdpt_depth = s.integrator == Integrator::bdpt ? bdpt_depth(s) : 0u;
     f.bdpt_strategy = s.bdpt_strategy_t ? s.bdpt_strategy_s << 16 | s.bdpt_strategy_t : 0u;
     return f;
 }
@@ -125,6 +126,7 @@ StageOptions make_stage_options(const PackedScene& scene, const RenderSettings& 
     o.wide_stores = s.wide_stores;
     o.aovs = s.aovs;
     o.pixel_list = s.adaptive;
+    o.splats_by_path = s.filter == PixelFilter::gaussian || (o.effects & gpu::EFFECT_MOTION_BLUR);
     check_light_tracing(scene.source.empty() ? std::string("scene") : scene.source, scene, s, camera, o.effects);
     return o;
 }

@@ -66,6 +66,7 @@ StageTable::StageTable(const vk::Context& context, const StageOptions& options)
     spec[gpu::SPEC_SORT_RAYS] = options.sort_rays ? 1u : 0u;
     spec[gpu::SPEC_AOVS] = options.aovs ? 1u : 0u;
     spec[gpu::SPEC_PIXEL_LIST] = options.pixel_list ? 1u : 0u;
+    spec[gpu::SPEC_SPLATS_BY_PATH] = options.splats_by_path ? 1u : 0u;
     // Each pipeline is built on a thread of its own: its specialisation (vk/spirv_specialise.h) and the driver's
     // compile are CPU work, and the stages do not depend on each other. A failure is rethrown here, after every
     // thread has finished (a std::async future waits in its destructor).

@@ -26,6 +26,7 @@ struct StageOptions {
     bool wide_stores = true;                // shade stores a uvec4 at a time; off: field by field (FH_STRUCT_STORES)
     bool aovs = false;                      // shade records the AOVs and accumulate sums them (SPEC_AOVS)
     bool pixel_list = false;                // waves take their pixels from the pixel list (SPEC_PIXEL_LIST, --adaptive)
+    bool splats_by_path = false;            // splats land by film position (SPEC_SPLATS_BY_PATH)
 };
 
 class StageTable {

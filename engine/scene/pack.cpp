@@ -271,6 +271,7 @@ PackedScene pack_scene(const Scene& scene, const SceneBvh& bvh, EnvironmentMap e
         if (light.type != gpu::LIGHT_DIRECTIONAL) check_render_range(scene, light.position, light.position, "light " + std::to_string(l));
         power.push_back(w);
     }
+    packed.moving_emitting_triangles = moving_emitting_triangles;
     decide_light_effects(packed.effects, emitting_materials, triangle_lights + moving_emitting_triangles,
                          packed.punctual_lights.size());
     decide_light_tree_effect(packed.effects, false, "NEE picks by the power table (--light-sampler decides: prepare_scene)");

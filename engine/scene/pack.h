@@ -40,6 +40,8 @@ struct PackedScene {
     double total_emitted_power = 0.0;               // watts if emission is in W / (m^2 sr)
     glm::dvec3 origin{0.0};                         // world position of the render-space origin (Scene::origin)
     uint32_t motion_segments = 1;                   // Scene::motion_segments
+    // Emissive triangles of instances that move over the shutter: seen by rays that hit them, not in the light table.
+    size_t moving_emitting_triangles = 0;
     std::string source;                             // Scene::source, for messages ("" when built in memory)
 };
 

@@ -108,7 +108,9 @@ FH_CONST uint SPEC_SORT_RAYS = 4u;                 // bool: the ray sort's stage
 FH_CONST uint SPEC_EFFECTS_2 = 5u;                 // EFFECT2_* bits: the effects beyond the first word's 32
 FH_CONST uint SPEC_AOVS = 6u;                      // bool: shade records and accumulate sums the AOVs (`--aov`)
 FH_CONST uint SPEC_PIXEL_LIST = 7u;                // bool: a wave's pixels come from BINDING_PIXEL_LIST (`--adaptive`)
-FH_CONST uint SPEC_CONSTANT_COUNT = 8u;
+FH_CONST uint SPEC_SPLATS_BY_PATH = 8u;            // bool: light subpaths' splats land by film position (motion blur,
+                                                    // the Gaussian filter; lib/integrator/light_tracing.glsl)
+FH_CONST uint SPEC_CONSTANT_COUNT = 9u;
 
 // ---- Effects (engine/scene/effects.h decides them by value; a stage compiles only the code of those set) ----
 FH_CONST uint EFFECT_BASE_COLOR_TEXTURE = 1u;      // some visible material has a baseColorTexture
@@ -485,7 +487,7 @@ struct FrameParams {
     // (render/camera/camera_medium.h); INVALID_INDEX past the last: outside every volume, and always without EFFECT_VOLUME.
     uint camera_medium;
     uint camera_medium_outer, camera_medium_outermost;
-    uint light_vertex_slots;  // `--integrator bdpt`: light-subpath vertices stored per path (max_depth - 2), else 0
+    uint light_vertex_slots;  // `--integrator bdpt`: light-subpath vertices stored per path (bdpt_depth - 2), else 0
     uint bdpt_strategy;       // --bdpt-strategy: s << 16 | t, that strategy alone and unweighted; 0: all, by MIS
     // Russian roulette keeps a camera path with probability min(0.95, rr_survival_scale x its largest throughput
     // component) (--rr-survival-scale; shade.comp).
@@ -493,6 +495,11 @@ struct FrameParams {
     // EFFECT_LIGHT_TREE: Emitter entries [0, light_tree_lights) are the tree's leaves, the rest (the environment,
     // directional lights) are picked uniformly, each as often as the whole tree (lib/light/light_tree.glsl).
     uint light_tree_lights;
+    // `--integrator bdpt`: paths of up to this many segments are made by every strategy (the light subpaths stop
+    // there); longer ones by the camera subpath's next-event estimation and light hits alone, weighted as path tracing
+    // weights them (render/light_tracing.h bdpt_depth). 0 for the other integrators.
+    uint bdpt_depth;
+    uint frame_pad0, frame_pad1, frame_pad2;
 };
 
 // Push constants: what changes per wave and per depth.

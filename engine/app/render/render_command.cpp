@@ -24,6 +24,7 @@
 #include "render/camera/camera_setup.h"
 #include "render/camera/lens.h"
 #include "render/estimated_render.h"
+#include "render/light_tracing.h"
 #include "render/memory_estimate.h"
 #include "render/techniques.h"
 #include "render/device_defaults.h"
@@ -49,7 +50,18 @@ ImageMetadata make_metadata(const RenderCommand& c, const std::string& scene_has
         {"fredholm:colorspace", "scene-linear Rec.709"}};
     for (const SettingInfo& e : setting_table())
         if (e.metadata_key) metadata.emplace(e.metadata_key, e.describe(s));
+    if (s.integrator == Integrator::bdpt) metadata.emplace("fredholm:bdpt_depth", std::to_string(bdpt_depth(s)));
     return metadata;
+}
+
+// Once per render, where --max-depth does not say it: how long the paths are that every BDPT strategy makes.
+void print_bdpt_depth(const RenderSettings& s) {
+    if (s.max_depth != 0 && s.max_depth <= BDPT_MAX_DEPTH) return;
+    std::fprintf(stderr,
+                 "fredholm: bdpt: every strategy makes paths of up to %u segments (%s; --max-depth 1 to %u sets it), "
+                 "longer ones%s are made by next-event estimation and light hits alone\n",
+                 bdpt_depth(s), s.max_depth == 0 ? "the default" : "the most it stores", BDPT_MAX_DEPTH,
+                 s.max_depth == 0 ? "" : (" up to " + std::to_string(s.max_depth)).c_str());
 }
 
 void write_stats(const std::filesystem::path& file, const RenderCommand& c, const PreparedScene& prepared,
@@ -412,6 +424,7 @@ int run_frame(const RenderCommand& command, vk::Context* shared_context) {
         c.settings.integrator = choice.integrator;
         apply_light_sampler(prepared, c.scene, c.settings);
     }
+    if (settings.integrator == Integrator::bdpt && !c.quiet) print_bdpt_depth(settings);
     c.settings = with_device_defaults(c.settings, *context, prepared.packed);
     check_render_fits(prepared, settings, *context, c.scene);
     Renderer renderer(*context, prepared.packed, camera, settings);

@@ -75,11 +75,11 @@ void finish_shading_point(inout ShadingPoint sp, uint instance, Instance inst, b
     sp.eta_front = 1.0f;
 }
 
-// The whole shading point of a vertex that scatters, as the stages joining subpaths load it (they refuse motion
-// blur; shade.comp builds its points with the same two halves).
-ShadingPoint load_shading_point(uint triangle, float b1, float b2, uint instance) {
+// The whole shading point of a vertex that scatters, as the stages joining subpaths load it, with a moving instance
+// placed at the path's shutter time (shade.comp builds its points with the same two halves).
+ShadingPoint load_shading_point(uint triangle, float b1, float b2, uint instance, float time) {
     Instance inst;
-    ShadingPoint sp = begin_shading_point(triangle, b1, b2, instance, 0.5f, inst);
+    ShadingPoint sp = begin_shading_point(triangle, b1, b2, instance, time, inst);
     finish_shading_point(sp, instance, inst, true);
     return sp;
 }

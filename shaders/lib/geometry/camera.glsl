@@ -19,37 +19,57 @@ vec3 rotate_about_axis(vec3 v, vec3 axis, float angle) {
     return v * c + cross(axis, v) * s + axis * (dot(axis, v) * (1.0f - c));
 }
 
+// The camera's origin and axes (FrameParams.camera_*) at shutter time `time`, 0..1 (motion blur); without it, as they
+// are.
+struct CameraView {
+    vec3 origin;
+    vec3 right;    // scaled so that NDC x = 1 maps to it (at unit distance)
+    vec3 up;       // likewise for NDC y = 1
+    vec3 forward;  // unit
+};
+
+CameraView camera_view_at(float time) {
+    CameraView v;
+    v.right = params.camera_right.xyz;
+    v.up = params.camera_up.xyz;
+    v.forward = params.camera_forward.xyz;
+    v.origin = params.camera_origin.xyz;
+    if (effect_on(EFFECT_MOTION_BLUR)) {
+        float k = time - 0.5f;
+        v.origin += k * params.camera_motion_translation.xyz;
+        vec3 axis = params.camera_motion_rotation.xyz;
+        float angle = k * params.camera_motion_rotation.w;
+        v.right = rotate_about_axis(v.right, axis, angle);
+        v.up = rotate_about_axis(v.up, axis, angle);
+        v.forward = rotate_about_axis(v.forward, axis, angle);
+    }
+    return v;
+}
+
+// The point of the aperture (EFFECT_THIN_LENS) that lens_u draws, around `centre`, uniformly by area.
+vec3 sample_lens_point(CameraView view, vec3 centre, vec2 lens_u) {
+    vec2 lens = params.lens_radius * sample_aperture(lens_u, params.aperture_blades, params.aperture_rotation);
+    return centre + (lens.x * normalize(view.right) + lens.y * normalize(view.up));
+}
+
 // film: position in pixels, (0,0) = top-left corner of the image; lens_u: the aperture's two numbers (thin lens);
 // time: when in the shutter, 0..1 (motion blur).
 CameraRay make_camera_ray(vec2 film, vec2 lens_u, float time) {
     float ndc_x = 2.0f * film.x / float(params.width) - 1.0f;
     float ndc_y = 1.0f - 2.0f * film.y / float(params.height);
-    vec3 right = params.camera_right.xyz;
-    vec3 up = params.camera_up.xyz;
-    vec3 forward = params.camera_forward.xyz;
-    vec3 origin = params.camera_origin.xyz;
-    if (effect_on(EFFECT_MOTION_BLUR)) {
-        float k = time - 0.5f;
-        origin += k * params.camera_motion_translation.xyz;
-        vec3 axis = params.camera_motion_rotation.xyz;
-        float angle = k * params.camera_motion_rotation.w;
-        right = rotate_about_axis(right, axis, angle);
-        up = rotate_about_axis(up, axis, angle);
-        forward = rotate_about_axis(forward, axis, angle);
-    }
+    CameraView view = camera_view_at(time);
     CameraRay ray;
     if (params.camera_type == CAMERA_ORTHOGRAPHIC) {
-        ray.origin = origin + ndc_x * right + ndc_y * up;
-        ray.dir = forward;
+        ray.origin = view.origin + ndc_x * view.right + ndc_y * view.up;
+        ray.dir = view.forward;
     } else {
-        ray.origin = origin;
-        ray.dir = normalize(forward + ndc_x * right + ndc_y * up);
+        ray.origin = view.origin;
+        ray.dir = normalize(view.forward + ndc_x * view.right + ndc_y * view.up);
     }
     if (effect_on(EFFECT_THIN_LENS)) {
         // The pinhole ray meets the plane in focus at the distance focus_distance along forward.
-        vec3 focus = ray.origin + (params.focus_distance / dot(ray.dir, forward)) * ray.dir;
-        vec2 lens = params.lens_radius * sample_aperture(lens_u, params.aperture_blades, params.aperture_rotation);
-        ray.origin += lens.x * normalize(right) + lens.y * normalize(up);
+        vec3 focus = ray.origin + (params.focus_distance / dot(ray.dir, view.forward)) * ray.dir;
+        ray.origin = sample_lens_point(view, ray.origin, lens_u);
         ray.dir = normalize(focus - ray.origin);
     }
     return ray;

@@ -21,6 +21,11 @@ float mis_weight(float others) {
     return w >= 0.0f ? w : 0.0f;
 }
 
+// True where a path of `segments` segments is made by every strategy, so BDPT's weights apply; a longer one is made
+// by the camera subpath's next-event estimation and light hits alone, weighted as path tracing weights them
+// (FrameParams.bdpt_depth: the light subpaths stop there).
+bool bdpt_weighs(uint segments) { return bdpt && segments <= params.bdpt_depth; }
+
 // What strategy (s, t) counts with MIS weight `mis`: --bdpt-strategy S,T keeps that strategy alone, unweighted.
 float weight_strategy(uint s, uint t, float mis) {
     if (params.bdpt_strategy == 0u) return mis;
@@ -42,11 +47,13 @@ void account_scattering(inout PathMis m, float cos_out, float forward, float rev
     m.dvcm = mis_power(1.0f / forward);
 }
 
-// A camera subpath's quantities at the pinhole, for a ray along dir: the light subpaths per sample index (the film's
-// pixels) over the ray's solid-angle pdf, 1 / (pixel area x cos^3). An orthographic camera's rays are drawn per unit
-// area of the image plane (1 / pixel area): its first segment has no distance to convert (camera_segment_has_distance).
-PathMis start_camera_mis(vec3 dir) {
-    float c = params.camera_type == CAMERA_ORTHOGRAPHIC ? 1.0f : dot(dir, params.camera_forward.xyz);
+// A camera subpath's quantities at the eye, for a ray along dir (forward: the camera's axis at the ray's time): the
+// light subpaths per sample index (the film's pixels) over the ray's solid-angle pdf, 1 / (pixel area x cos^3), from
+// the pinhole or the ray's point on a thin lens alike (the lens point's density is the light side's too). An
+// orthographic camera's rays are drawn per unit area of the image plane (1 / pixel area): its first segment has no
+// distance to convert (camera_segment_has_distance). The Gaussian filter keeps the box's density (light_tracing.glsl).
+PathMis start_camera_mis(vec3 dir, vec3 forward) {
+    float c = params.camera_type == CAMERA_ORTHOGRAPHIC ? 1.0f : dot(dir, forward);
     PathMis m;
     m.dvcm = mis_power(c * c * c / film_importance_scale());
     m.dvc = 0.0f;

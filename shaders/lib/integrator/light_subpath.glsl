@@ -46,7 +46,7 @@ vec3 sample_scene_disk(vec3 dir, vec2 u, out float area) {
     return centre - radius * dir + d.x * f.t + d.y * f.b;
 }
 
-LightStart start_on_triangle(uint triangle, vec2 u_point, vec2 u_dir, float u_side) {
+LightStart start_on_triangle(uint triangle, vec2 u_point, vec2 u_dir, float u_side, SplatCamera cam, uint subpath) {
     LightStart start = make_no_light_start();
     vec2 b = sample_uniform_triangle(u_point);
     // The point as a hit there would be: pulled a hair towards the centroid (surface.glsl), or a subpath started on an
@@ -62,11 +62,11 @@ LightStart start_on_triangle(uint triangle, vec2 u_point, vec2 u_dir, float u_si
     if (!(q.light_pdf_area > 0.0f && max_value(emitted_over_pdf) > 0.0f)) return start;
     start.triangle = triangle;
     // The light's own vertex seen by the camera: Le cos / pdf_area, times the camera's importance.
-    FilmSplat splat = project_to_film(q.p);
+    FilmSplat splat = project_to_film(cam, q.p);
     float cos_camera = dot(n, splat.to_camera);
     if (splat.valid && (cos_camera > 0.0f || (double_sided && cos_camera < 0.0f))) {
         vec3 contrib = emitted_over_pdf * (abs(cos_camera) * splat.importance);
-        start.splat = make_splat_ray(q.p, q.p_error, cos_camera > 0.0f ? n : -n, splat, contrib, triangle);
+        start.splat = make_splat_ray(q.p, q.p_error, cos_camera > 0.0f ? n : -n, splat, contrib, triangle, subpath);
     }
     // The first segment: cosine-weighted about the emitting side (either, at 1/2 each, when double sided), so
     // Le cos / (pdf_area pdf_dir) = Le pi / pdf_area (x 2).
@@ -110,14 +110,15 @@ LightStart start_on_punctual(uint index, float pick_pdf, vec2 u_dir, vec2 u_disk
     return start;
 }
 
-LightStart start_on_environment(float pick_pdf, vec2 u_dir, vec2 u_disk) {
+LightStart start_on_environment(float pick_pdf, vec2 u_dir, vec2 u_disk, SplatCamera cam, uint subpath) {
     LightStart start = make_no_light_start();
     EnvironmentSample e = sample_environment(u_dir);  // e.dir: towards the environment
     float pdf = pick_pdf * e.pdf;
     if (!(pdf > 0.0f)) return start;
     // The environment itself seen by the camera along e.dir.
-    FilmSplat splat = project_direction_to_film(e.dir);
-    if (splat.valid) start.splat = make_escape_splat_ray(e.dir, splat, e.radiance * (splat.importance / pdf));
+    FilmSplat splat = project_direction_to_film(cam, e.dir);
+    if (splat.valid)
+        start.splat = make_escape_splat_ray(e.dir, splat, e.radiance * (splat.importance / pdf), subpath);
     float area;
     start.dir = -e.dir;
     start.origin = sample_scene_disk(start.dir, u_disk, area);
@@ -128,13 +129,14 @@ LightStart start_on_environment(float pick_pdf, vec2 u_dir, vec2 u_disk) {
     return start;
 }
 
-LightStart start_light_subpath(float u_pick, vec2 u_point, vec2 u_dir, float u_side) {
+// cam: where the camera sees the light's own vertex from; subpath: the subpath's index (its splat's, splats_by_path).
+LightStart start_light_subpath(float u_pick, vec2 u_point, vec2 u_dir, float u_side, SplatCamera cam, uint subpath) {
     Emitter e = pick_emitter(u_pick);
-    if (effect_on(EFFECT_ENVIRONMENT) && e.light == ENVIRONMENT_LIGHT) return start_on_environment(e.pick_pdf, u_dir, u_point);
+    if (effect_on(EFFECT_ENVIRONMENT) && e.light == ENVIRONMENT_LIGHT) return start_on_environment(e.pick_pdf, u_dir, u_point, cam, subpath);
     if (effect_on(EFFECT_PUNCTUAL_LIGHTS) && (e.light & PUNCTUAL_LIGHT_BIT) != 0u)
         return start_on_punctual(e.light & ~PUNCTUAL_LIGHT_BIT, e.pick_pdf, u_dir, u_point);
     if (effect_on(EFFECT_EMISSIVE_TRIANGLES) && (e.light & PUNCTUAL_LIGHT_BIT) == 0u && e.light != ENVIRONMENT_LIGHT)
-        return start_on_triangle(e.light, u_point, u_dir, u_side);
+        return start_on_triangle(e.light, u_point, u_dir, u_side, cam, subpath);
     return make_no_light_start();  // a kind of light compiled out (--disable-effect)
 }
 #endif

@@ -155,6 +155,18 @@ vec2 sample_gaussian_filter(vec2 u, float radius) {
     return clamp(offset, vec2(-radius), vec2(radius));
 }
 
+// The density sample_gaussian_filter draws offsets from, per unit of area in pixels: the separable Gaussian of
+// sigma = radius / 3 normalised over [-radius, radius]^2, 0 outside. Light tracing weights a splat at offset d from a
+// pixel's centre by it, as the camera's samples of that pixel are drawn from it (each with the weight 1).
+float gaussian_filter_density(vec2 d, float radius) {
+    if (abs(d.x) > radius || abs(d.y) > radius) return 0.0f;
+    const float ERF_TRUNCATION = 0.997300203936740f;  // erf(3 / sqrt(2)), as sample_gaussian_filter
+    float sigma = radius / 3.0f;
+    float norm = 1.0f / (sigma * 2.50662827463100f * ERF_TRUNCATION);  // sqrt(2 pi)
+    vec2 g = norm * exp(d * d * (-0.5f / (sigma * sigma)));
+    return g.x * g.y;
+}
+
 // Power heuristic with beta = 2 (Veach 1997, eq. 9.13) for a sample drawn from f, also drawn by g.
 // Written as 1 / (1 + (g/f)^2) with the larger pdf as divisor so that huge pdfs neither overflow nor
 // give inf/inf; infinite pdfs are clamped to FLOAT_MAX, NaN and negative pdfs count as 0, and (0, 0)

@@ -17,6 +17,9 @@ glass_caustic.gltf (shipped in scenes/) a smooth glass sphere hanging over the f
                  which it focuses to a caustic on the floor (shaders/lib/integrator/README.md "Bidirectional path tracing").
 unlit_room.gltf  the lamp room with an unlit sphere (KHR_materials_unlit, base colour (0.9, 0.5, 0.1)): the camera sees
                  its colour, every other ray finds it black (light subpaths end there).
+moving_room.gltf the lamp room with a grey sphere sliding along x (0.6 units over 1 s) and the camera sliding the other
+                 way (0.3 units), keyed at t = 0 and 1 (render at --time 0.5 --shutter -0.5,0.5): light and camera
+                 subpaths of a sample must share its time, and splats land where the moving camera saw them.
 smooth_room.gltf the same room with one large Lambertian sphere of 6 x 4 facets: the shading normals alone (light subpaths must also
                  propose directions below the shading normal's hemisphere, where the path tracer's BSDF falls back to
                  the facet's frame; without that, 0.5% of the red channel went missing).
@@ -227,6 +230,23 @@ def lamp_shade():
     return g
 
 
+def moving_room():
+    g = room()
+    add_spheres(g, [{"pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.8, 0.8, 1.0], "metallicFactor": 0.0,
+                                               "roughnessFactor": 1.0}}], [(0.0, 0.0, 0.0)], 0.5, 12, 6)
+    sphere = len(g.doc["nodes"]) - 1
+    g.doc["nodes"][sphere]["translation"] = [-0.3, 0.6, 0.6]
+    camera = g.add_perspective_camera({"translation": [0.15, -1.5, 1.2], "rotation": [0.6755902, 0.0, 0.0, 0.7372773]},
+                                      1.1)
+    times = g.add_floats([0.0, 1.0], "SCALAR", 2)
+    g.doc["animations"] = [{"name": "slide", "samplers": [
+        {"input": times, "output": g.add_floats([-0.3, 0.6, 0.6, 0.3, 0.6, 0.6])},
+        {"input": times, "output": g.add_floats([0.15, -1.5, 1.2, -0.15, -1.5, 1.2])}], "channels": [
+        {"sampler": 0, "target": {"node": sphere, "path": "translation"}},
+        {"sampler": 1, "target": {"node": camera, "path": "translation"}}]}]
+    return g
+
+
 def main():
     out = Path(sys.argv[1] if len(sys.argv) > 1 else ".")
     out.mkdir(parents=True, exist_ok=True)
@@ -237,6 +257,7 @@ def main():
     glass_caustic().write(out / "glass_caustic.gltf")
     door_gap().write(out / "door_gap.gltf")
     lamp_shade().write(out / "lamp_shade.gltf")
+    moving_room().write(out / "moving_room.gltf")
 
 
 if __name__ == "__main__":

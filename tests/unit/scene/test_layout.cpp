@@ -99,7 +99,7 @@ FH_OFFSET(PunctualLight, type, 48);
 FH_OFFSET(PunctualLight, cos_inner, 52);
 FH_OFFSET(PunctualLight, cos_outer, 56);
 
-FH_SIZE(FrameParams, 256);
+FH_SIZE(FrameParams, 272);
 FH_OFFSET(FrameParams, camera_origin, 0);
 FH_OFFSET(FrameParams, camera_right, 16);
 FH_OFFSET(FrameParams, camera_up, 32);
@@ -131,6 +131,7 @@ FH_OFFSET(FrameParams, film_width, 220);
 FH_OFFSET(FrameParams, film_height, 224);
 FH_OFFSET(FrameParams, light_vertex_slots, 240);
 FH_OFFSET(FrameParams, bdpt_strategy, 244);
+FH_OFFSET(FrameParams, bdpt_depth, 256);
 
 FH_SIZE(StagePush, 36);
 FH_OFFSET(StagePush, depth, 0);
