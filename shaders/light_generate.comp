@@ -5,7 +5,8 @@
 // / EFFECT_ALPHA textures).
 // Writes: rays[queue 0], paths (throughput: the power the subpath carries; bsdf_pdf: its largest component at the
 // light, Russian roulette's scale; radiance 0), shadow_rays (one splat per subpath, empty where there is none),
-// counters (as generate, and the shadow queue's length), path_mis (bdpt), path media, path_times (motion blur).
+// counters (as generate, and the shadow queue's length), path_mis (bdpt), path media, path_times (motion blur),
+// path_spectra (spectral: the camera subpath's wavelengths, and the fourth one's power).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "lib/core/bindings.glsl"
@@ -16,6 +17,7 @@
 #include "lib/sampling/path_sampler.glsl"
 #include "lib/integrator/light_subpath.glsl"
 #include "lib/material/transmission.glsl"
+#include "lib/spectral/path_color.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE) in;
 
@@ -34,13 +36,16 @@ void main() {
     vec2 u_point = vec2(next_float(rng), next_float(rng));
     vec2 u_dir = vec2(next_float(rng), next_float(rng));
     float u_side = next_float(rng);
-    // Motion blur: the time the camera subpath of this index has (its sampler's), shared by both subpaths; with a thin
-    // lens, where on the aperture the light's own vertex is seen from.
+    // The time (motion blur) and the wavelengths (spectral) the camera subpath of this index has (its sampler's),
+    // shared by both subpaths; with a thin lens, where on the aperture the light's own vertex is seen from.
     float time = 0.5f;
-    if (effect_on(EFFECT_MOTION_BLUR)) {
+    float wavelength_u = 0.0f;
+    if (effect_on(EFFECT_MOTION_BLUR) || effect_on(EFFECT_SPECTRAL)) {
         uint camera_rng = init_rng(path_pixel(i), path_sample_index(i), params.seed);
-        time = draw_camera_samples(i, camera_rng).time;
-        path_times[i] = time;
+        CameraSamples camera_u = draw_camera_samples(i, camera_rng);
+        time = camera_u.time;
+        wavelength_u = camera_u.wavelength;
+        if (effect_on(EFFECT_MOTION_BLUR)) path_times[i] = time;
     }
     vec2 u_lens = effect_on(EFFECT_THIN_LENS) ? vec2(next_float(rng), next_float(rng)) : vec2(0.0f);
 
@@ -65,11 +70,23 @@ void main() {
     // Lights stand outside every volume (shaders/lib/integrator/README.md "Bidirectional path tracing"); the camera subpath starts its own.
     if (tracks_media()) path_media[i] = uvec4(INVALID_INDEX);
 
+    // The power at the subpath's wavelengths (spectral: the light's RGB upsampled, as NEE's is).
+    vec4 power = vec4(start.power, 0.0f);
+    if (effect_on(EFFECT_SPECTRAL)) {
+        power = lift_color(make_spectral_frame(wavelength_u), start.power);
+        PathSpectrum spectrum;
+        spectrum.wavelength_u = wavelength_u;
+        spectrum.throughput_3 = power.w;
+        spectrum.flags = 0u;
+        spectrum.pad = 0.0f;
+        path_spectra[i] = spectrum;
+    }
+
     PathState state;
-    state.throughput_r = start.power.x;
-    state.throughput_g = start.power.y;
-    state.throughput_b = start.power.z;
-    state.bsdf_pdf = max_value(start.power);
+    state.throughput_r = power.x;
+    state.throughput_g = power.y;
+    state.throughput_b = power.z;
+    state.bsdf_pdf = max_path_component(power);
     state.radiance_r = 0.0f;
     state.radiance_g = 0.0f;
     state.radiance_b = 0.0f;

@@ -22,6 +22,7 @@
 #include "lib/geometry/motion.glsl"
 #include "lib/integrator/light_tracing.glsl"
 #include "lib/integrator/bdpt.glsl"
+#include "lib/spectral/path_color.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE) in;
 
@@ -33,7 +34,16 @@ void shade_light_vertex(uint i, uint parity, out bool push_ray, out RayItem next
     escaped = hit.triangle == INVALID_INDEX;  // counted here for --stats: in extend it took a second atomic
     uint path = ray.path;
     PathState state = load_path_state(path);
-    vec3 beta = vec3(state.throughput_r, state.throughput_g, state.throughput_b);
+    // The throughput at the subpath's wavelengths (lib/spectral/path_color.glsl: RGB in xyz unless spectral).
+    vec4 beta = vec4(state.throughput_r, state.throughput_g, state.throughput_b, 0.0f);
+    SpectralFrame spectral;
+    PathSpectrum spectrum;
+    if (effect_on(EFFECT_SPECTRAL)) {
+        spectrum = path_spectra[path];
+        beta.w = spectrum.throughput_3;
+        spectral = make_spectral_frame(spectrum.wavelength_u);
+    }
+    uint spectrum_flags_before = effect_on(EFFECT_SPECTRAL) ? spectrum.flags : 0u;
     uint rng = state.rng;
     uint segments = push.depth + 1u;  // segments of the light subpath up to this vertex
     // The longest path the subpath may make: BDPT's light subpaths stop where its strategies do (bdpt_weighs).
@@ -50,14 +60,20 @@ void shade_light_vertex(uint i, uint parity, out bool push_ray, out RayItem next
     uvec4 media_before = media;
 
     // Beer-Lambert along the segment just traced, inside an absorbing volume.
-    if (effect_on(EFFECT_ABSORPTION) && hit.triangle != INVALID_INDEX) beta *= eval_medium_transmittance(media.x, hit.t);
+    if (effect_on(EFFECT_ABSORPTION) && hit.triangle != INVALID_INDEX)
+        beta *= eval_path_medium_transmittance(spectral, media.x, hit.t);
 
-    if (hit.triangle != INVALID_INDEX && max_value(beta) > 0.0f) {
+    if (hit.triangle != INVALID_INDEX && max_path_component(beta) > 0.0f) {
         vec3 wl = -vec3(ray.dir_x, ray.dir_y, ray.dir_z);  // towards the light
         float time = load_path_time(path);  // the subpath's shutter time (motion blur), its camera subpath's too
         ShadingPoint sp = load_shading_point(hit.triangle, hit.b1, hit.b2, hit.instance, time);
         SurfaceHit s = sp.s;
         bool front = dot(s.ng, wl) > 0.0f;  // the side the light arrives on
+        // Dispersion: the hero wavelength's index from here on, the others stop (as shade.comp's make_scattering).
+        if (disperse_at(sp, spectral.lambda.x) && (spectrum.flags & PATH_SECONDARIES_TERMINATED) == 0u) {
+            beta = terminate_secondary_wavelengths(beta);
+            spectrum.flags |= PATH_SECONDARIES_TERMINATED;
+        }
         set_media(sp, media, front);
         // Proposal for the next direction: the BSDF as if the eye were towards the light.
         SurfaceBsdf at_light = make_surface_bsdf(sp, wl);
@@ -84,7 +100,9 @@ void shade_light_vertex(uint i, uint parity, out bool push_ray, out RayItem next
                 v.b2 = hit.b2;
                 v.instance = hit.instance;
                 v.eta_front = sp.eta_front;
-                v.pad0 = v.pad1 = v.pad2 = 0u;
+                v.throughput_3 = beta.w;
+                v.spectrum_flags = effect_on(EFFECT_SPECTRAL) ? spectrum.flags : 0u;
+                v.pad = 0u;
                 store_light_vertex(path * params.light_vertex_slots + push.depth, v);
                 mis.light_vertices = segments;
             }
@@ -99,15 +117,17 @@ void shade_light_vertex(uint i, uint parity, out bool push_ray, out RayItem next
             if (splat.valid && cos_camera_g > 0.0f) {
                 SurfaceBsdf at_camera = make_surface_bsdf(sp, splat.to_camera);
                 vec3 f = eval_surface_bsdf(at_camera, splat.to_camera, wl);  // f(camera, light) cos_light
-                vec3 contrib = beta * f * (cos_camera_g / cos_light_g * splat.importance);
+                vec4 contrib = beta * lift_color(spectral, f) * (cos_camera_g / cos_light_g * splat.importance);
                 if (effect_on(EFFECT_ABSORPTION))
-                    contrib *= eval_medium_transmittance(medium_towards(sp, media, front, splat.to_camera), splat.dist);
+                    contrib *= eval_path_medium_transmittance(spectral, medium_towards(sp, media, front, splat.to_camera),
+                                                              splat.dist);
                 if (bdpt)
                     contrib *= weight_strategy(segments + 1u, 1u, weight_camera_connection(
                                                    mis, splat.importance * cos_camera_g,
                                                    pdf_surface_bsdf(at_camera, splat.to_camera, wl)));
-                if (max_value(contrib) > 0.0f) {
-                    shadow = make_splat_ray(s.p, s.p_error, at_camera.ng, splat, contrib, hit.triangle, path);
+                if (max_path_component(contrib) > 0.0f) {
+                    shadow = make_splat_ray(s.p, s.p_error, at_camera.ng, splat, film_color(spectral, contrib),
+                                            hit.triangle, path);
                     push_shadow = true;
                 }
             }
@@ -124,16 +144,17 @@ void shade_light_vertex(uint i, uint parity, out bool push_ray, out RayItem next
                 // Adjoint: f(next, light) cos_light as the path tracer's frame from `next` sees it, over the
                 // proposal's pdf, with the shading-normal correction.
                 SurfaceBsdf at_next = make_surface_bsdf(sp, wi);
-                beta *= eval_surface_bsdf(at_next, wi, wl) * (cos_next_g / (cos_light_g * next_dir.pdf));
+                beta *= lift_color(spectral, eval_surface_bsdf(at_next, wi, wl)) *
+                        (cos_next_g / (cos_light_g * next_dir.pdf));
                 if (bdpt) account_scattering(mis, cos_next_g, next_dir.pdf, pdf_surface_bsdf(at_next, wi, wl));
                 bool survive = true;
                 // Russian roulette on the throughput relative to what the subpath carried from the light.
                 if ((params.flags & RENDER_RR) != 0u && segments >= params.rr_start_depth) {
-                    float q = min(max_value(beta) / state.bsdf_pdf, 0.95f);
+                    float q = min(max_path_component(beta) / state.bsdf_pdf, 0.95f);
                     survive = u_roulette < q;
                     beta /= q;
                 }
-                if (survive && max_value(beta) > 0.0f) {
+                if (survive && max_path_component(beta) > 0.0f) {
                     // Crossing into (or out of) a volume.
                     if (dot(wi, ng) < 0.0f) media = media_across(sp, media, front);
                     vec3 origin = offset_ray_origin(s.p, s.p_error, ng, wi);
@@ -154,6 +175,10 @@ void shade_light_vertex(uint i, uint parity, out bool push_ray, out RayItem next
     state.throughput_b = beta.z;
     state.rng = rng;
     store_path_state(path, state);
+    if (effect_on(EFFECT_SPECTRAL)) {
+        path_spectra[path].throughput_3 = beta.w;
+        if (spectrum.flags != spectrum_flags_before) path_spectra[path].flags = spectrum.flags;
+    }
     if (bdpt) store_path_mis(path, mis);
     if (tracks_media() && any(notEqual(media, media_before))) path_media[path] = media;
 }

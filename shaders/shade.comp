@@ -160,15 +160,9 @@ Scattering make_scattering(inout PathVertex v, inout ShadingPoint sp, vec3 wo, b
     // The volumes across the surface: entering one (inside another, nested) or leaving back into the outer.
     sc.media_beyond = sc.volume ? (front ? enter_medium(v.media, s.material) : leave_medium(v.media, s.material))
                                 : v.media;
-    if (effect_on(EFFECT_SPECTRAL) && sc.volume && transmission > 0.0f) {
-        float dispersion = load_material_layers(s.material).dispersion;
-        if (dispersion > 0.0f) {
-            sp.m.ior = eval_dispersive_ior(sp.m.ior, dispersion, v.spectral.lambda.x);
-            if ((v.spectrum.flags & PATH_SECONDARIES_TERMINATED) == 0u) {
-                v.beta = terminate_secondary_wavelengths(v.beta);
-                v.spectrum.flags |= PATH_SECONDARIES_TERMINATED;
-            }
-        }
+    if (disperse_at(sp, v.spectral.lambda.x) && (v.spectrum.flags & PATH_SECONDARIES_TERMINATED) == 0u) {
+        v.beta = terminate_secondary_wavelengths(v.beta);
+        v.spectrum.flags |= PATH_SECONDARIES_TERMINATED;
     }
     sc.bsdf = make_bsdf_params(sp.m);
     float eta = sp.m.ior;  // n beyond / n on this side (lib/material/transmission.glsl); thin-walled: the ior

@@ -8,22 +8,6 @@
 
 namespace fh {
 
-namespace {
-
-// Effects whose transport light_shade.comp does not carry yet, with what each means to a user. Unlit materials are
-// seen by the camera's own rays only, which BDPT has and light tracing has not.
-struct Unsupported {
-    uint32_t bit;
-    const char* what;
-    bool bdpt_handles;
-};
-constexpr Unsupported UNSUPPORTED[] = {
-    {gpu::EFFECT_SPECTRAL, "dispersion (KHR_materials_dispersion)", false},
-    {gpu::EFFECT_UNLIT, "unlit materials (KHR_materials_unlit: only camera rays see them; --integrator bdpt does)", true},
-};
-
-}  // namespace
-
 uint32_t bdpt_depth(const RenderSettings& settings) {
     return settings.max_depth == 0 ? BDPT_DEFAULT_DEPTH : std::min(settings.max_depth, BDPT_MAX_DEPTH);
 }
@@ -59,9 +43,10 @@ std::string find_light_tracing_obstacle(const PackedScene& scene, const RenderSe
         return "light tracing does not start light subpaths on emitters that move over the shutter (" +
                std::to_string(scene.moving_emitting_triangles) +
                " triangles; --integrator bdpt sees them through its camera subpaths)";
-    for (const Unsupported& u : UNSUPPORTED)
-        if ((effects & u.bit) && !(u.bdpt_handles && settings.integrator == Integrator::bdpt))
-            return std::string("light tracing does not handle ") + u.what + " yet";
+    // Unlit materials are seen by the camera's own rays only, which BDPT has and light tracing has not.
+    if ((effects & gpu::EFFECT_UNLIT) && settings.integrator == Integrator::light)
+        return "light tracing does not render unlit materials (KHR_materials_unlit: only camera rays see them; "
+               "--integrator bdpt does)";
     if (scene.emitters.empty() && !(settings.integrator == Integrator::bdpt && scene.moving_emitting_triangles > 0))
         return "nothing in the scene emits, and there is no --env or --background";
     if (camera.orthographic && (effects & gpu::EFFECT_ENVIRONMENT))

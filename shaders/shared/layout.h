@@ -587,7 +587,8 @@ struct PathMis {
 
 // A vertex of a light subpath kept for the camera subpath of the same (pixel, sample) to connect to: where it is
 // (the surface is reloaded from the hit), the direction back towards the light, the throughput that reached it, its
-// MIS quantities and the refraction ratio of its volumes. 52 bytes.
+// MIS quantities, the refraction ratio of its volumes and, rendered spectrally, the fourth wavelength's throughput and
+// whether the subpath dispersed (PATH_SECONDARIES_TERMINATED). 60 bytes.
 struct LightVertex {
     float throughput_r, throughput_g, throughput_b;
     float dvcm;
@@ -597,7 +598,9 @@ struct LightVertex {
     float b1, b2;
     uint instance;              // the Instance hit, or INVALID_INDEX
     float eta_front;            // a volume's n behind the front face / n in front, by the subpath's volumes; else 1
-    uint pad0, pad1, pad2;      // whole texels: 4 uvec4 loads and stores (make_texel_loaders.py), not 13 words
+    float throughput_3;         // EFFECT_SPECTRAL: the throughput at the subpath's fourth wavelength (PathSpectrum's)
+    uint spectrum_flags;        // EFFECT_SPECTRAL: PathSpectrum.flags
+    uint pad;                   // whole texels: 4 uvec4 loads and stores (make_texel_loaders.py), not 15 words
 };
 
 // A ray waiting for its closest hit.

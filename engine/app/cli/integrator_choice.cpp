@@ -1,6 +1,7 @@
 #include "app/cli/integrator_choice.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <limits>
 #include <stdexcept>
@@ -31,11 +32,40 @@ double estimate_relative_variance(const Image& a, const Image& b) {
     return a.rgb.empty() ? 0.0 : sum / double(a.rgb.size());
 }
 
+// The mean of both films over every pixel and channel, and that mean's variance (each pixel's average of the two
+// has the variance d^2 / 4, d their difference; the pixels are taken as independent).
+struct FilmMean {
+    double mean = 0.0;
+    double variance = 0.0;
+};
+
+FilmMean estimate_mean(const Image& a, const Image& b) {
+    FilmMean m;
+    if (a.rgb.empty()) return m;
+    const double n = double(a.rgb.size());
+    for (size_t i = 0; i < a.rgb.size(); ++i) {
+        const double d = double(a.rgb[i]) - double(b.rgb[i]);
+        m.mean += 0.5 * (double(a.rgb[i]) + double(b.rgb[i])) / n;
+        m.variance += 0.25 * d * d / (n * n);
+    }
+    return m;
+}
+
 struct Pilot {
     Integrator integrator;
     uint32_t spp;  // per film
     double score;  // relMSE x seconds for one film of the pilot: the time to reach relMSE e is score / e
+    FilmMean mean;
 };
+
+// An integrator whose image's mean is far from path tracing's, beyond both pilots' noise (five standard errors) and 5%,
+// misses light its strategies cannot reach in any affordable time (light tracing cannot see a lamp through smooth
+// glass: its films agree, both nearly black, and would score best).
+bool misses_light(const Pilot& candidate, const Pilot& path) {
+    const double apart = std::abs(candidate.mean.mean - path.mean.mean);
+    return apart > 5.0 * std::sqrt(candidate.mean.variance + path.mean.variance) &&
+           apart > 0.05 * std::abs(path.mean.mean);
+}
 
 Pilot run_pilot(const vk::Context& context, const PackedScene& scene, const SceneCamera& camera,
                 const RenderSettings& settings, uint32_t spp, uint32_t max_spp) {
@@ -49,7 +79,7 @@ Pilot run_pilot(const vk::Context& context, const PackedScene& scene, const Scen
         const Image b = renderer.read_film();
         const double seconds = 0.5 * (first.render_seconds + second.render_seconds);
         if (seconds >= PILOT_SECONDS || 2 * spp > max_spp)
-            return {settings.integrator, spp, estimate_relative_variance(a, b) * seconds};
+            return {settings.integrator, spp, estimate_relative_variance(a, b) * seconds, estimate_mean(a, b)};
         spp *= 2;
     }
 }
@@ -72,12 +102,18 @@ IntegratorChoice choose_integrator_by_pilot(const vk::Context& context, const Pa
             check_render_settings(scene, camera, s);
         } catch (const std::invalid_argument&) {
             report += std::string(" ") + to_string(candidate) + " not possible;";
-            continue;  // a candidate the scene or settings rule out (dispersion under light subpaths, unbounded depth)
+            continue;  // a candidate the scene or settings rule out (unlit materials under light tracing, ...)
         }
-        pilots.push_back(run_pilot(context, scene, camera, s, spp, max_spp));
-        char text[96];
-        std::snprintf(text, sizeof text, " %s %.3g (%u spp);", to_string(candidate), pilots.back().score,
-                      pilots.back().spp);
+        Pilot pilot = run_pilot(context, scene, camera, s, spp, max_spp);
+        char text[160];
+        const bool after_path = !pilots.empty() && pilots.front().integrator == Integrator::path;
+        if (after_path && misses_light(pilot, pilots.front())) {
+            std::snprintf(text, sizeof text, " %s misses light (mean %.3g against path's %.3g);",
+                          to_string(candidate), pilot.mean.mean, pilots.front().mean.mean);
+        } else {
+            pilots.push_back(pilot);
+            std::snprintf(text, sizeof text, " %s %.3g (%u spp);", to_string(candidate), pilot.score, pilot.spp);
+        }
         report += text;
     }
     const auto best = std::min_element(pilots.begin(), pilots.end(),

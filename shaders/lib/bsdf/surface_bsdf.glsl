@@ -9,6 +9,7 @@
 #include "lib/sampling/sampling.glsl"
 #include "lib/material/transmission.glsl"
 #include "lib/geometry/motion.glsl"
+#include "lib/spectral/spectrum.glsl"
 
 // Whether direction w (local frame: w_local) may leave here. A reflection (w_local.z > 0) must stay above the
 // geometric surface ng, or light leaks through it. A transmission (w_local.z < 0) below it crosses the surface; one
@@ -82,6 +83,17 @@ ShadingPoint load_shading_point(uint triangle, float b1, float b2, uint instance
     ShadingPoint sp = begin_shading_point(triangle, b1, b2, instance, time, inst);
     finish_shading_point(sp, instance, inst, true);
     return sp;
+}
+
+// KHR_materials_dispersion (EFFECT_SPECTRAL): a dispersive volume that light can pass into refracts by its index at
+// the hero wavelength `lambda`, which the point takes here (before set_media); true where it does, and the path's
+// other wavelengths must then stop (terminate_secondary_wavelengths: their directions would differ).
+bool disperse_at(inout ShadingPoint sp, float lambda) {
+    if (!effect_on(EFFECT_SPECTRAL) || !sp.volume || !(sp.transmission > 0.0f)) return false;
+    float dispersion = load_material_layers(sp.s.material).dispersion;
+    if (!(dispersion > 0.0f)) return false;
+    sp.m.ior = eval_dispersive_ior(sp.m.ior, dispersion, lambda);
+    return true;
 }
 
 // The volumes around a point: `media`, the stack of the subpath arriving on the side `front` of s.ng (path_media).

@@ -15,8 +15,13 @@ looks straight down (-Z) at a white emitter of radiance 1 on the plane z = 0 thr
                              0.924 in each channel (the hero wavelength alone after the first surface).
   glass_furnace_dispersive.gltf  a smooth glass sphere of dispersion 1 in perspective: under --background 1,1,1
                              white in every pixel (a spectral path that splits light by wavelength loses none).
+  glass_furnace_dispersive_r50.gltf  the sphere rough (0.5): BDPT joins vertices inside it where both subpaths
+                             dispersed (each weighted its hero wavelength by 4; the path takes it once).
   glass_prism.gltf           a 60-degree prism of dispersion 1 in front of a white emissive slit, seen by a
                              perspective camera: the slit's image is spread into a spectrum (shaders/lib/bsdf/README.md "Dispersion").
+  glass_prism_wall.gltf      the same prism and a short bright slit, turned round: the slit's light passes through the
+                             prism and throws a spectrum onto a white wall (z = 8) that the camera looks at from
+                             between them (a black screen round the prism keeps the slit's direct light off it); light subpaths carry the dispersion (shaders/lib/integrator/README.md "Dispersion").
   glass_furnace_rNN.gltf     a glass sphere of ior 1.5 and roughness 0.NN (0, 0.3, 1), seen in perspective: under
                              --background 1,1,1 white in every pixel, rough or not (the multiple-scattering lobe gives
                              back what single scattering loses; without it roughness 1 reads 0.64, shaders/lib/bsdf/README.md "Glass").
@@ -107,6 +112,24 @@ def prism_scene():
     g.doc["materials"].append(glass(dispersion=1.0))
     g.add_node({"mesh": g.add_mesh(prism(-2.0, 2.0), len(g.doc["materials"]) - 1)})
     g.add_perspective_camera({"translation": [0.0, 0.2, 8.0]}, 0.5)
+    return g
+
+
+def prism_wall_scene():
+    g = Gltf()
+    use_glass_extensions(g)
+    slit = g.add_material(base=(0.0, 0.0, 0.0), emission=200.0)
+    g.add_node({"mesh": g.add_mesh(quad(-0.5, -5.6, 0.5, -5.4, -8.0), slit)})
+    g.doc["materials"].append(glass(dispersion=1.0))
+    g.add_node({"mesh": g.add_mesh(prism(-2.0, 2.0), len(g.doc["materials"]) - 1)})
+    wall = g.add_material(base=(0.8, 0.8, 0.8))
+    g.add_node({"mesh": g.add_mesh(quad(-4.0, -4.0, 4.0, 4.0, 8.0, facing_up=False), wall)})
+    # A black screen behind the prism (z = -1.2) with a window the prism fills: the wall sees the slit through it only.
+    screen = g.add_material(base=(0.0, 0.0, 0.0))
+    panels = quad(-6.0, -6.0, 6.0, -0.75, -1.2) + quad(-6.0, 1.0, 6.0, 6.0, -1.2)
+    panels += quad(-6.0, -0.75, -2.0, 1.0, -1.2) + quad(2.0, -0.75, 6.0, 1.0, -1.2)
+    g.add_node({"mesh": g.add_mesh(panels, screen)})
+    g.add_perspective_camera({"translation": [0.0, 0.2, 3.0], "rotation": [0.0, 1.0, 0.0, 0.0]}, 0.9)
     return g
 
 
@@ -257,7 +280,9 @@ def main():
         "glass_thin": over_emitter(glass(volume=False), quad(-10, -10, 10, 10, 1.0)),
         "glass_slab_dispersive": over_emitter(glass(dispersion=1.0), slab),
         "glass_furnace_dispersive": furnace(0.0, dispersion=1.0),
+        "glass_furnace_dispersive_r50": furnace(0.5, dispersion=1.0),
         "glass_prism": prism_scene(),
+        "glass_prism_wall": prism_wall_scene(),
         "glass_furnace_r0": furnace(0.0),
         "glass_furnace_r30": furnace(0.3),
         "glass_furnace_r100": furnace(1.0),
