@@ -1,7 +1,7 @@
 // Stage "light_generate" (`--integrator light` and `bdpt`): starts one light subpath per (pixel, sample) of the wave: a
 // light by power, a point on it and a first direction (lib/integrator/light_subpath.glsl), and the light's own vertex joined to
 // the camera (the s = 1, t = 1 strategy: a splat; light tracing only). BDPT also starts the path's MIS quantities.
-// Reads: params, push, triangles, materials, emitters, punctual lights, the environment (with EFFECT_EMISSIVE_TEXTURE
+// Reads: params, push, triangles, materials, emitters, punctual lights, light media, the environment (with EFFECT_EMISSIVE_TEXTURE
 // / EFFECT_ALPHA textures).
 // Writes: rays[queue 0], paths (throughput: the power the subpath carries; bsdf_pdf: its largest component at the
 // light, Russian roulette's scale; radiance 0), shadow_rays (one splat per subpath, empty where there is none),
@@ -67,8 +67,8 @@ void main() {
     // Bidirectional path tracing leaves a light seen directly to the camera subpath (s = 0 alone, lib/integrator/bdpt.glsl).
     store_shadow_ray(i, bdpt ? make_empty_splat() : start.splat);
     if (bdpt) store_path_mis(i, start.mis);
-    // Lights stand outside every volume (shaders/lib/integrator/README.md "Bidirectional path tracing"); the camera subpath starts its own.
-    if (tracks_media()) path_media[i] = uvec4(INVALID_INDEX);
+    // The volumes the light stands in, probed on the host (render/light_media.h); the camera subpath starts its own.
+    if (tracks_media()) path_media[i] = effect_on(EFFECT_VOLUME) ? light_media[start.emitter] : uvec4(INVALID_INDEX);
 
     // The power at the subpath's wavelengths (spectral: the light's RGB upsampled, as NEE's is).
     vec4 power = vec4(start.power, 0.0f);

@@ -133,6 +133,9 @@ GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& sce
     b.glass_albedo = make_filled_buffer(context, flatten_glass_albedo_table(effects));
     b.light_vertices = make_state_buffer(context, light_vertices_bytes(frame.wave_capacity, store));
     b.path_mis = make_state_buffer(context, path_mis_bytes(frame.wave_capacity, store));
+    // Outside every volume until the renderer has probed the lights (render/light_media.h).
+    const size_t lights = light_media_bytes(scene, effects, store) / sizeof(gpu::uvec4);
+    b.light_media = make_filled_buffer(context, std::vector<gpu::uvec4>(lights, gpu::uvec4(gpu::INVALID_INDEX)));
     // bin_rays counts into zeros; scan_ray_bins leaves them zero again.
     b.ray_sort = make_filled_buffer(context, std::vector<uint32_t>(ray_sort_bytes(frame.wave_capacity, store) / 4, 0u));
     // The limits check before rendering relies on the estimate: keep it exact.
@@ -143,7 +146,7 @@ GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& sce
                                      &b.texels, &b.env_radiance, &b.env_cdf, &b.instances, &b.material_layers, &b.path_media,
                                      &b.path_spectra, &b.path_times, &b.glass_albedo, &b.light_vertices, &b.path_mis, &b.ray_sort,
                                      &b.light_tree, &b.path_light_points, &b.path_aovs, &b.aov_film, &b.pixel_list, &b.pixel_work,
-                                     &b.path_work})
+                                     &b.path_work, &b.light_media})
         allocated += buffer->size();
     if (allocated !=
         estimate_render_memory(scene, frame.film_width, frame.film_height, frame.wave_capacity, effects, store).device_bytes())
@@ -192,6 +195,7 @@ void bind_gpu_buffers(vk::BindingTable& table, const GpuBuffers& b) {
     table.bind_buffer(gpu::BINDING_PIXEL_LIST, b.pixel_list);
     table.bind_buffer(gpu::BINDING_PIXEL_WORK, b.pixel_work);
     table.bind_buffer(gpu::BINDING_PATH_WORK, b.path_work);
+    table.bind_buffer(gpu::BINDING_LIGHT_MEDIA, b.light_media);
 }
 
 }  // namespace fh

@@ -46,6 +46,7 @@ struct GpuBuffers {
     vk::Buffer pixel_work;         // per pixel: its samples' work (--adaptive; else one word)
     vk::Buffer path_work;          // per path: its work so far (--adaptive; else one word)
     vk::Buffer path_media;         // the volumes each path is inside (EFFECT_VOLUME, _ABSORPTION; else one stack)
+    vk::Buffer light_media;        // the volumes each light stands in (light subpaths with EFFECT_VOLUME; else one)
     vk::Buffer path_spectra;       // each path's wavelengths (EFFECT_SPECTRAL; else one element)
     vk::Buffer path_times;         // each path's time in the shutter (EFFECT_MOTION_BLUR; else one word)
     vk::Buffer glass_albedo;       // the glass lobe's albedo table (EFFECT_GLASS_MULTISCATTER; else one word)

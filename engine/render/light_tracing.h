@@ -1,8 +1,7 @@
 // What light tracing (`--integrator light`, shaders/lib/integrator/README.md "Light tracing") and BDPT can render
 // today, checked before any pipeline is built: a scene or setting they do not handle yet is refused with the reason
-// (a thin lens, motion blur and the Gaussian filter are carried: "The camera's effects"). One case is not detected: light
-// subpaths start outside every volume, so a light inside a closed glass volume (KHR_materials_volume) is refracted as
-// if it stood outside it (shaders/lib/integrator/README.md "Light tracing"; thin-walled glass around a lamp is right).
+// (dispersion, a thin lens, motion blur and the Gaussian filter are carried: "Dispersion", "The camera's effects"; a
+// light inside glass starts its subpaths in the glass's volume: render/light_media.h).
 #pragma once
 #include <cstdint>
 #include <string>

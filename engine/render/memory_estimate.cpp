@@ -61,6 +61,7 @@ uint64_t path_spectra_bytes(uint32_t wave_capacity, EffectBits effects) {
 PathStore make_path_store(const RenderSettings& settings) {
     PathStore b;
     b.bdpt = settings.integrator == Integrator::bdpt;
+    b.light_subpaths = settings.integrator == Integrator::light || settings.integrator == Integrator::bdpt;
     b.light_vertex_slots = count_light_vertex_slots(settings);
     b.sort_rays = settings.sort_rays.value_or(false);  // resolved by with_device_defaults before any estimate
     b.aovs = settings.aovs;
@@ -94,6 +95,11 @@ uint64_t ray_sort_bytes(uint32_t wave_capacity, const PathStore& store) {
 uint64_t light_vertices_bytes(uint32_t wave_capacity, const PathStore& store) {
     return std::max<uint64_t>(store.bdpt ? uint64_t(wave_capacity) * store.light_vertex_slots : 1, 1) *
            sizeof(gpu::LightVertex);
+}
+
+uint64_t light_media_bytes(const PackedScene& scene, EffectBits effects, const PathStore& store) {
+    const bool probed = store.light_subpaths && (effects & gpu::EFFECT_VOLUME);
+    return std::max<uint64_t>(probed ? scene.emitters.size() : 1, 1) * sizeof(gpu::uvec4);
 }
 
 uint64_t path_mis_bytes(uint32_t wave_capacity, const PathStore& store) {
@@ -138,6 +144,7 @@ MemoryEstimate estimate_render_memory(const PackedScene& scene, uint32_t width, 
         {"glass_albedo", glass_albedo_bytes(effects), storage},
         {"light_vertices", light_vertices_bytes(wave_capacity, store), storage},
         {"path_mis", path_mis_bytes(wave_capacity, store), storage},
+        {"light_media", light_media_bytes(scene, effects, store), storage},
         {"ray_sort", ray_sort_bytes(wave_capacity, store), storage},
         {"path_light_points", path_light_points_bytes(wave_capacity, effects), storage},
         {"path_aovs", path_aovs_bytes(wave_capacity, store), storage},

@@ -62,6 +62,7 @@ uint64_t glass_albedo_bytes(EffectBits effects);
 // counts. Off: one element each.
 struct PathStore {
     bool bdpt = false;
+    bool light_subpaths = false;  // light tracing or BDPT: with volumes, each light's media (light_media_bytes)
     uint32_t light_vertex_slots = 0;
     bool sort_rays = false;
     bool aovs = false;  // --aov: a PathAov per path and an AovPixel per pixel
@@ -70,6 +71,7 @@ struct PathStore {
 PathStore make_path_store(const RenderSettings& settings);
 uint64_t light_vertices_bytes(uint32_t wave_capacity, const PathStore& store);
 uint64_t path_mis_bytes(uint32_t wave_capacity, const PathStore& store);
+uint64_t light_media_bytes(const PackedScene& scene, EffectBits effects, const PathStore& store);
 uint64_t ray_sort_bytes(uint32_t wave_capacity, const PathStore& store);
 uint64_t path_aovs_bytes(uint32_t wave_capacity, const PathStore& store);
 uint64_t aov_film_bytes(uint32_t width, uint32_t height, const PathStore& store);

@@ -10,6 +10,7 @@
 #include "render/camera/camera_setup.h"
 #include "render/camera/camera_medium.h"
 #include "render/film.h"
+#include "render/light_media.h"
 #include "render/light_tracing.h"
 #include "render/ray_sort.h"
 #include "render/ray_tracer.h"
@@ -150,6 +151,7 @@ Renderer::Renderer(const vk::Context& context, const PackedScene& scene, const S
       scene_(scene) {
     bind_gpu_buffers(stages_.bindings(), buffers_);
     update_camera_medium();
+    update_light_media();
     if (settings_.adaptive) {
         std::vector<uint32_t> identity(size_t(settings_.film_width()) * settings_.film_height());
         for (size_t i = 0; i < identity.size(); ++i) identity[i] = uint32_t(i);
@@ -177,23 +179,44 @@ void Renderer::set_seed(uint32_t seed) {
     vk::upload_to_buffer(context_, buffers_.params, &frame_, sizeof(frame_));
 }
 
+std::vector<gpu::HitItem> Renderer::trace_medium_probes(const std::vector<gpu::RayItem>& probes) {
+    gpu::QueueCounters counters;  // the render's diagnostic counts survive the probes
+    vk::download_from_buffer(context_, buffers_.counters, &counters, sizeof(counters));
+    // At most a wave of them at a time, each its own path: stochastic alpha keys on paths[].rng, the same (zero) state
+    // for the probes every time whatever the buffer held, and a probe's time (motion blur) is the shutter's centre.
+    const size_t chunk = std::min<size_t>(frame_.wave_capacity, std::max<size_t>(probes.size(), 1));
+    const std::vector<gpu::PathState> probe_paths(chunk, gpu::PathState{});
+    vk::upload_to_buffer(context_, buffers_.paths, probe_paths.data(), probe_paths.size() * sizeof(gpu::PathState));
+    if (stages_.options().effects & gpu::EFFECT_MOTION_BLUR) {
+        const std::vector<float> centre(chunk, 0.5f);
+        vk::upload_to_buffer(context_, buffers_.path_times, centre.data(), centre.size() * sizeof(float));
+    }
+    std::vector<gpu::HitItem> hits;
+    hits.reserve(probes.size());
+    for (size_t begin = 0; begin < probes.size(); begin += chunk) {
+        std::vector<gpu::RayItem> rays(probes.begin() + begin, probes.begin() + std::min(probes.size(), begin + chunk));
+        for (size_t k = 0; k < rays.size(); ++k) rays[k].path = uint32_t(k);
+        const std::vector<gpu::HitItem> part = trace_ray_queue(context_, stages_, buffers_, rays, 1, false).hits;
+        hits.insert(hits.end(), part.begin(), part.end());
+    }
+    vk::upload_to_buffer(context_, buffers_.counters, &counters, sizeof(counters));
+    return hits;
+}
+
+void Renderer::update_light_media() {
+    const bool light_subpaths = settings_.integrator == Integrator::light || settings_.integrator == Integrator::bdpt;
+    if (!light_subpaths || (stages_.options().effects & gpu::EFFECT_VOLUME) == 0u || scene_.emitters.empty()) return;
+    const std::vector<gpu::uvec4> media =
+        find_light_media(scene_, [&](const std::vector<gpu::RayItem>& rays) { return trace_medium_probes(rays); });
+    vk::upload_to_buffer(context_, buffers_.light_media, media.data(), media.size() * sizeof(gpu::uvec4));
+}
+
 void Renderer::update_camera_medium() {
     if ((stages_.options().effects & gpu::EFFECT_VOLUME) == 0u) return;
     const std::vector<gpu::RayItem> probes =
         make_medium_probe_rays(glm::vec3(frame_.camera_origin), std::min<uint32_t>(frame_.wave_capacity, 14u));
-    gpu::QueueCounters counters;  // the render's diagnostic counts survive the probes
-    vk::download_from_buffer(context_, buffers_.counters, &counters, sizeof(counters));
-    // Stochastic alpha keys on paths[].rng: the same (zero) state for the probes every time, whatever the buffer held.
-    const std::vector<gpu::PathState> probe_paths(probes.size(), gpu::PathState{});
-    vk::upload_to_buffer(context_, buffers_.paths, probe_paths.data(), probe_paths.size() * sizeof(gpu::PathState));
-    if (stages_.options().effects & gpu::EFFECT_MOTION_BLUR) {  // the probes at the shutter's centre
-        const std::vector<float> centre(probes.size(), 0.5f);
-        vk::upload_to_buffer(context_, buffers_.path_times, centre.data(), centre.size() * sizeof(float));
-    }
-    const CameraMedia media = find_camera_media(scene_, probes, [&](const std::vector<gpu::RayItem>& rays) {
-        return trace_ray_queue(context_, stages_, buffers_, rays, 1, false).hits;
-    });
-    vk::upload_to_buffer(context_, buffers_.counters, &counters, sizeof(counters));
+    const CameraMedia media = find_camera_media(
+        scene_, probes, [&](const std::vector<gpu::RayItem>& rays) { return trace_medium_probes(rays); });
     frame_.camera_medium = media[0];
     frame_.camera_medium_outer = media[1];
     frame_.camera_medium_outermost = media[2];

@@ -97,6 +97,11 @@ public:
 private:
     // Probes which volumes the camera stands in (EFFECT_VOLUME only) and sets FrameParams.camera_medium*.
     void update_camera_medium();
+    // Probes which volumes each light stands in (light tracing and BDPT with EFFECT_VOLUME only; render/light_media.h)
+    // into BINDING_LIGHT_MEDIA.
+    void update_light_media();
+    // Closest hits of any number of medium probes, a wave at a time; the render's counters are kept.
+    std::vector<gpu::HitItem> trace_medium_probes(const std::vector<gpu::RayItem>& probes);
     enum class Subpaths { camera, light };
     void trace_wave(const Wave& wave, RenderStats& stats);
     // Samples [sample_begin, sample_end) of the wave pixels [first, first + pixels) (film pixels, or the pixel list's

@@ -90,7 +90,10 @@ FH_CONST uint BINDING_AOV_FILM = 36u;        // AovPixel[width * height]
 FH_CONST uint BINDING_PIXEL_LIST = 37u;      // uint[film width * film height]
 FH_CONST uint BINDING_PATH_WORK = 38u;       // uint[wave capacity]
 FH_CONST uint BINDING_PIXEL_WORK = 39u;      // uint[film width * film height]
-FH_CONST uint BINDING_COUNT = 40u;
+// The volumes each light stands in, innermost first (light tracing and BDPT with EFFECT_VOLUME; else one element):
+// where its subpaths start (render/light_media.h).
+FH_CONST uint BINDING_LIGHT_MEDIA = 40u;       // uvec4[emitter count]: per Emitter entry, as PathMedia
+FH_CONST uint BINDING_COUNT = 41u;
 // Measured on DamagedHelmet under the courtyard (tests/bench/RESULTS.md "2026-11-29: adaptive sampling"), from the
 // stage seconds of two renders with different mixes: a vertex on a surface (extend and shade) 1.2 us, one whose ray
 // escaped 0.28 us, a shadow ray (connect) 0.33 us.

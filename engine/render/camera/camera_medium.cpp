@@ -6,7 +6,7 @@
 
 namespace fh {
 
-std::vector<gpu::RayItem> make_medium_probe_rays(glm::vec3 origin, uint32_t count) {
+std::vector<gpu::RayItem> make_medium_probe_rays(glm::vec3 origin, uint32_t count, uint32_t origin_triangle) {
     static const float d = 0.57735027f;  // 1 / sqrt(3)
     static const glm::vec3 directions[] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},   {0, -1, 0},  {0, 0, 1},
                                            {0, 0, -1}, {d, d, d},  {-d, d, d},  {d, -d, d},  {d, d, -d},
@@ -14,7 +14,7 @@ std::vector<gpu::RayItem> make_medium_probe_rays(glm::vec3 origin, uint32_t coun
     std::vector<gpu::RayItem> rays;
     for (const glm::vec3& dir : directions) {
         if (rays.size() == count) break;
-        rays.push_back({origin.x, origin.y, origin.z, 0u, dir.x, dir.y, dir.z, gpu::INVALID_INDEX});
+        rays.push_back({origin.x, origin.y, origin.z, 0u, dir.x, dir.y, dir.z, origin_triangle});
     }
     return rays;
 }
@@ -106,6 +106,13 @@ CameraMedia count_votes(const std::vector<Walk>& walks) {
 
 CameraMedia find_camera_media(const PackedScene& scene, const std::vector<gpu::RayItem>& probes,
                               const TraceProbes& trace) {
+    std::vector<gpu::RayItem> one_point = probes;
+    for (gpu::RayItem& ray : one_point) ray.path = 0;
+    return find_media_at_points(scene, one_point, 1, trace)[0];
+}
+
+std::vector<CameraMedia> find_media_at_points(const PackedScene& scene, const std::vector<gpu::RayItem>& probes,
+                                              size_t point_count, const TraceProbes& trace) {
     std::vector<Walk> walks(probes.size());
     std::vector<gpu::RayItem> rays = probes;
     std::vector<size_t> walking(probes.size());
@@ -126,7 +133,13 @@ CameraMedia find_camera_media(const PackedScene& scene, const std::vector<gpu::R
         walking = std::move(next_walking);
     }
     for (size_t index : walking) stop_walk(walks[index]);  // still walking after MEDIUM_PROBE_STEPS surfaces
-    return count_votes(walks);
+    std::vector<std::vector<Walk>> by_point(point_count);
+    for (size_t k = 0; k < probes.size(); ++k)
+        if (probes[k].path < point_count) by_point[probes[k].path].push_back(walks[k]);
+    std::vector<CameraMedia> media;
+    media.reserve(point_count);
+    for (const std::vector<Walk>& point_walks : by_point) media.push_back(count_votes(point_walks));
+    return media;
 }
 
 }  // namespace fh

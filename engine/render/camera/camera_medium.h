@@ -18,8 +18,10 @@ namespace fh {
 using CameraMedia = std::array<uint32_t, 3>;
 inline constexpr CameraMedia NO_CAMERA_MEDIA{gpu::INVALID_INDEX, gpu::INVALID_INDEX, gpu::INVALID_INDEX};
 
-// Rays from `origin` (render space) along the 6 axes and the 8 diagonals, at most `count` of them.
-std::vector<gpu::RayItem> make_medium_probe_rays(glm::vec3 origin, uint32_t count);
+// Rays from `origin` (render space) along the 6 axes and the 8 diagonals, at most `count` of them, leaving
+// `origin_triangle` (a light's own triangle; INVALID_INDEX: none).
+std::vector<gpu::RayItem> make_medium_probe_rays(glm::vec3 origin, uint32_t count,
+                                                 uint32_t origin_triangle = gpu::INVALID_INDEX);
 
 // Traces rays (the extend stage: closest hits, in order; origin_triangle is skipped as the stages skip it).
 using TraceProbes = std::function<std::vector<gpu::HitItem>(const std::vector<gpu::RayItem>&)>;
@@ -36,5 +38,10 @@ inline constexpr uint32_t MEDIUM_PROBE_STEPS = 8;
 // (the same volumes in the same order); a tie, or no vote at all, is "outside". At most three volumes are kept.
 CameraMedia find_camera_media(const PackedScene& scene, const std::vector<gpu::RayItem>& probes,
                               const TraceProbes& trace);
+
+// The same for many points at once (each probe's `path` word names its point, 0 .. point_count - 1): one trace per
+// step for all of them. The lights' volumes (render/light_media.h) are found so.
+std::vector<CameraMedia> find_media_at_points(const PackedScene& scene, const std::vector<gpu::RayItem>& probes,
+                                              size_t point_count, const TraceProbes& trace);
 
 }  // namespace fh

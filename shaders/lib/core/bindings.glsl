@@ -13,6 +13,7 @@ layout(std430, binding = BINDING_HITS) buffer HitBuffer { HitItem hits[]; };
 layout(std430, binding = BINDING_SHADOW_RAYS) buffer ShadowBuffer { ShadowRayItem shadow_rays[]; };
 layout(std430, binding = BINDING_FILM) buffer FilmBuffer { FilmPixel film[]; };
 layout(std430, binding = BINDING_PATH_MEDIA) buffer PathMediaBuffer { uvec4 path_media[]; };
+layout(std430, binding = BINDING_LIGHT_MEDIA) readonly buffer LightMediaBuffer { uvec4 light_media[]; };
 layout(std430, binding = BINDING_PATH_SPECTRA) buffer PathSpectrumBuffer { PathSpectrum path_spectra[]; };
 layout(std430, binding = BINDING_PATH_TIMES) buffer PathTimeBuffer { float path_times[]; };
 layout(std430, binding = BINDING_GLASS_ALBEDO) readonly buffer GlassAlbedoBuffer { float glass_albedo_words[]; };

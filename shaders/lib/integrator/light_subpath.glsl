@@ -20,6 +20,7 @@ struct LightStart {
     uint triangle;        // the emitting triangle (the first ray leaves it), or INVALID_INDEX
     ShadowRayItem splat;  // the light itself seen by the camera, or an empty splat
     PathMis mis;          // bidirectional path tracing's quantities at the light (lib/integrator/bdpt.glsl)
+    uint emitter;         // the Emitter entry picked (its volumes: BINDING_LIGHT_MEDIA)
 };
 
 LightStart make_no_light_start() {
@@ -32,6 +33,7 @@ LightStart make_no_light_start() {
     s.mis.dvcm = s.mis.dvc = 0.0f;
     s.mis.light_vertices = 0u;
     s.mis.flags = 0u;
+    s.emitter = 0u;
     return s;
 }
 
@@ -131,12 +133,16 @@ LightStart start_on_environment(float pick_pdf, vec2 u_dir, vec2 u_disk, SplatCa
 
 // cam: where the camera sees the light's own vertex from; subpath: the subpath's index (its splat's, splats_by_path).
 LightStart start_light_subpath(float u_pick, vec2 u_point, vec2 u_dir, float u_side, SplatCamera cam, uint subpath) {
-    Emitter e = pick_emitter(u_pick);
-    if (effect_on(EFFECT_ENVIRONMENT) && e.light == ENVIRONMENT_LIGHT) return start_on_environment(e.pick_pdf, u_dir, u_point, cam, subpath);
-    if (effect_on(EFFECT_PUNCTUAL_LIGHTS) && (e.light & PUNCTUAL_LIGHT_BIT) != 0u)
-        return start_on_punctual(e.light & ~PUNCTUAL_LIGHT_BIT, e.pick_pdf, u_dir, u_point);
-    if (effect_on(EFFECT_EMISSIVE_TRIANGLES) && (e.light & PUNCTUAL_LIGHT_BIT) == 0u && e.light != ENVIRONMENT_LIGHT)
-        return start_on_triangle(e.light, u_point, u_dir, u_side, cam, subpath);
-    return make_no_light_start();  // a kind of light compiled out (--disable-effect)
+    uint entry = pick_emitter_entry(u_pick);
+    Emitter e = load_emitter(entry);
+    LightStart start = make_no_light_start();  // a kind of light compiled out (--disable-effect)
+    if (effect_on(EFFECT_ENVIRONMENT) && e.light == ENVIRONMENT_LIGHT)
+        start = start_on_environment(e.pick_pdf, u_dir, u_point, cam, subpath);
+    else if (effect_on(EFFECT_PUNCTUAL_LIGHTS) && (e.light & PUNCTUAL_LIGHT_BIT) != 0u)
+        start = start_on_punctual(e.light & ~PUNCTUAL_LIGHT_BIT, e.pick_pdf, u_dir, u_point);
+    else if (effect_on(EFFECT_EMISSIVE_TRIANGLES) && (e.light & PUNCTUAL_LIGHT_BIT) == 0u && e.light != ENVIRONMENT_LIGHT)
+        start = start_on_triangle(e.light, u_point, u_dir, u_side, cam, subpath);
+    start.emitter = entry;
+    return start;
 }
 #endif

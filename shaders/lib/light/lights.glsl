@@ -31,13 +31,16 @@ struct LightConnection {
     uint valid;              // 0: the light sends nothing towards p
 };
 
-Emitter pick_emitter(float u) {
+// The entry of the light pick_emitter picks for u.
+uint pick_emitter_entry(float u) {
     uint n = params.emitter_count;
     float scaled = u * float(n);
     uint i = min(uint(scaled), n - 1u);
     Emitter e = load_emitter(i);
-    return (scaled - float(i) < e.alias_threshold) ? e : load_emitter(e.alias);
+    return (scaled - float(i) < e.alias_threshold) ? i : e.alias;
 }
+
+Emitter pick_emitter(float u) { return load_emitter(pick_emitter_entry(u)); }
 
 // A scene with at most this many lights picks one with the first coordinate of the light's 2D sample and reuses
 // what is left of it (below) rather than with a dimension of its own.

@@ -15,6 +15,9 @@ glass_room.gltf  the lamp room with four spheres that light passes through: smoo
                  cross surfaces, keep their volumes' indices and agree with the path tracer.
 glass_caustic.gltf (shipped in scenes/) a smooth glass sphere hanging over the floor of the room under a small lamp,
                  which it focuses to a caustic on the floor (shaders/lib/integrator/README.md "Bidirectional path tracing").
+glass_bulb.gltf  the room without its ceiling lamp, lit only by a small lamp (an emissive icosphere) inside a closed
+                 rough absorbing glass sphere (a volume): light subpaths start inside the glass's volume, so they must
+                 know it (refraction by its index on the way out, absorption from the first segment).
 unlit_room.gltf  the lamp room with an unlit sphere (KHR_materials_unlit, base colour (0.9, 0.5, 0.1)): the camera sees
                  its colour, every other ray finds it black (light subpaths end there).
 moving_room.gltf the lamp room with a grey sphere sliding along x (0.6 units over 1 s) and the camera sliding the other
@@ -30,7 +33,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "stability" / "render"))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from make_stability_scenes import Gltf, quad, uv_sphere  # noqa: E402
+from make_stability_scenes import Gltf, icosphere, quad, uv_sphere  # noqa: E402
 from make_test_scenes import cube_faces_inward  # noqa: E402
 
 
@@ -123,6 +126,18 @@ def glass_room():
     ]
     centres = [(-1.05, 0.3, 0.5), (-0.35, 0.9, 0.5), (0.35, 0.9, 0.5), (1.05, 0.3, 0.5)]
     add_spheres(g, materials, centres, 0.45, 12, 6)
+    return g
+
+
+def glass_bulb():
+    g = room(lamp=False)
+    use_transmission_extensions(g)
+    room_camera(g)
+    bulb = glass_material(0.3)
+    bulb["extensions"]["KHR_materials_volume"].update({"attenuationColor": [0.4, 0.6, 0.9], "attenuationDistance": 0.5})
+    add_spheres(g, [bulb], [(0.0, 0.6, 1.4)], 0.5, 16, 8)
+    lamp = g.add_material(base=(0.0, 0.0, 0.0), emission=40.0)
+    g.add_node({"mesh": g.add_mesh(placed(icosphere(1), (0.08, 0.08, 0.08), (0.0, 0.6, 1.4)), lamp)})
     return g
 
 
@@ -258,6 +273,7 @@ def main():
     door_gap().write(out / "door_gap.gltf")
     lamp_shade().write(out / "lamp_shade.gltf")
     moving_room().write(out / "moving_room.gltf")
+    glass_bulb().write(out / "glass_bulb.gltf")
 
 
 if __name__ == "__main__":

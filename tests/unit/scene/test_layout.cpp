@@ -238,7 +238,7 @@ TEST(Layout, SizesMatchTheGpuStructs) {
     EXPECT_EQ(sizeof(TextureSlot), 48u);
     EXPECT_EQ(sizeof(TriangleAttributes), 96u);
     EXPECT_EQ(sizeof(Emitter), 16u);
-    EXPECT_EQ(sizeof(FrameParams), 256u);
+    EXPECT_EQ(sizeof(FrameParams), 272u);
     EXPECT_EQ(sizeof(QueueCounters), 56u);
     EXPECT_EQ(sizeof(RayItem), 32u);
     EXPECT_EQ(sizeof(HitItem), 32u);
