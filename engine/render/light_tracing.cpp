@@ -17,21 +17,32 @@ uint32_t count_light_vertex_slots(const RenderSettings& settings) {
     return bdpt_depth(settings) - 2;
 }
 
+namespace {
+
+// What BDPT's own settings rule out: its strategies need NEE and MIS, and --bdpt-strategy a path it makes.
+std::string find_bdpt_settings_obstacle(const RenderSettings& settings) {
+    if (!settings.nee || !settings.mis)
+        return "bidirectional path tracing always samples lights and combines its strategies by MIS (leave --nee "
+               "and --mis on)";
+    const uint32_t s = settings.bdpt_strategy_s, t = settings.bdpt_strategy_t;
+    const std::string strategy = "--bdpt-strategy " + std::to_string(s) + "," + std::to_string(t);
+    if (t != 0 && s + t - 1 > bdpt_depth(settings))
+        return strategy + " makes paths of " + std::to_string(s + t - 1) + " segments, more than the " +
+               std::to_string(bdpt_depth(settings)) + " that every strategy reaches (--max-depth, at most " +
+               std::to_string(BDPT_MAX_DEPTH) + ")";
+    if (t != 0 && s + t < 3 && !(s == 0 && t == 2))
+        return strategy + ": a path of one segment (the camera seeing a light) is made by (0,2) alone: BDPT does not "
+                          "splat a light's own vertex";
+    return {};
+}
+
+}  // namespace
+
 std::string find_light_tracing_obstacle(const PackedScene& scene, const RenderSettings& settings,
                                         const SceneCamera& camera, EffectBits effects) {
     if (settings.integrator == Integrator::bdpt) {
-        if (!settings.nee || !settings.mis)
-            return "bidirectional path tracing always samples lights and combines its strategies by MIS (leave --nee "
-                   "and --mis on)";
-        const uint32_t s = settings.bdpt_strategy_s, t = settings.bdpt_strategy_t;
-        if (t != 0 && s + t - 1 > bdpt_depth(settings))
-            return "--bdpt-strategy " + std::to_string(s) + "," + std::to_string(t) + " makes paths of " +
-                   std::to_string(s + t - 1) + " segments, more than the " + std::to_string(bdpt_depth(settings)) +
-                   " that every strategy reaches (--max-depth, at most " + std::to_string(BDPT_MAX_DEPTH) + ")";
-        if (t != 0 && s + t < 3 && !(s == 0 && t == 2))
-            return "--bdpt-strategy " + std::to_string(s) + "," + std::to_string(t) +
-                   ": a path of one segment (the camera seeing a light) is made by (0,2) alone: BDPT does not splat a "
-                   "light's own vertex";
+        const std::string obstacle = find_bdpt_settings_obstacle(settings);
+        if (!obstacle.empty()) return obstacle;
     }
     if (effects & gpu::EFFECT_LIGHT_TREE)
         return "light subpaths start by power, and their weights assume NEE does too (--light-sampler power or uniform)";

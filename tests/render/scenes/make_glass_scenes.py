@@ -101,27 +101,29 @@ def prism(x0, x1):
     return tris
 
 
-def prism_scene():
-    """The camera looks along -z through the prism at a thin white slit 8 units behind it, 37 degrees below the
-    horizontal (the prism's minimum deviation at index 1.5) and outside the camera's view but through the prism:
-    the slit's image is spread vertically into a spectrum, violet highest, red lowest (least deviated)."""
+def slit_and_prism(slit_half_width, emission):
+    """A white slit at z = -8, 37 degrees below the horizontal as seen from the prism's far side (its minimum deviation
+    at index 1.5), and the prism of dispersion 1."""
     g = Gltf()
     use_glass_extensions(g)
-    slit = g.add_material(base=(0.0, 0.0, 0.0), emission=4.0)
-    g.add_node({"mesh": g.add_mesh(quad(-10.0, -5.6, 10.0, -5.4, -8.0), slit)})
+    slit = g.add_material(base=(0.0, 0.0, 0.0), emission=emission)
+    g.add_node({"mesh": g.add_mesh(quad(-slit_half_width, -5.6, slit_half_width, -5.4, -8.0), slit)})
     g.doc["materials"].append(glass(dispersion=1.0))
     g.add_node({"mesh": g.add_mesh(prism(-2.0, 2.0), len(g.doc["materials"]) - 1)})
+    return g
+
+
+def prism_scene():
+    """The camera looks along -z through the prism at the slit 8 units behind it, outside the camera's view but
+    through the prism: the slit's image is spread vertically into a spectrum, violet highest, red lowest (least
+    deviated)."""
+    g = slit_and_prism(10.0, 4.0)
     g.add_perspective_camera({"translation": [0.0, 0.2, 8.0]}, 0.5)
     return g
 
 
 def prism_wall_scene():
-    g = Gltf()
-    use_glass_extensions(g)
-    slit = g.add_material(base=(0.0, 0.0, 0.0), emission=200.0)
-    g.add_node({"mesh": g.add_mesh(quad(-0.5, -5.6, 0.5, -5.4, -8.0), slit)})
-    g.doc["materials"].append(glass(dispersion=1.0))
-    g.add_node({"mesh": g.add_mesh(prism(-2.0, 2.0), len(g.doc["materials"]) - 1)})
+    g = slit_and_prism(0.5, 200.0)
     wall = g.add_material(base=(0.8, 0.8, 0.8))
     g.add_node({"mesh": g.add_mesh(quad(-4.0, -4.0, 4.0, 4.0, 8.0, facing_up=False), wall)})
     # A black screen behind the prism (z = -1.2) with a window the prism fills: the wall sees the slit through it only.
