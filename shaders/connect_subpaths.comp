@@ -11,10 +11,8 @@
 #include "lib/core/bindings.glsl"
 #include "lib/core/queue.glsl"
 #include "lib/core/effects.glsl"
-#include "lib/bsdf/surface_bsdf.glsl"
-#include "lib/integrator/bdpt.glsl"
+#include "lib/integrator/camera_vertex.glsl"
 #include "lib/geometry/traverse.glsl"
-#include "lib/spectral/path_color.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE) in;
 
@@ -33,35 +31,14 @@ void main() {
     uint last = min(min(camera_mis.light_vertices, params.light_vertex_slots), params.bdpt_depth - segments - 1u);
     if (last == 0u) return;
 
-    PathState state = load_path_state(path);
-    // The camera side's throughput at both subpaths' wavelengths (spectral: the path's four; path_color.glsl).
-    vec4 beta = vec4(state.throughput_r, state.throughput_g, state.throughput_b, 0.0f);
-    SpectralFrame spectral;
-    uint camera_flags = 0u;
-    if (effect_on(EFFECT_SPECTRAL)) {
-        PathSpectrum spectrum = path_spectra[path];
-        beta.w = spectrum.throughput_3;
-        camera_flags = spectrum.flags;
-        spectral = make_spectral_frame(spectrum.wavelength_u);
-    }
-    vec3 wo = -vec3(ray.dir_x, ray.dir_y, ray.dir_z);
-    float time = load_path_time(path);  // both subpaths' shutter time (motion blur)
-    ShadingPoint y = load_shading_point(hit.triangle, hit.b1, hit.b2, hit.instance, time);
-    bool front_y = dot(y.s.ng, wo) > 0.0f;
-    uvec4 media_y = tracks_media() ? path_media[path] : uvec4(INVALID_INDEX);
-    // A dispersive y: the hero wavelength alone goes on through it (as shade.comp will have it, after this stage).
-    if (disperse_at(y, spectral.lambda.x) && (camera_flags & PATH_SECONDARIES_TERMINATED) == 0u) {
-        beta = terminate_secondary_wavelengths(beta);
-        camera_flags |= PATH_SECONDARIES_TERMINATED;
-    }
-    set_media(y, media_y, front_y);
-    // Beer-Lambert along the segment to y (shade, after this stage, applies it to the path's own throughput).
-    if (effect_on(EFFECT_ABSORPTION)) beta *= eval_path_medium_transmittance(spectral, media_y.x, hit.t);
-    SurfaceBsdf at_y = make_surface_bsdf(y, wo);
-    float cos_wo = dot(wo, at_y.ng);
-    bool unlit = effect_on(EFFECT_UNLIT) && (y.m.flags & MATERIAL_UNLIT) != 0u;  // black but to the camera's own ray
-    if (!(cos_wo > 0.0f) || !(max_path_component(beta) > 0.0f) || unlit) return;
-    account_segment(camera_mis, hit.t, cos_wo, camera_segment_has_distance(segments));
+    CameraVertex c;
+    if (!load_camera_vertex(ray, hit, camera_mis, segments, c)) return;
+    vec4 beta = c.beta;
+    SpectralFrame spectral = c.spectral;
+    ShadingPoint y = c.y;
+    SurfaceBsdf at_y = c.at_y;
+    vec3 wo = c.wo;
+    float time = c.time;
 
     vec3 sum = vec3(0.0f);
     uint traced = 0u;
@@ -87,11 +64,11 @@ void main() {
         vec4 contrib = beta * lift_color(spectral, f_y) * lift_color(spectral, f_z) * light_beta *
                        (cos_z / (cos_wl * dist2));
         // Both sides dispersed: each weighted its hero wavelength by 4 for the whole path, which takes it once.
-        if (effect_on(EFFECT_SPECTRAL) && (camera_flags & v.spectrum_flags & PATH_SECONDARIES_TERMINATED) != 0u)
+        if (effect_on(EFFECT_SPECTRAL) && (c.spectrum_flags & v.spectrum_flags & PATH_SECONDARIES_TERMINATED) != 0u)
             contrib *= 0.25f;
         // Beer-Lambert along the joint, inside an absorbing volume (on y's side towards z).
         if (effect_on(EFFECT_ABSORPTION))
-            contrib *= eval_path_medium_transmittance(spectral, medium_towards(y, media_y, front_y, w), sqrt(dist2));
+            contrib *= eval_path_medium_transmittance(spectral, medium_towards(y, c.media, c.front, w), sqrt(dist2));
         if (!(max_path_component(contrib) > 0.0f)) continue;
 
         PathMis light_mis;
@@ -102,7 +79,7 @@ void main() {
         float camera_reverse = pdf_next_direction(make_surface_bsdf(y, w), w, wo);
         float light_reverse = pdf_surface_bsdf(at_z, -w, wl);
         float weight = weight_strategy(k + 2u, segments + 1u,
-                                       weight_subpath_connection(camera_mis, camera_reverse, light_forward_area,
+                                       weight_subpath_connection(c.mis, camera_reverse, light_forward_area,
                                                                  light_mis, light_reverse, camera_forward_area));
         if (!(weight > 0.0f)) continue;  // and never 0 x an overflowed contribution (NaN) into the path's sum
         contrib *= weight;
@@ -113,14 +90,14 @@ void main() {
         vec3 to_target = target - origin;
         float len = length(to_target);
         if (!(len > 0.0f)) continue;
-        uint alpha_seed = effect_on(EFFECT_ALPHA) ? pcg_hash(state.rng ^ pcg_hash(k ^ 0x3c6ef372u)) : 0u;
+        uint alpha_seed = effect_on(EFFECT_ALPHA) ? pcg_hash(c.state.rng ^ pcg_hash(k ^ 0x3c6ef372u)) : 0u;
         TraceHit blocker = trace_ray(origin, to_target / len, len * (1.0f - 1e-4f), true, hit.triangle, alpha_seed, time);
         traced += 1u;
         if (blocker.triangle == INVALID_INDEX) sum += film_color(spectral, contrib);
     }
     COUNT_IN_SUBGROUP(counters.traced_shadow_rays, traced);
-    state.radiance_r += sum.x;
-    state.radiance_g += sum.y;
-    state.radiance_b += sum.z;
-    store_path_radiance(path, state);  // one uvec4 store: the radiance and the rng as it was
+    c.state.radiance_r += sum.x;
+    c.state.radiance_g += sum.y;
+    c.state.radiance_b += sum.z;
+    store_path_radiance(path, c.state);  // one uvec4 store: the radiance and the rng as it was
 }

@@ -61,6 +61,7 @@ void main() {
         PathMis mis = start_camera_mis(ray.dir, camera_view_at(camera_u.time).forward);
         path_mis[i].dvcm = mis.dvcm;
         path_mis[i].dvc = mis.dvc;
+        if (vcm) path_dvm[i] = 0.0f;
     }
     if (effect_on(EFFECT_VOLUME) || effect_on(EFFECT_ABSORPTION)) path_media[i] =
         uvec4(params.camera_medium, params.camera_medium_outer, params.camera_medium_outermost, INVALID_INDEX);

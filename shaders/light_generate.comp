@@ -67,6 +67,7 @@ void main() {
     // Bidirectional path tracing leaves a light seen directly to the camera subpath (s = 0 alone, lib/integrator/bdpt.glsl).
     store_shadow_ray(i, bdpt ? make_empty_splat() : start.splat);
     if (bdpt) store_path_mis(i, start.mis);
+    if (vcm) path_dvm[i] = start.mis.dvc * vc_weight_factor();
     // The volumes the light stands in, probed on the host (render/light_media.h); the camera subpath starts its own.
     if (tracks_media()) path_media[i] = effect_on(EFFECT_VOLUME) ? light_media[start.emitter] : uvec4(INVALID_INDEX);
 

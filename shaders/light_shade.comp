@@ -49,7 +49,9 @@ void shade_light_vertex(uint i, uint parity, out bool push_ray, out RayItem next
     // The longest path the subpath may make: BDPT's light subpaths stop where its strategies do (bdpt_weighs).
     uint max_depth = bdpt ? params.bdpt_depth : params.max_depth;
     PathMis mis;
+    float dvm = 0.0f;  // vcm: the merges' quantity (lib/integrator/bdpt.glsl)
     if (bdpt) mis = load_path_mis(path);
+    if (vcm) dvm = path_dvm[path];
 
     push_shadow = false;
     push_ray = false;
@@ -84,6 +86,7 @@ void shade_light_vertex(uint i, uint parity, out bool push_ray, out RayItem next
         float cos_light_g = unlit ? 0.0f : dot(wl, ng);
         if (bdpt && cos_light_g > 0.0f) {
             account_segment(mis, hit.t, cos_light_g, segments > 1u || (mis.flags & PATH_MIS_LIGHT_AT_INFINITY) == 0u);
+            if (vcm) dvm = segment_dvm(dvm, cos_light_g);
             // Kept for the camera subpath while a camera vertex can still join it within --max-depth.
             if (segments <= params.light_vertex_slots) {
                 LightVertex v;
@@ -104,6 +107,7 @@ void shade_light_vertex(uint i, uint parity, out bool push_ray, out RayItem next
                 v.spectrum_flags = effect_on(EFFECT_SPECTRAL) ? spectrum.flags : 0u;
                 v.pad = 0u;
                 store_light_vertex(path * params.light_vertex_slots + push.depth, v);
+                if (vcm) merge_points[path * params.light_vertex_slots + push.depth] = vec4(s.p, dvm);
                 mis.light_vertices = segments;
             }
         }
@@ -146,7 +150,9 @@ void shade_light_vertex(uint i, uint parity, out bool push_ray, out RayItem next
                 SurfaceBsdf at_next = make_surface_bsdf(sp, wi);
                 beta *= lift_color(spectral, eval_surface_bsdf(at_next, wi, wl)) *
                         (cos_next_g / (cos_light_g * next_dir.pdf));
-                if (bdpt) account_scattering(mis, cos_next_g, next_dir.pdf, pdf_surface_bsdf(at_next, wi, wl));
+                float reverse = bdpt ? pdf_surface_bsdf(at_next, wi, wl) : 0.0f;
+                if (vcm) dvm = scattered_dvm(dvm, mis, cos_next_g, next_dir.pdf, reverse);
+                if (bdpt) account_scattering(mis, cos_next_g, next_dir.pdf, reverse);
                 bool survive = true;
                 // Russian roulette on the throughput relative to what the subpath carried from the light.
                 if ((params.flags & RENDER_RR) != 0u && segments >= params.rr_start_depth) {
@@ -180,6 +186,7 @@ void shade_light_vertex(uint i, uint parity, out bool push_ray, out RayItem next
         if (spectrum.flags != spectrum_flags_before) path_spectra[path].flags = spectrum.flags;
     }
     if (bdpt) store_path_mis(path, mis);
+    if (vcm) path_dvm[path] = dvm;
     if (tracks_media() && any(notEqual(media, media_before))) path_media[path] = media;
 }
 

@@ -46,6 +46,7 @@ struct PathVertex {
     SpectralFrame spectral;
     uint segments;           // segments of this path including the ray just traced
     PathMis mis;             // BDPT's quantities of the camera subpath
+    float dvm;               // and vcm's third (lib/integrator/bdpt.glsl)
     uvec4 media;             // the volumes the path is in, innermost first
     uint medium;
 };
@@ -65,6 +66,7 @@ PathVertex load_path_vertex(uint path, HitItem hit) {
     }
     v.segments = push.depth + 1u;
     if (bdpt) v.mis = load_path_mis(path);
+    v.dvm = vcm ? path_dvm[path] : 0.0f;
     v.media = tracks_media() ? path_media[path] : uvec4(INVALID_INDEX);
     v.medium = v.media.x;
     if (effect_on(EFFECT_ABSORPTION))
@@ -265,7 +267,11 @@ bool scatter(inout PathVertex v, ShadingPoint sp, Scattering sc, vec3 wo, Vertex
     v.state.bsdf_pdf = bs.pdf;
     if (effect_on(EFFECT_LIGHT_TREE))  // for the MIS weight of an emitter the ray hits
         path_light_points[v.path] = pack_light_point(sc.light_point.p, sc.light_point.n, sc.light_point.kind);
-    if (bdpt) account_scattering(v.mis, abs(dot(wi, sc.ng)), bs.pdf, pdf_next_direction(make_surface_bsdf(sp, wi), wi, wo));
+    if (bdpt) {
+        float reverse = pdf_next_direction(make_surface_bsdf(sp, wi), wi, wo);
+        if (vcm) v.dvm = scattered_dvm(v.dvm, v.mis, abs(dot(wi, sc.ng)), bs.pdf, reverse);
+        account_scattering(v.mis, abs(dot(wi, sc.ng)), bs.pdf, reverse);
+    }
     return true;
 }
 
@@ -285,6 +291,7 @@ void store_path_vertex(PathVertex v, uint spectrum_flags_before, uvec4 media_bef
     }
     if (tracks_media() && any(notEqual(v.media, media_before))) path_media[v.path] = v.media;
     if (bdpt) store_path_mis(v.path, v.mis);  // one uvec4 store: dvcm and dvc, the rest as loaded
+    if (vcm) path_dvm[v.path] = v.dvm;
 }
 
 // The path vertex of queued ray i, in the steps above: what it pushes to the next extend queue and to connect's
@@ -323,6 +330,7 @@ void shade_vertex(uint i, uint parity, out bool push_ray, out RayItem next, out 
         bool front = dot(sp.s.ng, wo) > 0.0f;
         bool double_sided = (sp.m.flags & MATERIAL_DOUBLE_SIDED) != 0u;
         if (bdpt) account_segment(v.mis, hit.t, abs(dot(sp.s.ng, wo)), camera_segment_has_distance(v.segments));
+        if (vcm) v.dvm = segment_dvm(v.dvm, abs(dot(sp.s.ng, wo)));
         add_emission(v, sp, hit, wo, unlit, front, double_sided);
         vec3 albedo = clamp(sp.m.base_color.rgb, vec3(0.0f), vec3(1.0f));
         if (aovs_on && !may_extend)

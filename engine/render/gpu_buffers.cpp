@@ -133,6 +133,9 @@ GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& sce
     b.glass_albedo = make_filled_buffer(context, flatten_glass_albedo_table(effects));
     b.light_vertices = make_state_buffer(context, light_vertices_bytes(frame.wave_capacity, store));
     b.path_mis = make_state_buffer(context, path_mis_bytes(frame.wave_capacity, store));
+    b.merge_points = make_state_buffer(context, merge_points_bytes(frame.wave_capacity, store));
+    b.path_dvm = make_state_buffer(context, path_dvm_bytes(frame.wave_capacity, store));
+    b.merge_grid = make_state_buffer(context, merge_grid_bytes(frame.wave_capacity, store));
     // Outside every volume until the renderer has probed the lights (render/light_media.h).
     const size_t lights = light_media_bytes(scene, effects, store) / sizeof(gpu::uvec4);
     b.light_media = make_filled_buffer(context, std::vector<gpu::uvec4>(lights, gpu::uvec4(gpu::INVALID_INDEX)));
@@ -146,7 +149,7 @@ GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& sce
                                      &b.texels, &b.env_radiance, &b.env_cdf, &b.instances, &b.material_layers, &b.path_media,
                                      &b.path_spectra, &b.path_times, &b.glass_albedo, &b.light_vertices, &b.path_mis, &b.ray_sort,
                                      &b.light_tree, &b.path_light_points, &b.path_aovs, &b.aov_film, &b.pixel_list, &b.pixel_work,
-                                     &b.path_work, &b.light_media})
+                                     &b.path_work, &b.light_media, &b.merge_points, &b.path_dvm, &b.merge_grid})
         allocated += buffer->size();
     if (allocated !=
         estimate_render_memory(scene, frame.film_width, frame.film_height, frame.wave_capacity, effects, store).device_bytes())
@@ -186,6 +189,9 @@ void bind_gpu_buffers(vk::BindingTable& table, const GpuBuffers& b) {
     table.bind_buffer(gpu::BINDING_PATH_TIMES, b.path_times);
     table.bind_buffer(gpu::BINDING_LIGHT_VERTICES, b.light_vertices);
     table.bind_buffer(gpu::BINDING_PATH_MIS, b.path_mis);
+    table.bind_buffer(gpu::BINDING_MERGE_POINTS, b.merge_points);
+    table.bind_buffer(gpu::BINDING_PATH_DVM, b.path_dvm);
+    table.bind_buffer(gpu::BINDING_MERGE_GRID, b.merge_grid);
     table.bind_buffer(gpu::BINDING_RAY_SORT, b.ray_sort);
     table.bind_buffer(gpu::BINDING_GLASS_ALBEDO, b.glass_albedo);
     table.bind_buffer(gpu::BINDING_LIGHT_TREE, b.light_tree);

@@ -52,6 +52,9 @@ struct GpuBuffers {
     vk::Buffer glass_albedo;       // the glass lobe's albedo table (EFFECT_GLASS_MULTISCATTER; else one word)
     vk::Buffer light_vertices;     // stored light-subpath vertices (`--integrator bdpt`; else one element)
     vk::Buffer path_mis;           // each path's MIS quantities (`--integrator bdpt`; else one element)
+    vk::Buffer merge_points;       // `--integrator vcm` (else one element each): each light vertex's point and dvm,
+    vk::Buffer path_dvm;           //   each path's dvm,
+    vk::Buffer merge_grid;         //   the hash grid over the wave's light vertices
     vk::Buffer ray_sort;           // the ray sort's counts, offsets, keys and order (render/ray_sort.h)
 };
 

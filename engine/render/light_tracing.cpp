@@ -13,6 +13,7 @@ uint32_t bdpt_depth(const RenderSettings& settings) {
 }
 
 uint32_t count_light_vertex_slots(const RenderSettings& settings) {
+    if (settings.integrator == Integrator::vcm) return bdpt_depth(settings) - 1;
     if (settings.integrator != Integrator::bdpt || bdpt_depth(settings) < 3) return 0;
     return bdpt_depth(settings) - 2;
 }
@@ -36,12 +37,28 @@ std::string find_bdpt_settings_obstacle(const RenderSettings& settings) {
     return {};
 }
 
+// What vertex merging does not carry: a merge joins a camera vertex to a light vertex of another sample, which has
+// its own wavelengths and shutter time.
+std::string find_merging_obstacle(EffectBits effects) {
+    if (effects & gpu::EFFECT_SPECTRAL)
+        return "vertex merging joins light vertices of other samples, which carry other wavelengths: it does not "
+               "render dispersion yet (--integrator bdpt does)";
+    if (effects & gpu::EFFECT_MOTION_BLUR)
+        return "vertex merging joins light vertices of other samples, taken at other times in the shutter: it does "
+               "not render motion blur yet (--integrator bdpt does)";
+    return {};
+}
+
 }  // namespace
 
 std::string find_light_tracing_obstacle(const PackedScene& scene, const RenderSettings& settings,
                                         const SceneCamera& camera, EffectBits effects) {
-    if (settings.integrator == Integrator::bdpt) {
+    if (connects_subpaths(settings.integrator)) {
         const std::string obstacle = find_bdpt_settings_obstacle(settings);
+        if (!obstacle.empty()) return obstacle;
+    }
+    if (settings.integrator == Integrator::vcm) {
+        const std::string obstacle = find_merging_obstacle(effects);
         if (!obstacle.empty()) return obstacle;
     }
     if (effects & gpu::EFFECT_LIGHT_TREE)
@@ -58,7 +75,7 @@ std::string find_light_tracing_obstacle(const PackedScene& scene, const RenderSe
     if ((effects & gpu::EFFECT_UNLIT) && settings.integrator == Integrator::light)
         return "light tracing does not render unlit materials (KHR_materials_unlit: only camera rays see them; "
                "--integrator bdpt does)";
-    if (scene.emitters.empty() && !(settings.integrator == Integrator::bdpt && scene.moving_emitting_triangles > 0))
+    if (scene.emitters.empty() && !(connects_subpaths(settings.integrator) && scene.moving_emitting_triangles > 0))
         return "nothing in the scene emits, and there is no --env or --background";
     if (camera.orthographic && (effects & gpu::EFFECT_ENVIRONMENT))
         return "an orthographic camera sees the environment along one direction only, which no light subpath can "

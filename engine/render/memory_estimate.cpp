@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "render/light_tracing.h"
+#include "render/vertex_merging.h"
 #include "vk/context.h"
 
 namespace fh {
@@ -60,8 +61,9 @@ uint64_t path_spectra_bytes(uint32_t wave_capacity, EffectBits effects) {
 
 PathStore make_path_store(const RenderSettings& settings) {
     PathStore b;
-    b.bdpt = settings.integrator == Integrator::bdpt;
-    b.light_subpaths = settings.integrator == Integrator::light || settings.integrator == Integrator::bdpt;
+    b.bdpt = connects_subpaths(settings.integrator);
+    b.vcm = settings.integrator == Integrator::vcm;
+    b.light_subpaths = settings.integrator == Integrator::light || b.bdpt;
     b.light_vertex_slots = count_light_vertex_slots(settings);
     b.sort_rays = settings.sort_rays.value_or(false);  // resolved by with_device_defaults before any estimate
     b.aovs = settings.aovs;
@@ -106,6 +108,20 @@ uint64_t path_mis_bytes(uint32_t wave_capacity, const PathStore& store) {
     return uint64_t(store.bdpt ? wave_capacity : 1u) * sizeof(gpu::PathMis);
 }
 
+uint64_t merge_points_bytes(uint32_t wave_capacity, const PathStore& store) {
+    return std::max<uint64_t>(store.vcm ? uint64_t(wave_capacity) * store.light_vertex_slots : 1, 1) * 4 * sizeof(float);
+}
+
+uint64_t path_dvm_bytes(uint32_t wave_capacity, const PathStore& store) {
+    return uint64_t(store.vcm ? wave_capacity : 1u) * sizeof(float);
+}
+
+uint64_t merge_grid_bytes(uint32_t wave_capacity, const PathStore& store) {
+    if (!store.vcm) return sizeof(uint32_t);
+    return (2 * uint64_t(count_merge_grid_cells(wave_capacity, store.light_vertex_slots)) +
+            uint64_t(wave_capacity) * store.light_vertex_slots) * sizeof(uint32_t);
+}
+
 MemoryEstimate estimate_render_memory(const PackedScene& scene, uint32_t width, uint32_t height,
                                       uint32_t wave_capacity, EffectBits effects, const PathStore& store) {
     const uint64_t capacity = wave_capacity;
@@ -144,6 +160,9 @@ MemoryEstimate estimate_render_memory(const PackedScene& scene, uint32_t width, 
         {"glass_albedo", glass_albedo_bytes(effects), storage},
         {"light_vertices", light_vertices_bytes(wave_capacity, store), storage},
         {"path_mis", path_mis_bytes(wave_capacity, store), storage},
+        {"merge_points", merge_points_bytes(wave_capacity, store), storage},
+        {"path_dvm", path_dvm_bytes(wave_capacity, store), storage},
+        {"merge_grid", merge_grid_bytes(wave_capacity, store), storage},
         {"light_media", light_media_bytes(scene, effects, store), storage},
         {"ray_sort", ray_sort_bytes(wave_capacity, store), storage},
         {"path_light_points", path_light_points_bytes(wave_capacity, effects), storage},
@@ -190,7 +209,8 @@ std::string remedy(const std::string& buffer) {
     if (buffer == "texels") what = "smaller textures";
     if (buffer == "env_radiance" || buffer == "env_cdf") what = "a smaller environment map";
     if (buffer == "paths" || buffer == "rays" || buffer == "hits" || buffer == "shadow_rays" ||
-        buffer == "light_vertices" || buffer == "path_mis" || buffer == "ray_sort")
+        buffer == "light_vertices" || buffer == "path_mis" || buffer == "ray_sort" || buffer == "merge_points" ||
+        buffer == "merge_grid" || buffer == "path_dvm")
         what = "a smaller --wave-paths";
     return "; Fredholm does not split buffers yet: use " + what;
 }

@@ -59,9 +59,11 @@ uint64_t glass_albedo_bytes(EffectBits effects);
 // What a path in flight keeps besides its state, by what the render does. Bidirectional path tracing: its MIS
 // quantities (PathMis) and light_vertex_slots stored light-subpath vertices (LightVertex, render/light_tracing.h
 // count_light_vertex_slots). The ray sort (render/ray_sort.h): a key, a rank and an order word per queued ray, and the key
-// counts. Off: one element each.
+// counts. Vertex merging: per light-vertex slot its point, per path its dvm, and the hash grid (render/vertex_merging.h).
+// Off: one element each.
 struct PathStore {
-    bool bdpt = false;
+    bool bdpt = false;  // BDPT or VCM
+    bool vcm = false;
     bool light_subpaths = false;  // light tracing or BDPT: with volumes, each light's media (light_media_bytes)
     uint32_t light_vertex_slots = 0;
     bool sort_rays = false;
@@ -71,6 +73,9 @@ struct PathStore {
 PathStore make_path_store(const RenderSettings& settings);
 uint64_t light_vertices_bytes(uint32_t wave_capacity, const PathStore& store);
 uint64_t path_mis_bytes(uint32_t wave_capacity, const PathStore& store);
+uint64_t merge_points_bytes(uint32_t wave_capacity, const PathStore& store);
+uint64_t path_dvm_bytes(uint32_t wave_capacity, const PathStore& store);
+uint64_t merge_grid_bytes(uint32_t wave_capacity, const PathStore& store);
 uint64_t light_media_bytes(const PackedScene& scene, EffectBits effects, const PathStore& store);
 uint64_t ray_sort_bytes(uint32_t wave_capacity, const PathStore& store);
 uint64_t path_aovs_bytes(uint32_t wave_capacity, const PathStore& store);

@@ -14,6 +14,7 @@
 #include "render/light_tracing.h"
 #include "render/ray_sort.h"
 #include "render/ray_tracer.h"
+#include "render/vertex_merging.h"
 #include "render/device_defaults.h"
 #include "vk/context.h"
 
@@ -33,9 +34,9 @@ namespace {
 // With unlimited depth the host looks at the queue length every this many bounces (one readback per
 // submission, never between stages). Also bounds the work per submission (GPU watchdogs).
 constexpr uint32_t DEPTHS_PER_SUBMIT = 16;
-// At most 8 per bounce (a light bounce: the whole sort, extend, light_shade, advance, splat; a BDPT camera bounce:
-// the sort but bin_rays, extend, connect_subpaths, shade, advance, connect); 3 before light bounces.
-constexpr uint32_t MAX_DISPATCHES_PER_SUBMIT = 4 + (RAY_SORT_MAX_DISPATCHES + 4) * DEPTHS_PER_SUBMIT;
+// At most 9 per bounce (a light bounce: the whole sort, extend, light_shade, advance, splat; a VCM camera bounce:
+// the sort but bin_rays, extend, connect_subpaths, merge, shade, advance, connect); 3 before light bounces.
+constexpr uint32_t MAX_DISPATCHES_PER_SUBMIT = 4 + (RAY_SORT_MAX_DISPATCHES + 5) * DEPTHS_PER_SUBMIT;
 
 uint32_t group_count(uint64_t invocations) {
     return uint32_t((invocations + gpu::WORKGROUP_SIZE - 1) / gpu::WORKGROUP_SIZE);
@@ -48,6 +49,7 @@ gpu::StagePush make_push(uint32_t depth, const Wave& wave) {
     push.pixel_count = wave.pixel_count;
     push.sample_begin = wave.sample_begin;
     push.sample_count = wave.sample_count;
+    push.merge_radius = wave.merge_radius;
     return push;
 }
 
@@ -81,7 +83,8 @@ gpu::FrameParams make_frame(const PackedScene& scene, const SceneCamera& camera,
     f.film_height = s.film_height();
     f.camera_medium = f.camera_medium_outer = f.camera_medium_outermost = gpu::INVALID_INDEX;
     f.light_vertex_slots = count_light_vertex_slots(s);
-    f.bdpt_depth = s.integrator == Integrator::bdpt ? bdpt_depth(s) : 0u;
+    f.bdpt_depth = connects_subpaths(s.integrator) ? bdpt_depth(s) : 0u;
+    f.merge_grid_cells = s.integrator == Integrator::vcm ? count_merge_grid_cells(f.wave_capacity, f.light_vertex_slots) : 0u;
     f.bdpt_strategy = s.bdpt_strategy_t ? s.bdpt_strategy_s << 16 | s.bdpt_strategy_t : 0u;
     return f;
 }
@@ -93,6 +96,7 @@ const char* to_string(Sampler sampler) { return sampler == Sampler::sobol ? "sob
 const char* to_string(Integrator integrator) {
     return integrator == Integrator::light       ? "light"
            : integrator == Integrator::bdpt      ? "bdpt"
+           : integrator == Integrator::vcm       ? "vcm"
            : integrator == Integrator::automatic ? "auto"
                                                  : "path";
 }
@@ -204,7 +208,7 @@ std::vector<gpu::HitItem> Renderer::trace_medium_probes(const std::vector<gpu::R
 }
 
 void Renderer::update_light_media() {
-    const bool light_subpaths = settings_.integrator == Integrator::light || settings_.integrator == Integrator::bdpt;
+    const bool light_subpaths = settings_.integrator != Integrator::path;
     if (!light_subpaths || (stages_.options().effects & gpu::EFFECT_VOLUME) == 0u || scene_.emitters.empty()) return;
     const std::vector<gpu::uvec4> media =
         find_light_media(scene_, [&](const std::vector<gpu::RayItem>& rays) { return trace_medium_probes(rays); });
@@ -279,14 +283,19 @@ RenderStats Renderer::render_pixels(uint32_t pixel_begin, uint32_t pixel_count, 
     return stats;
 }
 
-void Renderer::trace_wave(const Wave& wave, RenderStats& stats) {
+void Renderer::trace_wave(const Wave& planned, RenderStats& stats) {
+    Wave wave = planned;
+    if (settings_.integrator == Integrator::vcm)
+        wave.merge_radius = merge_radius_at(settings_, scene_bounding_radius(scene_), wave.sample_begin);
     recorder_.begin();
     recorder_.bind_table(stages_.bindings());
     // Bidirectional path tracing runs both phases on the same (pixel, sample) indices: the light subpaths first (their
-    // vertices stored for the camera subpaths, their t = 1 splats added to the film), then the camera subpaths.
+    // vertices stored for the camera subpaths, their t = 1 splats added to the film), then the camera subpaths. Vertex
+    // merging builds its grid over the wave's light vertices in between.
     if (settings_.integrator != Integrator::path) {
         trace_subpaths(wave, Subpaths::light, stats);
-        if (settings_.integrator == Integrator::bdpt) {
+        if (settings_.integrator == Integrator::vcm) record_merge_grid(wave);
+        if (connects_subpaths(settings_.integrator)) {
             submit(stats);
             add_wave_counters(stats);
             recorder_.begin();
@@ -301,6 +310,25 @@ void Renderer::trace_wave(const Wave& wave, RenderStats& stats) {
     recorder_.dispatch(stages_[Stage::accumulate], group_count(wave.pixel_count));
     submit(stats);
     add_wave_counters(stats);
+}
+
+// The hash grid over the wave's stored light vertices (lib/integrator/vertex_merging.glsl): count per bucket, the
+// buckets' starts, each vertex's slot in its bucket, each bucket sorted.
+void Renderer::record_merge_grid(const Wave& wave) {
+    if (frame_.light_vertex_slots == 0) return;
+    const gpu::StagePush push = make_push(0, wave);
+    recorder_.push_constants(&push, sizeof(push));
+    recorder_.barrier_compute();
+    recorder_.fill_buffer(buffers_.merge_grid, 0, uint64_t(frame_.merge_grid_cells) * sizeof(uint32_t));
+    recorder_.barrier_compute();
+    const uint64_t slots = uint64_t(wave.pixel_count) * wave.sample_count * frame_.light_vertex_slots;
+    recorder_.dispatch(stages_[Stage::merge_count], group_count(slots));
+    recorder_.barrier_compute();
+    recorder_.dispatch(stages_[Stage::merge_scan], 1);
+    recorder_.barrier_compute();
+    recorder_.dispatch(stages_[Stage::merge_scatter], group_count(slots));
+    recorder_.barrier_compute();
+    recorder_.dispatch(stages_[Stage::merge_sort], group_count(frame_.merge_grid_cells));
 }
 
 void Renderer::add_wave_counters(RenderStats& stats) const {
@@ -361,11 +389,17 @@ void Renderer::record_bounce(uint32_t depth, const Wave& wave, Subpaths side) {
     if (push.ray_order == gpu::RAY_ORDER_SORTED) record_ray_sort(recorder_, stages_, buffers_, !light);
     recorder_.barrier_compute();
     recorder_.dispatch_indirect(stages_[Stage::extend], buffers_.counters, offsetof(gpu::QueueCounters, extend_args));
-    if (!light && settings_.integrator == Integrator::bdpt && frame_.light_vertex_slots > 0) {
-        // The camera vertices just found, joined to the stored light vertices (before shade moves the paths on).
+    if (!light && connects_subpaths(settings_.integrator) && frame_.light_vertex_slots > 0) {
+        // The camera vertices just found, joined to the stored light vertices (before shade moves the paths on), and
+        // merged with the wave's light vertices near them.
         recorder_.barrier_compute();
         recorder_.dispatch_indirect(stages_[Stage::connect_subpaths], buffers_.counters,
                                     offsetof(gpu::QueueCounters, extend_args));
+        if (settings_.integrator == Integrator::vcm) {
+            recorder_.barrier_compute();
+            recorder_.dispatch_indirect(stages_[Stage::merge], buffers_.counters,
+                                        offsetof(gpu::QueueCounters, extend_args));
+        }
     }
     recorder_.barrier_compute();
     recorder_.dispatch_indirect(stages_[light ? Stage::light_shade : Stage::shade], buffers_.counters,

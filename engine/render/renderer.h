@@ -30,6 +30,7 @@ struct RenderStats {
 // Pixel and sample ranges one wave covers (see StagePush).
 struct Wave {
     uint32_t pixel_begin, pixel_count, sample_begin, sample_count;
+    float merge_radius = 0.0f;  // `--integrator vcm`: set per wave by the renderer (render/vertex_merging.h)
 };
 // Splits samples [sample_begin, sample_end) of `pixel_count` pixels into waves of at most `capacity` paths.
 std::vector<Wave> plan_waves(uint32_t pixel_count, uint32_t sample_begin, uint32_t sample_end, uint32_t capacity);
@@ -103,7 +104,8 @@ private:
     // Closest hits of any number of medium probes, a wave at a time; the render's counters are kept.
     std::vector<gpu::HitItem> trace_medium_probes(const std::vector<gpu::RayItem>& probes);
     enum class Subpaths { camera, light };
-    void trace_wave(const Wave& wave, RenderStats& stats);
+    void trace_wave(const Wave& planned, RenderStats& stats);
+    void record_merge_grid(const Wave& wave);
     // Samples [sample_begin, sample_end) of the wave pixels [first, first + pixels) (film pixels, or the pixel list's
     // entries).
     RenderStats render_waves(uint32_t first, uint32_t pixels, uint32_t sample_begin, uint32_t sample_end,

@@ -28,9 +28,14 @@ struct LensSettings {
 // How the light transport equation is solved (shaders/lib/integrator/README.md "Light tracing", "Bidirectional path tracing"): path tracing from
 // the camera with next-event estimation and MIS, light tracing (light subpaths splatted onto the film through the
 // camera; the t = 1 strategies of bidirectional path tracing alone), or bidirectional path tracing (every strategy
-// (s, t), combined by MIS).
+// (s, t), combined by MIS), or vertex connection and merging (BDPT's strategies and vertex merging, combined by MIS:
+// consistent, not unbiased; "Vertex connection and merging").
 // `automatic` (--integrator auto, fredholm render only) is resolved by a pilot before any Renderer is built.
-enum class Integrator { path, light, bdpt, automatic };
+enum class Integrator { path, light, bdpt, vcm, automatic };
+// BDPT and VCM store light subpaths and join them to camera subpaths by every connection strategy.
+inline bool connects_subpaths(Integrator integrator) {
+    return integrator == Integrator::bdpt || integrator == Integrator::vcm;
+}
 
 // --microfacet: rough GGX lobes (metals, dielectric specular layers) give back the energy single-scattering GGX loses
 // (shaders/lib/bsdf/ggx_multiscatter.glsl), or keep the glTF spec's single scattering.
@@ -52,7 +57,10 @@ struct RenderSettings {
     int camera = -1;               // glTF camera index in scene order; -1 = first camera or default framing
     PixelFilter filter = PixelFilter::box;
     Sampler sampler = Sampler::sobol;  // --sampler: Owen-scrambled Sobol' (stratified) or independent
-    Integrator integrator = Integrator::path;  // --integrator path|light|bdpt
+    Integrator integrator = Integrator::path;  // --integrator path|light|bdpt|vcm
+    // --merge-radius: vertex merging's radius at the first sample, as a fraction of the scene's bounding-sphere
+    // radius; it shrinks with the sample index (render/vertex_merging.h).
+    float merge_radius = 0.001f;
     // --bdpt-strategy S,T: bidirectional path tracing's strategy with S light and T camera vertices alone, unweighted
     // (a check: each converges to the part of the image made by paths of S + T - 1 segments). T = 0: all, by MIS.
     uint32_t bdpt_strategy_s = 0, bdpt_strategy_t = 0;

@@ -13,17 +13,27 @@
 #include "shaders/bin_rays.spv.h"
 #include "shaders/connect.spv.h"
 #include "shaders/connect_subpaths.spv.h"
+#include "shaders/connect_subpaths_vcm.spv.h"
 #include "shaders/extend.spv.h"
 #include "shaders/generate.spv.h"
 #include "shaders/generate_bdpt.spv.h"
+#include "shaders/generate_vcm.spv.h"
 #include "shaders/light_generate.spv.h"
 #include "shaders/light_generate_bdpt.spv.h"
+#include "shaders/light_generate_vcm.spv.h"
 #include "shaders/light_shade.spv.h"
 #include "shaders/light_shade_bdpt.spv.h"
+#include "shaders/light_shade_vcm.spv.h"
+#include "shaders/merge.spv.h"
+#include "shaders/merge_count.spv.h"
+#include "shaders/merge_scan.spv.h"
+#include "shaders/merge_scatter.spv.h"
+#include "shaders/merge_sort.spv.h"
 #include "shaders/scan_ray_bins.spv.h"
 #include "shaders/scatter_rays.spv.h"
 #include "shaders/shade.spv.h"
 #include "shaders/shade_bdpt.spv.h"
+#include "shaders/shade_vcm.spv.h"
 #include "shaders/shade_struct_stores.spv.h"
 #include "shaders/splat.spv.h"
 #include "shaders/sum_ray_bins.spv.h"
@@ -36,7 +46,8 @@ const char* stage_name(Stage stage) {
     constexpr const char* names[STAGE_COUNT] = {"generate",   "extend",         "shade",       "advance",
                                                 "connect",    "accumulate",     "light_generate", "light_shade",
                                                 "splat",      "connect_subpaths", "bin_rays",    "sum_ray_bins",
-                                                "scan_ray_bins", "scatter_rays"};
+                                                "scan_ray_bins", "scatter_rays", "merge_count", "merge_scan",
+                                                "merge_scatter", "merge_sort",  "merge"};
     return names[size_t(stage)];
 }
 
@@ -77,9 +88,13 @@ StageTable::StageTable(const vk::Context& context, const StageOptions& options)
                 std::make_unique<vk::ComputePipeline>(context, bindings_, stage_name(stage), spirv, spec);
         }));
     };
-    // The stages BDPT shares with path or light tracing have a SPIR-V of their own for it (shaders/CMakeLists.txt).
-    const bool bdpt = options.integrator == Integrator::bdpt;
+    // The stages BDPT and VCM share with path or light tracing have a SPIR-V of their own for each
+    // (shaders/CMakeLists.txt): `of` picks the integrator's.
+    const Integrator integrator = options.integrator;
     using Spirv = std::span<const uint32_t>;
+    auto of = [integrator](Spirv other, Spirv bdpt, Spirv vcm) {
+        return integrator == Integrator::vcm ? vcm : integrator == Integrator::bdpt ? bdpt : other;
+    };
     make(Stage::extend, spv_extend);
     make(Stage::advance, spv_advance);
     make(Stage::accumulate, spv_accumulate);
@@ -90,20 +105,27 @@ StageTable::StageTable(const vk::Context& context, const StageOptions& options)
         make(Stage::scatter_rays, spv_scatter_rays);
     }
     if (options.integrator != Integrator::path) {
-        make(Stage::light_generate, bdpt ? Spirv(spv_light_generate_bdpt) : Spirv(spv_light_generate));
-        make(Stage::light_shade, bdpt ? Spirv(spv_light_shade_bdpt) : Spirv(spv_light_shade));
+        make(Stage::light_generate, of(spv_light_generate, spv_light_generate_bdpt, spv_light_generate_vcm));
+        make(Stage::light_shade, of(spv_light_shade, spv_light_shade_bdpt, spv_light_shade_vcm));
         make(Stage::splat, spv_splat);
     }
     if (options.integrator != Integrator::light) {
-        make(Stage::generate, bdpt ? Spirv(spv_generate_bdpt) : Spirv(spv_generate));
+        make(Stage::generate, of(spv_generate, spv_generate_bdpt, spv_generate_vcm));
         // A uvec4 store is one per-lane loop on lavapipe where its four words are four (tests/bench/RESULTS.md "Speed"); with
         // --wide-stores off the same stage stores field by field, to the same bytes (kept to measure the difference).
-        make(Stage::shade, bdpt                   ? Spirv(spv_shade_bdpt)
-                           : options.wide_stores ? Spirv(spv_shade)
-                                                 : Spirv(spv_shade_struct_stores));
+        make(Stage::shade, of(options.wide_stores ? Spirv(spv_shade) : Spirv(spv_shade_struct_stores), spv_shade_bdpt,
+                              spv_shade_vcm));
         make(Stage::connect, spv_connect);
     }
-    if (options.integrator == Integrator::bdpt) make(Stage::connect_subpaths, spv_connect_subpaths);
+    if (connects_subpaths(integrator))
+        make(Stage::connect_subpaths, of(spv_connect_subpaths, spv_connect_subpaths, spv_connect_subpaths_vcm));
+    if (integrator == Integrator::vcm) {
+        make(Stage::merge_count, spv_merge_count);
+        make(Stage::merge_scan, spv_merge_scan);
+        make(Stage::merge_scatter, spv_merge_scatter);
+        make(Stage::merge_sort, spv_merge_sort);
+        make(Stage::merge, spv_merge);
+    }
     for (std::future<void>& build : builds) build.get();
 }
 

@@ -10,9 +10,9 @@ namespace fh {
 
 enum class Stage {
     generate, extend, shade, advance, connect, accumulate, light_generate, light_shade, splat, connect_subpaths,
-    bin_rays, sum_ray_bins, scan_ray_bins, scatter_rays
+    bin_rays, sum_ray_bins, scan_ray_bins, scatter_rays, merge_count, merge_scan, merge_scatter, merge_sort, merge
 };
-inline constexpr size_t STAGE_COUNT = 14;
+inline constexpr size_t STAGE_COUNT = 19;
 const char* stage_name(Stage stage);
 
 // What the pipelines are specialised for (layout.h SPEC_*): branches a scene does not need compile away.

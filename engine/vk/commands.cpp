@@ -105,6 +105,10 @@ void CommandRecorder::fill_buffer(const Buffer& target, uint32_t value) {
     vkCmdFillBuffer(cmd_, target.handle(), 0, VK_WHOLE_SIZE, value);
 }
 
+void CommandRecorder::fill_buffer(const Buffer& target, uint32_t value, VkDeviceSize size) {
+    vkCmdFillBuffer(cmd_, target.handle(), 0, size, value);
+}
+
 void CommandRecorder::submit_and_wait() {
     VkMemoryBarrier to_host{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
     to_host.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;

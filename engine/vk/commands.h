@@ -30,6 +30,7 @@ public:
     void copy_buffer(const Buffer& source, VkDeviceSize source_offset, const Buffer& target,
                      VkDeviceSize target_offset, VkDeviceSize size);
     void fill_buffer(const Buffer& target, uint32_t value);
+    void fill_buffer(const Buffer& target, uint32_t value, VkDeviceSize size);  // its first `size` bytes (a multiple of 4)
     // Ends recording (making writes visible to the host), submits, waits, and reads the timestamps.
     void submit_and_wait();
 

@@ -93,7 +93,13 @@ FH_CONST uint BINDING_PIXEL_WORK = 39u;      // uint[film width * film height]
 // The volumes each light stands in, innermost first (light tracing and BDPT with EFFECT_VOLUME; else one element):
 // where its subpaths start (render/light_media.h).
 FH_CONST uint BINDING_LIGHT_MEDIA = 40u;       // uvec4[emitter count]: per Emitter entry, as PathMedia
-FH_CONST uint BINDING_COUNT = 41u;
+// Vertex merging (`--integrator vcm`; else one element each; shaders/lib/integrator/vertex_merging.glsl): per stored
+// light vertex its position and its dvm (LightVertex's slots), per path its subpath's dvm, and the hash grid over the
+// wave's light vertices: FrameParams.merge_grid_cells counts, as many cell starts, then the vertices' slots by cell.
+FH_CONST uint BINDING_MERGE_POINTS = 41u;      // vec4[wave capacity x light_vertex_slots]: xyz, w = dvm
+FH_CONST uint BINDING_PATH_DVM = 42u;          // float[wave capacity]
+FH_CONST uint BINDING_MERGE_GRID = 43u;        // uint words
+FH_CONST uint BINDING_COUNT = 44u;
 // Measured on DamagedHelmet under the courtyard (tests/bench/RESULTS.md "2026-11-29: adaptive sampling"), from the
 // stage seconds of two renders with different mixes: a vertex on a surface (extend and shade) 1.2 us, one whose ray
 // escaped 0.28 us, a shadow ray (connect) 0.33 us.
@@ -203,6 +209,7 @@ FH_CONST uint SAMPLER_SOBOL = 1u;          // Owen-scrambled Sobol', four dimens
 FH_CONST uint INTEGRATOR_PATH = 0u;        // FH_INTEGRATOR (lib/core/bindings.glsl): path tracing (NEE and MIS)
 FH_CONST uint INTEGRATOR_LIGHT = 1u;       // light tracing: the t = 1 strategies alone
 FH_CONST uint INTEGRATOR_BDPT = 2u;        // bidirectional path tracing, every (s, t) combined by MIS
+FH_CONST uint INTEGRATOR_VCM = 3u;         // vertex connection and merging: BDPT's strategies and merges, by MIS
 FH_CONST uint PATH_MIS_LIGHT_AT_INFINITY = 1u;  // PathMis.flags: the light subpath left a directional light or the
                                                 // environment (its first segment has no distance to convert)
 FH_CONST uint MATERIAL_DOUBLE_SIDED = 1u;  // Material.flags
@@ -490,7 +497,9 @@ struct FrameParams {
     // (render/camera/camera_medium.h); INVALID_INDEX past the last: outside every volume, and always without EFFECT_VOLUME.
     uint camera_medium;
     uint camera_medium_outer, camera_medium_outermost;
-    uint light_vertex_slots;  // `--integrator bdpt`: light-subpath vertices stored per path (bdpt_depth - 2), else 0
+    // `--integrator bdpt`: light-subpath vertices stored per path (bdpt_depth - 2); `vcm`: bdpt_depth - 1 (a merge at
+    // the first camera vertex takes a light vertex one segment short of the path); else 0
+    uint light_vertex_slots;
     uint bdpt_strategy;       // --bdpt-strategy: s << 16 | t, that strategy alone and unweighted; 0: all, by MIS
     // Russian roulette keeps a camera path with probability min(0.95, rr_survival_scale x its largest throughput
     // component) (--rr-survival-scale; shade.comp).
@@ -498,11 +507,13 @@ struct FrameParams {
     // EFFECT_LIGHT_TREE: Emitter entries [0, light_tree_lights) are the tree's leaves, the rest (the environment,
     // directional lights) are picked uniformly, each as often as the whole tree (lib/light/light_tree.glsl).
     uint light_tree_lights;
-    // `--integrator bdpt`: paths of up to this many segments are made by every strategy (the light subpaths stop
-    // there); longer ones by the camera subpath's next-event estimation and light hits alone, weighted as path tracing
-    // weights them (render/light_tracing.h bdpt_depth). 0 for the other integrators.
+    // `--integrator bdpt` and `vcm`: paths of up to this many segments are made by every strategy (the light subpaths
+    // stop there); longer ones by the camera subpath's next-event estimation and light hits alone, weighted as path
+    // tracing weights them (render/light_tracing.h bdpt_depth). 0 for the other integrators.
     uint bdpt_depth;
-    uint frame_pad0, frame_pad1, frame_pad2;
+    // `--integrator vcm`: the hash grid's cell count (a power of two; BINDING_MERGE_GRID), else 0.
+    uint merge_grid_cells;
+    uint frame_pad1, frame_pad2;
 };
 
 // Push constants: what changes per wave and per depth.
@@ -517,6 +528,8 @@ struct StagePush {
     uint bin_pushed_rays;   // 1: shade bins the rays it pushes for the next extend's sort (lib/core/ray_order.glsl)
     uint count_handed_shadow_rays;  // 1: advance counts the shadow queue it hands on as traced (connect traces it all)
     uint count_escaped_rays;  // 1: extend counts the rays that left the scene (the ray tracer); 0: shade counts them
+    // `--integrator vcm`: the wave's merging radius (it shrinks with the sample index; render/vertex_merging.h)
+    float merge_radius;
 };
 
 // Ray order for extend (StagePush.ray_order): the queue as shade filled it, or sorted by a key of each ray's direction

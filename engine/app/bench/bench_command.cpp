@@ -41,8 +41,8 @@ void add_bench_options(CLI::App& app, BenchCommand& c) {
     app.add_option("--spp", c.spp, "samples per pixel")->check(CLI::Range(1u, 1u << 16));
     add_setting_option(app, "max-depth", [&c](const RenderSettings& s) { c.max_depth = s.max_depth; });
     std::map<std::string, Integrator> integrators{
-        {"path", Integrator::path}, {"light", Integrator::light}, {"bdpt", Integrator::bdpt}};
-    app.add_option("--integrator", c.integrator, "integrator to time: path (default), light or bdpt")
+        {"path", Integrator::path}, {"light", Integrator::light}, {"bdpt", Integrator::bdpt}, {"vcm", Integrator::vcm}};
+    app.add_option("--integrator", c.integrator, "integrator to time: path (default), light, bdpt or vcm")
         ->transform(CLI::CheckedTransformer(integrators, CLI::ignore_case));
     app.add_option("--repeats", c.repeats, "renders per size; the median is reported")->check(CLI::Range(1u, 100u));
     app.add_flag("--techniques", c.techniques,

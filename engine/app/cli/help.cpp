@@ -22,7 +22,7 @@ const std::map<std::string, std::string>& help_groups() {
             for (const char* n : names) g[n] = group;
         };
         put("Output", {"output", "png", "exposure", "tonemap", "stats", "quiet", "resume", "aov"});
-        put("Quality", {"width", "height", "spp", "max-depth", "seed", "sampler", "integrator", "filter",
+        put("Quality", {"width", "height", "spp", "max-depth", "seed", "sampler", "integrator", "merge-radius", "filter",
                         "filter-radius", "microfacet"});
         put("Accuracy", {"target-error", "max-spp", "max-seconds", "adaptive"});
         put("Camera and lens", {"camera", "look-from", "look-at", "up", "yfov", "aperture", "aperture-radius",

@@ -27,7 +27,7 @@ void add_integrator_option(CLI::App& app, RenderSettings& s) { add_setting_optio
 
 void add_sampling_options(CLI::App& app, RenderSettings& s) {
     add_setting_options(app, s,
-                        {"filter", "filter-radius", "sampler", "integrator", "microfacet", "nee", "mis", "rr", "rr-start-depth",
+                        {"filter", "filter-radius", "sampler", "integrator", "merge-radius", "microfacet", "nee", "mis", "rr", "rr-start-depth",
                          "rr-survival-scale", "light-pick", "light-sampler", "wave-paths", "sort-rays", "wide-stores"});
 }
 

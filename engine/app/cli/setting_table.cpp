@@ -125,17 +125,26 @@ std::vector<SettingInfo> make_table() {
                  [](S& s, W w) { s.sampler = parse_choice(w, {"independent", "sobol"}) ? Sampler::sobol : Sampler::independent; },
                  [](const S& s) { return std::string(to_string(s.sampler)); }});
     // How the light transport equation is solved.
-    t.push_back({"integrator", "path|light|bdpt|auto",
+    t.push_back({"integrator", "path|light|bdpt|vcm|auto",
                  "path: path tracing from the camera with next-event estimation and MIS (default); light: light "
                  "tracing, light subpaths splatted onto the film through the camera; bdpt: bidirectional path "
-                 "tracing, every strategy combined by MIS (needs --max-depth); auto (render only): a short pilot of "
-                 "each, the least error per second chosen",
+                 "tracing, every strategy combined by MIS; vcm: BDPT and vertex merging by MIS (consistent, not "
+                 "unbiased: its bias shrinks with the samples); auto (render only): a short pilot of path, light and "
+                 "bdpt, the least error per second chosen",
                  "fredholm:integrator", "integrator", true, true, "path",
                  [](S& s, W w) {
-                     const Integrator all[] = {Integrator::path, Integrator::light, Integrator::bdpt, Integrator::automatic};
-                     s.integrator = all[parse_choice(w, {"path", "light", "bdpt", "auto"})];
+                     const Integrator all[] = {Integrator::path, Integrator::light, Integrator::bdpt, Integrator::vcm,
+                                               Integrator::automatic};
+                     s.integrator = all[parse_choice(w, {"path", "light", "bdpt", "vcm", "auto"})];
                  },
                  [](const S& s) { return std::string(to_string(s.integrator)); }});
+    t.push_back({"merge-radius", "FLOAT",
+                 "with --integrator vcm: the merging radius at the first sample, as a fraction of the scene's "
+                 "bounding-sphere radius (default 0.001); it shrinks as 1 / n^(1/8) over the samples",
+                 "fredholm:merge_radius", "merge_radius", true, true, "0.001",
+                 [](S& s, W w) { s.merge_radius = float(parse_real(w, 1.0e-6, 0.5)); },
+                 [](const S& s) { return nine_digits(double(s.merge_radius)); },
+                 [](const S& s) { return nlohmann::json(s.merge_radius); }});
     t.push_back({"bdpt-strategy", nullptr, "with --integrator bdpt: one strategy (S light, T camera vertices) alone",
                  "fredholm:bdpt_strategy", nullptr, true, false, "all", nullptr,
                  [](const S& s) {
@@ -371,7 +380,7 @@ void apply_vary(const std::string& key, const std::string& value, RenderSettings
             }
             // A curve per integrator compares integrators; the pilot that picks one is not a curve.
             if (key == "integrator" && settings.integrator == Integrator::automatic)
-                throw std::invalid_argument(key + ": '" + value + "' is not path, light or bdpt");
+                throw std::invalid_argument(key + ": '" + value + "' is not path, light, bdpt or vcm");
             return;
         }
     throw std::invalid_argument("unknown key '" + key + "' (" + vary_keys() + ")");

@@ -8,8 +8,10 @@
 
 #include "app/cli/render_options.h"
 #include "app/cli/session.h"
+#include "app/cli/setting_table.h"
 #include "render/device_defaults.h"
 #include "render/memory_estimate.h"
+#include "render/vertex_merging.h"
 #include "scene/effects.h"
 
 namespace fh {
@@ -31,6 +33,7 @@ void add_info_options(CLI::App& app, InfoCommand& c) {
     add_lens_options(app, c.settings);
     add_animation_options(app, c.settings);
     add_effect_options(app, c.settings);
+    add_setting_options(app, c.settings, {"merge-radius"});
 }
 
 namespace {
@@ -55,6 +58,18 @@ MemorySummary summarise_memory(const PreparedScene& p, const RenderSettings& set
     m.per_path = bytes_per_path(p.packed, effects, store);
     m.limit = settings.resolved_memory_limit();
     return m;
+}
+
+// What each integrator's estimate is: path, light and BDPT are unbiased; VCM's merges make it consistent only.
+std::string describe_estimators(const PreparedScene& p, const RenderSettings& settings) {
+    const double scene_radius = scene_bounding_radius(p.packed);
+    char vcm[256];
+    std::snprintf(vcm, sizeof vcm,
+                  "vcm consistent, not unbiased (merging radius %.3g scene units at the first sample, %g of the bounding "
+                  "sphere's radius; x %.3g by sample 1024)",
+                  double(merge_radius_at(settings, scene_radius, 0)), double(settings.merge_radius),
+                  double(merge_radius_at(settings, 1.0, 1023)) / double(merge_radius_at(settings, 1.0, 0)));
+    return std::string("path, light, bdpt unbiased; ") + vcm;
 }
 
 }  // namespace
@@ -96,6 +111,7 @@ int run_info(const InfoCommand& c) {
                    {"device_bytes_per_path", memory.per_path},
                    {"film", std::to_string(c.settings.film_width()) + "x" + std::to_string(c.settings.film_height())},
                    {"limit_bytes", memory.limit}};
+    j["estimators"] = describe_estimators(p, c.settings);
     j["effects"] = describe_effects(compiled);
     nlohmann::ordered_json table = nlohmann::ordered_json::array();
     for (const EffectDecision& d : effects.decisions)
@@ -131,6 +147,7 @@ int run_info(const InfoCommand& c) {
                 format_bytes(memory.host).c_str(), format_bytes(memory.device_cpu).c_str(), CPU_WAVE_PATHS,
                 format_bytes(memory.device_gpu).c_str(), GPU_WAVE_PATHS, memory.per_path, c.settings.film_width(),
                 c.settings.film_height(), format_bytes(memory.limit).c_str());
+    std::printf("  estimators         %s\n", describe_estimators(p, c.settings).c_str());
     std::printf("effects compiled: %s\n", describe_effects(compiled).c_str());
     for (const EffectDecision& d : effects.decisions)
         std::printf("  %-3s %-27s %s\n", (compiled & d.bit) ? "on" : "off", d.name, describe_decision(d, compiled).c_str());

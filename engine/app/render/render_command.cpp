@@ -50,7 +50,10 @@ ImageMetadata make_metadata(const RenderCommand& c, const std::string& scene_has
         {"fredholm:colorspace", "scene-linear Rec.709"}};
     for (const SettingInfo& e : setting_table())
         if (e.metadata_key) metadata.emplace(e.metadata_key, e.describe(s));
-    if (s.integrator == Integrator::bdpt) metadata.emplace("fredholm:bdpt_depth", std::to_string(bdpt_depth(s)));
+    if (connects_subpaths(s.integrator)) metadata.emplace("fredholm:bdpt_depth", std::to_string(bdpt_depth(s)));
+    if (s.integrator == Integrator::vcm)
+        metadata.emplace("fredholm:estimator", "consistent, not unbiased (vertex merging: its bias falls as the merging "
+                                               "radius shrinks with the samples)");
     return metadata;
 }
 
@@ -58,9 +61,9 @@ ImageMetadata make_metadata(const RenderCommand& c, const std::string& scene_has
 void print_bdpt_depth(const RenderSettings& s) {
     if (s.max_depth != 0 && s.max_depth <= BDPT_MAX_DEPTH) return;
     std::fprintf(stderr,
-                 "fredholm: bdpt: every strategy makes paths of up to %u segments (%s; --max-depth 1 to %u sets it), "
+                 "fredholm: %s: every strategy makes paths of up to %u segments (%s; --max-depth 1 to %u sets it), "
                  "longer ones%s are made by next-event estimation and light hits alone\n",
-                 bdpt_depth(s), s.max_depth == 0 ? "the default" : "the most it stores", BDPT_MAX_DEPTH,
+                 to_string(s.integrator), bdpt_depth(s), s.max_depth == 0 ? "the default" : "the most it stores", BDPT_MAX_DEPTH,
                  s.max_depth == 0 ? "" : (" up to " + std::to_string(s.max_depth)).c_str());
 }
 
@@ -424,7 +427,7 @@ int run_frame(const RenderCommand& command, vk::Context* shared_context) {
         c.settings.integrator = choice.integrator;
         apply_light_sampler(prepared, c.scene, c.settings);
     }
-    if (settings.integrator == Integrator::bdpt && !c.quiet) print_bdpt_depth(settings);
+    if (connects_subpaths(settings.integrator) && !c.quiet) print_bdpt_depth(settings);
     c.settings = with_device_defaults(c.settings, *context, prepared.packed);
     check_render_fits(prepared, settings, *context, c.scene);
     Renderer renderer(*context, prepared.packed, camera, settings);

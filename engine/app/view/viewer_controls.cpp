@@ -79,7 +79,7 @@ void apply_input(ViewerState& s, const WindowInput& input, const ViewerWindow& w
                 break;
             case GLFW_KEY_RIGHT_BRACKET:
                 // BDPT stores light vertices per path: its depth stays bounded.
-                if (s.settings.integrator == Integrator::bdpt && s.settings.max_depth >= TOP_LIMITED_DEPTH) break;
+                if (connects_subpaths(s.settings.integrator) && s.settings.max_depth >= TOP_LIMITED_DEPTH) break;
                 if (s.settings.max_depth != 0)
                     s.settings.max_depth = s.settings.max_depth >= TOP_LIMITED_DEPTH ? 0 : s.settings.max_depth + 1;
                 s.rebuild = true;
@@ -88,7 +88,7 @@ void apply_input(ViewerState& s, const WindowInput& input, const ViewerWindow& w
             case GLFW_KEY_MINUS: case GLFW_KEY_KP_SUBTRACT: s.exposure_ev -= EXPOSURE_STEP_EV; break;
             case GLFW_KEY_T: s.tone_curve = s.tone_curve == ToneCurve::aces ? ToneCurve::clamp : ToneCurve::aces; break;
             case GLFW_KEY_N:
-                if (s.settings.integrator == Integrator::bdpt) {
+                if (connects_subpaths(s.settings.integrator)) {
                     std::fprintf(stderr, "fredholm view: bidirectional path tracing always samples lights; N is off\n");
                     break;
                 }

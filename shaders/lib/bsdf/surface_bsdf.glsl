@@ -153,6 +153,20 @@ SurfaceBsdf make_surface_bsdf(ShadingPoint sp, vec3 eye) {
     return b;
 }
 
+// Whether make_surface_bsdf(sp, eye) builds the very BSDF it built for `built_for`: the same side, a shading normal
+// that faces both (no fallback to the facet's), and nothing else that follows the eye (a normal texture's or glass's
+// frame, the clear coat's normal). A stage that needs the BSDF for many eyes at one point rebuilds it only where not
+// (merge.comp).
+bool surface_bsdf_serves(ShadingPoint sp, vec3 built_for, vec3 eye) {
+    bool front = dot(sp.s.ng, eye) > 0.0f;
+    if (front != dot(sp.s.ng, built_for) > 0.0f) return false;
+    if ((effect_on(EFFECT_NORMAL_TEXTURE) && sp.m.normal_texture != INVALID_INDEX) ||
+        (effect_on(EFFECT_TRANSMISSION) && sp.transmission > 0.0f) || effect_on(EFFECT_CLEARCOAT))
+        return false;
+    vec3 ns = front ? sp.s.ns : -sp.s.ns;
+    return dot(ns, built_for) > 0.0f && dot(ns, eye) > 0.0f;
+}
+
 // Whether the path tracer's BSDF at b lets light arrive from `light` (local: light_local), as shade.comp tests its
 // samples and shadow rays.
 bool surface_bsdf_allows(SurfaceBsdf b, vec3 light, vec3 light_local) {

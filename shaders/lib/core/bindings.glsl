@@ -19,6 +19,9 @@ layout(std430, binding = BINDING_PATH_TIMES) buffer PathTimeBuffer { float path_
 layout(std430, binding = BINDING_GLASS_ALBEDO) readonly buffer GlassAlbedoBuffer { float glass_albedo_words[]; };
 layout(std430, binding = BINDING_LIGHT_VERTICES) buffer LightVertexBuffer { LightVertex light_vertices[]; };
 layout(std430, binding = BINDING_PATH_MIS) buffer PathMisBuffer { PathMis path_mis[]; };
+layout(std430, binding = BINDING_MERGE_POINTS) buffer MergePointBuffer { vec4 merge_points[]; };
+layout(std430, binding = BINDING_PATH_DVM) buffer PathDvmBuffer { float path_dvm[]; };
+layout(std430, binding = BINDING_MERGE_GRID) buffer MergeGridBuffer { uint merge_grid_words[]; };
 layout(std430, binding = BINDING_RAY_SORT) buffer RaySortBuffer { uint ray_sort_words[]; };  // lib/core/ray_order.glsl
 layout(std430, binding = BINDING_PATH_LIGHT_POINTS) buffer PathLightPointBuffer { uvec4 path_light_points[]; };
 // Two uvec4 per path (layout.h PathAov): stored a texel at a time, not word by word (lib/core/aov.glsl).
@@ -38,7 +41,9 @@ layout(constant_id = SPEC_HAS_INSTANCES) const bool scene_has_instances = false;
 // per integrator for the stages that differ (FH_INTEGRATOR). A stage compiled once cannot name these.
 #ifdef FH_INTEGRATOR
 const uint integrator = FH_INTEGRATOR;
-const bool bdpt = integrator == INTEGRATOR_BDPT;
+// Vertex connection and merging runs every stage of bidirectional path tracing, its weights with the merges counted.
+const bool vcm = integrator == INTEGRATOR_VCM;
+const bool bdpt = integrator == INTEGRATOR_BDPT || vcm;
 #endif
 
 #include "lib/tables/ggx_albedo_table.glsl"

@@ -8,6 +8,8 @@
 // vertices and t camera vertices): s = 0 (a camera path hits a light, shade.comp), s = 1 (next-event estimation,
 // shade.comp), t = 1 (a light vertex splatted onto the film, light_shade.comp), s, t >= 2 (connect_subpaths.comp).
 // A camera ray that sees a light directly (path of one segment) is s = 0 alone: the light's own vertex is not splatted.
+// Vertex connection and merging (`vcm`, FH_INTEGRATOR) adds a third quantity, dvm, and the merges' share eta to every
+// sum (the same report's full recursion); merge.comp weights the merges (lib/integrator/vertex_merging.glsl).
 #ifndef FH_BDPT_GLSL
 #define FH_BDPT_GLSL
 #include "lib/integrator/light_tracing.glsl"
@@ -19,6 +21,25 @@ float mis_power(float ratio) { return ratio * ratio; }
 float mis_weight(float others) {
     float w = 1.0f / (1.0f + others);
     return w >= 0.0f ? w : 0.0f;
+}
+
+// Vertex merging's eta: how much denser the merges make a path than one connection, pi r^2 x the light subpaths they
+// search (the wave's; StagePush.merge_radius). Both subpaths' stages of a wave see the same.
+float merge_eta() {
+    return PI * push.merge_radius * push.merge_radius * float(push.pixel_count * push.sample_count);
+}
+
+// What every connection's sum adds for the merges (SmallVCM's mMisVmWeightFactor), and what a merge's adds for the
+// connections (mMisVcWeightFactor); vcm only.
+float vm_weight_factor() { return mis_power(merge_eta()); }
+float vc_weight_factor() { return mis_power(1.0f / merge_eta()); }
+
+// A subpath's competitors where it joins the other at a vertex: its own dvcm, its dvc through the pdf `reverse` of
+// drawing its previous direction from the joint, and with merging the merges there.
+float joined_subpath_sum(PathMis m, float reverse) {
+    float sum = m.dvcm + m.dvc * mis_power(reverse);
+    if (vcm) sum += vm_weight_factor();
+    return sum;
 }
 
 // True where a path of `segments` segments is made by every strategy, so BDPT's weights apply; a longer one is made
@@ -43,8 +64,17 @@ void account_segment(inout PathMis m, float dist, float cos_g, bool with_distanc
 // The subpath left a surface along a direction drawn with solid-angle pdf `forward`, at geometric cosine cos_out;
 // `reverse`: the pdf with which the other side's sampler, arriving along that direction, would draw the arriving one.
 void account_scattering(inout PathMis m, float cos_out, float forward, float reverse) {
-    m.dvc = mis_power(cos_out / forward) * (m.dvc * mis_power(reverse) + m.dvcm);
+    float dvc_sum = m.dvc * mis_power(reverse) + m.dvcm;
+    if (vcm) dvc_sum += vm_weight_factor();
+    m.dvc = mis_power(cos_out / forward) * dvc_sum;
     m.dvcm = mis_power(1.0f / forward);
+}
+
+// Vertex merging: dvm after a segment arriving at geometric cosine cos_g, and after a scattering (m: the quantities
+// before account_scattering changes them).
+float segment_dvm(float dvm, float cos_g) { return dvm / mis_power(cos_g); }
+float scattered_dvm(float dvm, PathMis m, float cos_out, float forward, float reverse) {
+    return mis_power(cos_out / forward) * (dvm * mis_power(reverse) + m.dvcm * vc_weight_factor() + 1.0f);
 }
 
 // A camera subpath's quantities at the eye, for a ray along dir (forward: the camera's axis at the ray's time): the
@@ -86,7 +116,7 @@ float weight_environment_hit(PathMis m, float direct_pdf) {
 float weight_light_connection(PathMis m, float bsdf_pdf, float light_pdf, float emission_over_direct, float cos_g,
                               float reverse) {
     float others = light_pdf > 0.0f ? mis_power(bsdf_pdf / light_pdf) : 0.0f;
-    others += mis_power(emission_over_direct * cos_g) * (m.dvcm + m.dvc * mis_power(reverse));
+    others += mis_power(emission_over_direct * cos_g) * joined_subpath_sum(m, reverse);
     return mis_weight(others);
 }
 
@@ -94,7 +124,7 @@ float weight_light_connection(PathMis m, float bsdf_pdf, float light_pdf, float 
 // density over the light subpaths per sample index) times the geometric cosine towards the camera; reverse: the camera
 // side's pdf of drawing the light-side direction there.
 float weight_camera_connection(PathMis m, float importance_area, float reverse) {
-    return mis_weight(mis_power(importance_area) * (m.dvcm + m.dvc * mis_power(reverse)));
+    return mis_weight(mis_power(importance_area) * joined_subpath_sum(m, reverse));
 }
 
 // s, t >= 2: camera vertex y and light vertex z joined by a segment of squared length dist2. Per side: the area density
@@ -102,8 +132,18 @@ float weight_camera_connection(PathMis m, float importance_area, float reverse) 
 // the pdf this side's sampler has of drawing its previous vertex's direction from the joint (reverse).
 float weight_subpath_connection(PathMis camera, float camera_reverse, float light_forward_area, PathMis light,
                                 float light_reverse, float camera_forward_area) {
-    float w_light = mis_power(camera_forward_area) * (light.dvcm + light.dvc * mis_power(light_reverse));
-    float w_camera = mis_power(light_forward_area) * (camera.dvcm + camera.dvc * mis_power(camera_reverse));
+    float w_light = mis_power(camera_forward_area) * joined_subpath_sum(light, light_reverse);
+    float w_camera = mis_power(light_forward_area) * joined_subpath_sum(camera, camera_reverse);
+    return mis_weight(w_light + w_camera);
+}
+
+// A merge of camera vertex y (quantities at it, with its dvm) with a light vertex near it (its dvcm and dvm), the
+// light arriving along wl: camera_forward, the camera side's pdf of drawing wl at y; camera_reverse, the light side's
+// of drawing the camera's previous direction there. Every connection, and the merges at the other vertices, compete.
+float weight_merge(PathMis camera, float camera_dvm, float camera_reverse, float light_dvcm, float light_dvm,
+                   float camera_forward) {
+    float w_light = light_dvcm * vc_weight_factor() + light_dvm * mis_power(camera_forward);
+    float w_camera = camera.dvcm * vc_weight_factor() + camera_dvm * mis_power(camera_reverse);
     return mis_weight(w_light + w_camera);
 }
 #endif

@@ -15,6 +15,11 @@ glass_room.gltf  the lamp room with four spheres that light passes through: smoo
                  cross surfaces, keep their volumes' indices and agree with the path tracer.
 glass_caustic.gltf (shipped in scenes/) a smooth glass sphere hanging over the floor of the room under a small lamp,
                  which it focuses to a caustic on the floor (shaders/lib/integrator/README.md "Bidirectional path tracing").
+water_glass.gltf (shipped in scenes/) a sealed glass jar of water on a table under a small lamp: the jar (ior 1.5)
+                 holds a cylinder of water (ior 1.33, nested in the glass's volume) and focuses the lamp into a caustic
+                 on the table beside and behind it, which the camera sees directly and through the jar: the caustic
+                 seen through its own glass is a specular-diffuse-specular path, which only vertex merging samples
+                 well (shaders/lib/integrator/README.md "Vertex connection and merging").
 glass_bulb.gltf  the room without its ceiling lamp, lit only by a small lamp (an emissive icosphere) inside a closed
                  rough absorbing glass sphere (a volume): light subpaths start inside the glass's volume, so they must
                  know it (refraction by its index on the way out, absorption from the first segment).
@@ -168,6 +173,45 @@ def glass_caustic():
     return g
 
 
+def cylinder(radius, z0, z1, segments=48):
+    """A closed cylinder about the z axis from z0 to z1, wound to face outwards: smooth normals on its side, flat caps.
+    Triangles and per-corner normals."""
+    tris, normals = [], []
+    for i in range(segments):
+        a0, a1 = 2.0 * math.pi * i / segments, 2.0 * math.pi * (i + 1) / segments
+        n0, n1 = (math.cos(a0), math.sin(a0), 0.0), (math.cos(a1), math.sin(a1), 0.0)
+        p00, p10 = (radius * n0[0], radius * n0[1], z0), (radius * n1[0], radius * n1[1], z0)
+        p01, p11 = (radius * n0[0], radius * n0[1], z1), (radius * n1[0], radius * n1[1], z1)
+        tris += [(p00, p10, p11), (p00, p11, p01)]
+        normals += [n0, n1, n1, n0, n1, n0]
+        tris += [((0.0, 0.0, z1), p01, p11), ((0.0, 0.0, z0), p10, p00)]
+        normals += [(0.0, 0.0, 1.0)] * 3 + [(0.0, 0.0, -1.0)] * 3
+    return tris, normals
+
+
+def water_glass():
+    """The room without its ceiling lamp: a table (a 1.6 x 1.2 top 0.7 above the floor) with a sealed glass jar (radius
+    0.25, 0.5 high, 0.03 thick walls, ior 1.5) of water (ior 1.33) on it, under a small lamp (0.15 x 0.15) up and to
+    the front left, so its caustic falls behind the jar; the camera looks down at the jar from the front left."""
+    g = room(lamp=False)
+    use_transmission_extensions(g)
+    table = g.add_material(base=(0.75, 0.7, 0.6))
+    top = quad(-0.8, -0.1, 0.8, 1.1, 0.7) + quad(-0.8, -0.1, 0.8, 1.1, 0.66, facing_up=False)
+    g.add_node({"mesh": g.add_mesh(top, table)})
+    jar, jar_normals = cylinder(0.25, 0.705, 1.2)  # 5 mm above the table: no coincident faces
+    g.doc["materials"].append(glass_material(0.0))
+    g.add_node({"mesh": g.add_mesh(placed(jar, (1.0, 1.0, 1.0), (0.0, 0.5, 0.0)), len(g.doc["materials"]) - 1,
+                                   jar_normals)})
+    water, water_normals = cylinder(0.22, 0.735, 1.1)
+    g.doc["materials"].append(glass_material(0.0, ior=1.33))
+    g.add_node({"mesh": g.add_mesh(placed(water, (1.0, 1.0, 1.0), (0.0, 0.5, 0.0)), len(g.doc["materials"]) - 1,
+                                   water_normals)})
+    lamp = g.add_material(base=(0.0, 0.0, 0.0), emission=300.0)
+    g.add_node({"mesh": g.add_mesh(quad(-0.45, 0.0, -0.3, 0.15, 2.9, facing_up=False), lamp)})
+    g.add_perspective_camera(look_at((-0.9, -1.2, 1.7), (0.0, 0.5, 0.85)), 0.8)
+    return g
+
+
 def look_at(eye, target, up=(0.0, 0.0, 1.0)):
     """The glTF node (translation, rotation) of a camera at eye looking at target (glTF cameras look down -Z, +Y up)."""
     def norm(v):
@@ -274,6 +318,7 @@ def main():
     lamp_shade().write(out / "lamp_shade.gltf")
     moving_room().write(out / "moving_room.gltf")
     glass_bulb().write(out / "glass_bulb.gltf")
+    water_glass().write(out / "water_glass.gltf")
 
 
 if __name__ == "__main__":

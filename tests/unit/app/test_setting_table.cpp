@@ -19,7 +19,7 @@ const std::map<std::string, std::string>& sample_words() {
     static const std::map<std::string, std::string> words = {
         {"seed", "4294967295"},    {"max-depth", "100000"},          {"camera", "3"},
         {"filter", "gaussian"},    {"filter-radius", "2.5"},  {"sampler", "independent"},
-        {"integrator", "bdpt"},    {"nee", "off"},                   {"mis", "off"},
+        {"integrator", "vcm"},     {"merge-radius", "0.00390625"},   {"nee", "off"},                   {"mis", "off"},
         {"rr", "off"},             {"rr-start-depth", "7"},          {"rr-survival-scale", "0.123456791"},
         {"light-pick", "separate"}, {"light-sampler", "tree"},       {"wave-paths", "2048"},
         {"sort-rays", "on"},       {"wide-stores", "off"},           {"bvh-leaf-size", "2"},

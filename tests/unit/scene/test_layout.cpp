@@ -132,8 +132,9 @@ FH_OFFSET(FrameParams, film_height, 224);
 FH_OFFSET(FrameParams, light_vertex_slots, 240);
 FH_OFFSET(FrameParams, bdpt_strategy, 244);
 FH_OFFSET(FrameParams, bdpt_depth, 256);
+FH_OFFSET(FrameParams, merge_grid_cells, 260);
 
-FH_SIZE(StagePush, 36);
+FH_SIZE(StagePush, 40);
 FH_OFFSET(StagePush, depth, 0);
 FH_OFFSET(StagePush, pixel_begin, 4);
 FH_OFFSET(StagePush, pixel_count, 8);
@@ -143,6 +144,7 @@ FH_OFFSET(StagePush, ray_order, 20);
 FH_OFFSET(StagePush, bin_pushed_rays, 24);
 FH_OFFSET(StagePush, count_handed_shadow_rays, 28);
 FH_OFFSET(StagePush, count_escaped_rays, 32);
+FH_OFFSET(StagePush, merge_radius, 36);
 
 FH_SIZE(DispatchArgs, 12);
 
@@ -249,7 +251,7 @@ TEST(Layout, SizesMatchTheGpuStructs) {
     EXPECT_EQ(sizeof(PathMis), 16u);
     EXPECT_EQ(sizeof(LightVertex), 64u);
     EXPECT_EQ(sizeof(FilmPixel), 52u);
-    EXPECT_EQ(sizeof(StagePush), 36u);
+    EXPECT_EQ(sizeof(StagePush), 40u);
     EXPECT_EQ(BVH_LEAF_COUNT_BITS, 16u);
 }
 
