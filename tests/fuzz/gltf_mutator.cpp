@@ -28,6 +28,10 @@ using nlohmann::json;
 using Random = std::mt19937_64;
 
 constexpr size_t MAX_WALK_DEPTH = 64;  // values nested deeper are left alone (the walk recurses)
+// Documents nested deeper are mutated as bytes: nlohmann copies and prints a value recursively, a dozen frames a level
+// under AddressSanitizer, and a few thousand levels (a deep input, nested deeper again) overflowed the stack in this
+// mutator, not in the loader (2026-11-30, CI).
+constexpr size_t MAX_STRUCTURED_DEPTH = 1200;
 
 size_t pick(Random& random, size_t n) { return n == 0 ? 0 : size_t(random() % n); }
 
@@ -359,7 +363,28 @@ bool is_reference_key(const std::string& key) {
     return false;
 }
 
-void mutate_document(json& doc, Random& random) {
+// The deepest nesting of arrays and objects in JSON text, brackets inside strings left out (a scan, no recursion).
+size_t nesting_depth(const std::string& text) {
+    size_t depth = 0, deepest = 0;
+    bool in_string = false, escaped = false;
+    for (char c : text) {
+        if (in_string) {
+            if (escaped) escaped = false;
+            else if (c == '\\') escaped = true;
+            else if (c == '"') in_string = false;
+        } else if (c == '"') {
+            in_string = true;
+        } else if (c == '[' || c == '{') {
+            deepest = std::max(deepest, ++depth);
+        } else if ((c == ']' || c == '}') && depth > 0) {
+            --depth;
+        }
+    }
+    return deepest;
+}
+
+// One mutation; true when it nested a value deeply (the document takes no more mutations, nor copies of that value).
+bool mutate_document(json& doc, Random& random) {
     std::vector<Place> places;
     walk(doc, "", nullptr, 0, places);
     Place place = pick_of(random, places);
@@ -374,7 +399,7 @@ void mutate_document(json& doc, Random& random) {
             *n.value = is_reference_key(n.key) && random() % 2 ? hostile_index(random, 8) : hostile_number(random);
             break;
         }
-        case 2: nest_deeply(*place.value, random); break;
+        case 2: nest_deeply(*place.value, random); return true;
         case 3: widen(*place.value, random); break;
         case 4: make_node_cycle(doc, random); break;
         case 5: place_at_edge(doc, random); break;
@@ -388,6 +413,7 @@ void mutate_document(json& doc, Random& random) {
             else *place.value = json(*pick_of(random, places).value);
             break;
     }
+    return false;
 }
 
 uint32_t load_le32(const uint8_t* p) { return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24; }
@@ -426,12 +452,14 @@ extern "C" size_t LLVMFuzzerCustomMutator(uint8_t* data, size_t size, size_t max
     Random random(seed);
     std::string text, rest;
     bool glb = false;
-    if (random() % 2 == 0 || !split_input(data, size, text, rest, glb)) return LLVMFuzzerMutate(data, size, max_size);
+    if (random() % 2 == 0 || !split_input(data, size, text, rest, glb) || nesting_depth(text) > MAX_STRUCTURED_DEPTH)
+        return LLVMFuzzerMutate(data, size, max_size);
     json doc = json::parse(text, nullptr, false);
     if (doc.is_discarded() || !doc.is_object()) return LLVMFuzzerMutate(data, size, max_size);
     std::string out;
     try {  // a mutation meets values of any type: where nlohmann refuses one, the bytes are mutated instead
-        for (size_t i = 0, n = 1 + pick(random, 3); i < n; ++i) mutate_document(doc, random);
+        for (size_t i = 0, n = 1 + pick(random, 3); i < n; ++i)
+            if (mutate_document(doc, random)) break;
         out = join_output(doc.dump(), rest, glb);
     } catch (const nlohmann::json::exception&) {
         return LLVMFuzzerMutate(data, size, max_size);
