@@ -17,6 +17,7 @@ namespace tables {
 #include "lib/tables/sheen_albedo_table.glsl"
 #include "lib/tables/spectral_table.glsl"
 #include "lib/tables/glass_albedo_table.glsl"
+#include "lib/tables/ggx_anisotropic_albedo_table.glsl"
 }  // namespace tables
 namespace {
 
@@ -40,6 +41,13 @@ std::vector<float> flatten_glass_albedo_table(EffectBits effects) {
     if (!(effects & gpu::EFFECT_GLASS_MULTISCATTER)) return {0.0f};
     return concatenate({tables::GLASS_ALBEDO_OUT, tables::GLASS_ALBEDO_IN, tables::GLASS_ALBEDO_AVERAGE_OUT,
                         tables::GLASS_ALBEDO_AVERAGE_IN, tables::GLASS_ALBEDO_K, tables::GLASS_ALBEDO_F_AVERAGE});
+}
+
+// The white anisotropic GGX lobe's albedo table in the order shaders/lib/tables/ggx_anisotropic_albedo_table.glsl
+// documents (anisotropic_albedo_bytes says when), else one word.
+std::vector<float> flatten_anisotropic_albedo_table(EffectBits effects) {
+    if (anisotropic_albedo_bytes(effects) == sizeof(float)) return {0.0f};
+    return concatenate({tables::GGX_ANISOTROPIC_ALBEDO, tables::GGX_ANISOTROPIC_ALBEDO_AVERAGE});
 }
 
 constexpr VkBufferUsageFlags STORAGE = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
@@ -131,6 +139,7 @@ GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& sce
     b.path_spectra = make_state_buffer(context, path_spectra_bytes(frame.wave_capacity, effects));
     b.path_times = make_state_buffer(context, path_times_bytes(frame.wave_capacity, effects));
     b.glass_albedo = make_filled_buffer(context, flatten_glass_albedo_table(effects));
+    b.anisotropic_albedo = make_filled_buffer(context, flatten_anisotropic_albedo_table(effects));
     b.light_vertices = make_state_buffer(context, light_vertices_bytes(frame.wave_capacity, store));
     b.path_mis = make_state_buffer(context, path_mis_bytes(frame.wave_capacity, store));
     b.merge_points = make_state_buffer(context, merge_points_bytes(frame.wave_capacity, store));
@@ -147,7 +156,7 @@ GpuBuffers create_gpu_buffers(const vk::Context& context, const PackedScene& sce
                                      &b.punctual_lights, &b.ggx_albedo, &b.counters, &b.counters_readback, &b.paths, &b.rays, &b.hits,
                                      &b.shadow_rays, &b.film, &b.tri_attributes, &b.texture_slots, &b.texture_images,
                                      &b.texels, &b.env_radiance, &b.env_cdf, &b.instances, &b.material_layers, &b.path_media,
-                                     &b.path_spectra, &b.path_times, &b.glass_albedo, &b.light_vertices, &b.path_mis, &b.ray_sort,
+                                     &b.path_spectra, &b.path_times, &b.glass_albedo, &b.anisotropic_albedo, &b.light_vertices, &b.path_mis, &b.ray_sort,
                                      &b.light_tree, &b.path_light_points, &b.path_aovs, &b.aov_film, &b.pixel_list, &b.pixel_work,
                                      &b.path_work, &b.light_media, &b.merge_points, &b.path_dvm, &b.merge_grid})
         allocated += buffer->size();
@@ -194,6 +203,7 @@ void bind_gpu_buffers(vk::BindingTable& table, const GpuBuffers& b) {
     table.bind_buffer(gpu::BINDING_MERGE_GRID, b.merge_grid);
     table.bind_buffer(gpu::BINDING_RAY_SORT, b.ray_sort);
     table.bind_buffer(gpu::BINDING_GLASS_ALBEDO, b.glass_albedo);
+    table.bind_buffer(gpu::BINDING_ANISOTROPIC_ALBEDO, b.anisotropic_albedo);
     table.bind_buffer(gpu::BINDING_LIGHT_TREE, b.light_tree);
     table.bind_buffer(gpu::BINDING_PATH_LIGHT_POINTS, b.path_light_points);
     table.bind_buffer(gpu::BINDING_PATH_AOVS, b.path_aovs);

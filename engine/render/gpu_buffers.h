@@ -50,6 +50,7 @@ struct GpuBuffers {
     vk::Buffer path_spectra;       // each path's wavelengths (EFFECT_SPECTRAL; else one element)
     vk::Buffer path_times;         // each path's time in the shutter (EFFECT_MOTION_BLUR; else one word)
     vk::Buffer glass_albedo;       // the glass lobe's albedo table (EFFECT_GLASS_MULTISCATTER; else one word)
+    vk::Buffer anisotropic_albedo; // the anisotropic GGX lobe's (EFFECT_ANISOTROPY and _GGX_MULTISCATTER; else one word)
     vk::Buffer light_vertices;     // stored light-subpath vertices (`--integrator bdpt`; else one element)
     vk::Buffer path_mis;           // each path's MIS quantities (`--integrator bdpt`; else one element)
     vk::Buffer merge_points;       // `--integrator vcm` (else one element each): each light vertex's point and dvm,

@@ -15,6 +15,7 @@ namespace tables {
 #include "lib/tables/sheen_albedo_table.glsl"
 #include "lib/tables/spectral_table.glsl"
 #include "lib/tables/glass_albedo_table.glsl"
+#include "lib/tables/ggx_anisotropic_albedo_table.glsl"
 }  // namespace tables
 namespace {
 
@@ -49,6 +50,11 @@ uint64_t path_light_points_bytes(uint32_t wave_capacity, EffectBits effects) {
 
 uint64_t glass_albedo_bytes(EffectBits effects) {
     return uint64_t((effects & gpu::EFFECT_GLASS_MULTISCATTER) ? tables::GLASS_ALBEDO_TABLE_SIZE : 1) * sizeof(float);
+}
+
+uint64_t anisotropic_albedo_bytes(EffectBits effects) {
+    const EffectBits both = gpu::EFFECT_ANISOTROPY | gpu::EFFECT_GGX_MULTISCATTER;
+    return uint64_t((effects & both) == both ? tables::GGX_ANISOTROPIC_ALBEDO_TABLE_SIZE : 1) * sizeof(float);
 }
 
 uint64_t path_times_bytes(uint32_t wave_capacity, EffectBits effects) {
@@ -158,6 +164,7 @@ MemoryEstimate estimate_render_memory(const PackedScene& scene, uint32_t width, 
         {"path_spectra", path_spectra_bytes(wave_capacity, effects), storage},
         {"path_times", path_times_bytes(wave_capacity, effects), storage},
         {"glass_albedo", glass_albedo_bytes(effects), storage},
+        {"anisotropic_albedo", anisotropic_albedo_bytes(effects), storage},
         {"light_vertices", light_vertices_bytes(wave_capacity, store), storage},
         {"path_mis", path_mis_bytes(wave_capacity, store), storage},
         {"merge_points", merge_points_bytes(wave_capacity, store), storage},

@@ -55,6 +55,8 @@ uint64_t path_spectra_bytes(uint32_t wave_capacity, EffectBits effects);
 uint64_t path_times_bytes(uint32_t wave_capacity, EffectBits effects);  // EFFECT_MOTION_BLUR
 // The glass albedo table's buffer: the whole table with EFFECT_GLASS_MULTISCATTER, else one word.
 uint64_t glass_albedo_bytes(EffectBits effects);
+// The anisotropic GGX lobe's albedo table: whole with EFFECT_ANISOTROPY and EFFECT_GGX_MULTISCATTER, else one word.
+uint64_t anisotropic_albedo_bytes(EffectBits effects);
 
 // What a path in flight keeps besides its state, by what the render does. Bidirectional path tracing: its MIS
 // quantities (PathMis) and light_vertex_slots stored light-subpath vertices (LightVertex, render/light_tracing.h

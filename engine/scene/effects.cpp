@@ -171,6 +171,9 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
             const bool coat_textured = slot_valid(layers.clearcoat_texture);
             if (layers.clearcoat > 0.0f && !(coat_textured && slot_zero(layers.clearcoat_texture, {0}))) {
                 coat.insert(m);
+                // A rough coat loses light between its microfacets as the base's lobes do (--microfacet compensated);
+                // clearcoatRoughnessTexture only multiplies the factor.
+                if (layers.clearcoat_roughness > 0.0f) rough_specular.insert(m);
                 if (coat_textured || (slot_valid(layers.clearcoat_roughness_texture) && layers.clearcoat_roughness > 0.0f))
                     coat_texture.insert(m);
                 if (slot_valid(layers.clearcoat_normal_texture) &&
@@ -199,6 +202,9 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
                 !(anisotropy_textured && slot_zero(layers.anisotropy_texture, {2}))) {
                 anisotropic.insert(m);
                 if (anisotropy_textured) anisotropy_texture.insert(m);
+                // A stretched metal lobe is rough along its direction even at roughness 0: it loses light between
+                // its microfacets (--microfacet compensated gives it back).
+                if (mat.metallic > 0.0f) rough_specular.insert(m);
             }
             // A thin film shows where iridescenceFactor > 0, its texture's R is not 0 everywhere, and it has a
             // thickness (the maximum, or with a thickness texture either end of the range).
@@ -282,7 +288,7 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
                  "no volume has a finite attenuationDistance with an attenuationColor below 1");
     by_materials(gpu::EFFECT_GLASS_MULTISCATTER, rough_glass, "no glass material has a roughness above 0");
     by_materials(gpu::EFFECT_GGX_MULTISCATTER, rough_specular,
-                 "no visible material has a rough GGX lobe (a metal, or a specular layer, with a roughness above 0)");
+                 "no visible material has a rough GGX lobe (a metal, a specular layer or a clear coat, with a roughness above 0)");
     by_materials(gpu::EFFECT_CLEARCOAT, coat, "no visible material has KHR_materials_clearcoat clearcoatFactor > 0");
     by_materials(gpu::EFFECT_CLEARCOAT_TEXTURE, coat_texture,
                  "no coated material has a clearcoatTexture or a clearcoatRoughnessTexture with a non-zero factor");

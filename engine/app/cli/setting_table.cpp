@@ -153,7 +153,7 @@ std::vector<SettingInfo> make_table() {
                  },
                  nullptr, "add_render_options (render/render_command.cpp)"});
     t.push_back({"microfacet", "compensated|single",
-                 "rough GGX lobes (metals, specular layers): compensated (default) gives back the light that bounces "
+                 "rough GGX lobes (metals, specular layers, clear coats): compensated (default) gives back the light that bounces "
                  "between microfacets, so a white rough metal reflects all it receives; single: the glTF spec's "
                  "single-scattering GGX",
                  "fredholm:microfacet", "microfacet", true, true, "single",

@@ -129,21 +129,28 @@ PointerTarget node_target(tinygltf::Model& model, const Tokens& tokens) {
 // The core textureInfo of `material` that tokens[first...] start with, and how many tokens name it; nullptr if none.
 tinygltf::ExtensionMap* core_texture_extensions(tinygltf::Material& m, const Tokens& tokens, size_t first,
                                                 size_t& length) {
-    auto& pbr = m.pbrMetallicRoughness;
-    const std::pair<std::initializer_list<const char*>, tinygltf::ExtensionMap*> slots[] = {
-        {{"pbrMetallicRoughness", "baseColorTexture"}, &pbr.baseColorTexture.extensions},
-        {{"pbrMetallicRoughness", "metallicRoughnessTexture"}, &pbr.metallicRoughnessTexture.extensions},
-        {{"normalTexture"}, &m.normalTexture.extensions},
-        {{"emissiveTexture"}, &m.emissiveTexture.extensions},
+    // Each slot's path is one or two tokens (an array of std::initializer_list would dangle: its elements live only
+    // as long as the expression that builds the array).
+    struct Slot {
+        const char* parent;  // nullptr for a slot at the material's top level
+        const char* name;
+        tinygltf::ExtensionMap* extensions;
     };
-    for (const auto& [path, extensions] : slots) {
-        if (tokens.size() < first + path.size() + 3) continue;
+    auto& pbr = m.pbrMetallicRoughness;
+    const Slot slots[] = {
+        {"pbrMetallicRoughness", "baseColorTexture", &pbr.baseColorTexture.extensions},
+        {"pbrMetallicRoughness", "metallicRoughnessTexture", &pbr.metallicRoughnessTexture.extensions},
+        {nullptr, "normalTexture", &m.normalTexture.extensions},
+        {nullptr, "emissiveTexture", &m.emissiveTexture.extensions},
+    };
+    for (const Slot& slot : slots) {
+        const size_t path_length = slot.parent ? 2 : 1;
+        if (tokens.size() < first + path_length + 3) continue;
         size_t i = first;
-        bool match = true;
-        for (const char* p : path) match = match && tokens[i++] == p;
-        if (match && tokens[i] == "extensions" && tokens[i + 1] == "KHR_texture_transform") {
-            length = path.size();
-            return extensions;
+        if (slot.parent && tokens[i++] != slot.parent) continue;
+        if (tokens[i] == slot.name && tokens[i + 1] == "extensions" && tokens[i + 2] == "KHR_texture_transform") {
+            length = path_length;
+            return slot.extensions;
         }
     }
     return nullptr;

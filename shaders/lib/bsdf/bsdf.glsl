@@ -25,7 +25,9 @@
 // white rough metal conserves energy; reciprocal (shaders/lib/bsdf/README.md "Rough metal conserves energy"). The
 // dielectric's specular layer gets the same lobe with its own F_ms (from f0 and f90: small for f0 0.04, all of the
 // loss for f0 1), and the diffuse lobe's albedo scaling counts it in E(mu): E += max(F_ms) (1 - E_white(mu)). Not
-// under a thin film or anisotropy, whose albedo bounds the diffuse lobe is normalised by leave it out.
+// under a thin film or anisotropy, whose albedo bounds the diffuse lobe is normalised by leave it out. An
+// anisotropic metal's lobe reads the white anisotropic lobe's albedo by azimuth (ggx_anisotropic_albedo.glsl), and
+// the clear coat gets a lobe of its own (f0 0.04, f90 1), which its albedo E_c counts.
 //
 // KHR_materials_transmission replaces a fraction `transmission` of the dielectric by the glass lobe of
 // dielectric.glsl (its own exact-Fresnel reflection and the refraction or thin-walled pass-through):
@@ -45,7 +47,8 @@
 // over all of the above, layered as the extension's fresnel_coat does, with the coat's albedo in place of
 // its Fresnel term:
 //   f = clearcoat F_c(v.h) D_c V_c + f_base (1 - clearcoat E_c(mu_o))      mu_o: cos theta_o about the coat normal
-// E_c = 0.04 A + B (ggx_albedo.glsl) is the coat lobe's albedo, so the albedo is clearcoat E_c + (1 - clearcoat
+// E_c = 0.04 A + B (ggx_albedo.glsl) is the coat lobe's albedo (with --microfacet compensated plus its multiple-
+// scattering lobe's, F_ms (1 - E_white(mu_o))), so the albedo is clearcoat E_c + (1 - clearcoat
 // E_c) albedo_base <= 1: energy conserving, exactly 1 over a white dielectric. DEVIATION: like the spec's
 // (whose weight is Fresnel at n.v) this attenuates the base on the viewer's side only, so the coated BSDF is
 // not reciprocal; weighting both sides, (1 - E_c(mu_o)) (1 - E_c(mu_i)), is reciprocal but darkens a coated
@@ -116,6 +119,7 @@ using fh::gpu::Material;  // C++: include shaders/shared/layout.h at global scop
 #include "lib/bsdf/ggx.glsl"
 #include "lib/bsdf/ggx_albedo.glsl"
 #include "lib/bsdf/ggx_multiscatter.glsl"
+#include "lib/bsdf/ggx_anisotropic_albedo.glsl"
 #include "lib/bsdf/dielectric.glsl"
 #include "lib/bsdf/sheen.glsl"
 
@@ -161,6 +165,8 @@ struct BsdfParams {
     float clearcoat;        // KHR_materials_clearcoat: the coat's weight (0: no coat)
     float clearcoat_alpha;  // the coat's GGX alpha, at least BSDF_MIN_ALPHA
     vec3 clearcoat_normal;  // the coat's normal in the local frame (z: the base's shading normal)
+    float clearcoat_multiscatter;       // F_ms of the coat's multiple-scattering lobe (f0 0.04, f90 1); 0: none
+    float clearcoat_multiscatter_norm;  // its 1 / (pi (1 - E_avg)) at the coat's alpha
     vec3 sheen_color;       // KHR_materials_sheen: the sheen's colour (0: no sheen)
     float sheen_roughness;  // perceptual, at least SHEEN_MIN_ROUGHNESS
     float diffuse_transmission;       // KHR_materials_diffuse_transmission: the diffuse lobe's share sent through
@@ -227,6 +233,8 @@ BsdfParams make_bsdf_params(Material m) {
     p.clearcoat = 0.0f;
     p.clearcoat_alpha = BSDF_MIN_ALPHA;
     p.clearcoat_normal = vec3(0.0f, 0.0f, 1.0f);
+    p.clearcoat_multiscatter = 0.0f;
+    p.clearcoat_multiscatter_norm = 0.0f;
     p.sheen_color = vec3(0.0f);
     p.sheen_roughness = SHEEN_MIN_ROUGHNESS;
     p.diffuse_transmission = 0.0f;
@@ -274,6 +282,18 @@ bool has_anisotropy(BsdfParams p) {
     return is_anisotropic(p.roughness);
 }
 
+// Whether the metal's multiple-scattering lobe follows the anisotropic table (ggx_anisotropic_albedo.glsl): an
+// anisotropic lobe with some metal. Anisotropic dielectrics have no lobe (their layer's bound has no place for it).
+bool has_anisotropic_multiscatter(BsdfParams p) {
+    return BSDF_HAS_GGX_MULTISCATTER && has_anisotropy(p) && p.metallic > 0.0f;
+}
+
+// The white anisotropic lobe's loss 1 - E(w) (w in the local frame, above the surface).
+float anisotropic_multiscatter_loss(BsdfParams p, vec3 w) {
+    GgxAnisotropicCell c = ggx_anisotropic_cell(p.alpha, p.roughness.alpha_t);
+    return 1.0f - ggx_anisotropic_white_albedo(c, to_lobe_frame(p.roughness, w));
+}
+
 // The specular layer's albedo terms (A, B) = ggx_albedo for light from direction w (local frame; its z's sign is
 // ignored); anisotropic, their bound (see the top of the file). Isotropic: ggx_albedo's bits.
 vec2 specular_albedo(BsdfParams p, vec3 w) {
@@ -318,6 +338,14 @@ BsdfParams with_anisotropy(BsdfParams p, float strength, vec2 direction) {
         average.y /= float(ANISOTROPY_AZIMUTH_STEPS);
         average += vec2(ANISOTROPY_ALBEDO_MARGIN / 21.0f);
         p = normalise_diffuse(p, average);
+        if (has_anisotropic_multiscatter(p)) {
+            // The metal's lobe gives back what the anisotropic table says single scattering loses (also at roughness
+            // 0, where the stretched lobe is rough along the direction); its E_avg integrates that table.
+            float e_average = ggx_anisotropic_white_albedo_average(ggx_anisotropic_cell(p.alpha, p.roughness.alpha_t));
+            bool loses = 1.0f - e_average > GGX_MULTISCATTER_MIN_LOSS;
+            p.metal_multiscatter = loses ? ggx_multiscatter_fresnel(p.base_color, 1.0f, e_average) : vec3(0.0f);
+            p.multiscatter_norm = loses ? INV_PI / (1.0f - e_average) : 0.0f;
+        }
     }
     return p;
 }
@@ -379,6 +407,17 @@ BsdfParams with_clearcoat(BsdfParams p, float clearcoat, float roughness, vec3 n
     float r = clamp(roughness, 0.0f, 1.0f);
     p.clearcoat_alpha = max(r * r, BSDF_MIN_ALPHA);
     p.clearcoat_normal = normal;
+    p.clearcoat_multiscatter = 0.0f;
+    p.clearcoat_multiscatter_norm = 0.0f;
+    if (BSDF_HAS_GGX_MULTISCATTER && p.clearcoat_alpha > BSDF_MIN_ALPHA) {
+        // The coat loses light between its microfacets as the base's lobes do (ggx_multiscatter.glsl): given back
+        // by a lobe of its own, F_ms from the coat's Schlick Fresnel (small: 0.003 at roughness 1).
+        float e_average = white_ggx_albedo(ggx_albedo_average(p.clearcoat_alpha));
+        if (1.0f - e_average > GGX_MULTISCATTER_MIN_LOSS) {
+            p.clearcoat_multiscatter = ggx_multiscatter_fresnel(vec3(CLEARCOAT_F0), 1.0f, e_average).x;
+            p.clearcoat_multiscatter_norm = INV_PI / (1.0f - e_average);
+        }
+    }
     return p;
 }
 
@@ -441,9 +480,16 @@ LobeAlbedos estimate_lobe_albedos(BsdfParams p, float cos_o, float opaque) {
     vec3 e_metal = p.base_color * albedo.x + vec3(albedo.y);
     a.specular = BSDF_HAS_SPECULAR ? luminance(mix(e_dielectric * opaque, e_metal, p.metallic)) : 0.0f;
     a.multiscatter = 0.0f;
-    if (has_ggx_multiscatter(p))
-        a.multiscatter = luminance(mix(p.dielectric_multiscatter * opaque, p.metal_multiscatter, p.metallic)) *
-                         (1.0f - white_ggx_albedo(albedo));
+    if (has_ggx_multiscatter(p)) {
+        // Anisotropic: for picking, the isotropic loss at the two alphas' root mean square will do (picking needs
+        // no exact albedo, and this reads a quarter of the anisotropic table's loads).
+        float loss = 1.0f - white_ggx_albedo(albedo);
+        if (has_anisotropic_multiscatter(p)) {
+            float rms = sqrt(0.5f * (p.alpha * p.alpha + p.roughness.alpha_t * p.roughness.alpha_t));
+            loss = 1.0f - ggx_white_albedo(cos_o, rms);
+        }
+        a.multiscatter = luminance(mix(p.dielectric_multiscatter * opaque, p.metal_multiscatter, p.metallic)) * loss;
+    }
     return a;
 }
 
@@ -503,7 +549,13 @@ vec3 eval_base_bsdf(BsdfParams p, vec3 wo, vec3 wi) {
         }
     }
     vec3 dielectric = diffuse + f_dielectric * specular;
-    float multiscatter = has_ggx_multiscatter(p) ? eval_ggx_multiscatter(wo.z, wi.z, p.alpha, p.multiscatter_norm) : 0.0f;
+    float multiscatter = 0.0f;
+    if (has_anisotropic_multiscatter(p) && has_ggx_multiscatter(p)) {
+        multiscatter = anisotropic_multiscatter_loss(p, wo) * anisotropic_multiscatter_loss(p, wi) * wi.z *
+                       p.multiscatter_norm;
+    } else if (has_ggx_multiscatter(p)) {
+        multiscatter = eval_ggx_multiscatter(wo.z, wi.z, p.alpha, p.multiscatter_norm);
+    }
     dielectric += p.dielectric_multiscatter * multiscatter;
     if (has_glass(p)) {
         dielectric = mix(dielectric, eval_glass(p.glass, wo, wi), p.transmission);
@@ -598,13 +650,23 @@ float pdf_bsdf_lobes(BsdfParams p, LobeChoice c, vec3 wo, vec3 wi) {
     return pdf;
 }
 
-// The coat lobe's albedo clearcoat E_c(cos_c) for the outgoing cos theta about the coat normal (0 below it).
+bool has_clearcoat_multiscatter(BsdfParams p) {
+    return BSDF_HAS_GGX_MULTISCATTER && p.clearcoat_multiscatter_norm > 0.0f;
+}
+
+// The albedo of the coat's multiple-scattering lobe, F_ms (1 - E(cos_c)) (exact), given ggx_albedo's terms at cos_c.
+float clearcoat_multiscatter_albedo(BsdfParams p, vec2 albedo) {
+    return has_clearcoat_multiscatter(p) ? p.clearcoat_multiscatter * (1.0f - white_ggx_albedo(albedo)) : 0.0f;
+}
+
+// The coat's albedo clearcoat E_c(cos_c) for the outgoing cos theta about the coat normal (0 below it): its GGX
+// lobe's and its multiple-scattering lobe's.
 float clearcoat_albedo(BsdfParams p, float cos_c) {
     if (!(cos_c > 0.0f)) {
         return 0.0f;
     }
     vec2 albedo = ggx_albedo(cos_c, p.clearcoat_alpha);
-    return p.clearcoat * min(CLEARCOAT_F0 * albedo.x + albedo.y, 1.0f);
+    return p.clearcoat * min(CLEARCOAT_F0 * albedo.x + albedo.y + clearcoat_multiscatter_albedo(p, albedo), 1.0f);
 }
 
 // The coat lobe clearcoat F_c(v.h) D V cos(theta_i), directions in the coat's frame (z: its normal).
@@ -614,7 +676,13 @@ float eval_clearcoat(BsdfParams p, vec3 wo_c, vec3 wi_c) {
     }
     vec3 h = normalize(wo_c + wi_c);
     float f = CLEARCOAT_F0 + (1.0f - CLEARCOAT_F0) * schlick_weight(abs(dot(wo_c, h)));
-    return p.clearcoat * f * ggx_d(h, p.clearcoat_alpha) * ggx_v_cos(wo_c.z, wi_c.z, p.clearcoat_alpha);
+    float single = p.clearcoat * f * ggx_d(h, p.clearcoat_alpha) * ggx_v_cos(wo_c.z, wi_c.z, p.clearcoat_alpha);
+    if (!has_clearcoat_multiscatter(p)) {
+        return single;
+    }
+    float multiple = p.clearcoat_multiscatter *
+                     eval_ggx_multiscatter(wo_c.z, wi_c.z, p.clearcoat_alpha, p.clearcoat_multiscatter_norm);
+    return single + p.clearcoat * multiple;
 }
 
 // f(wo, wi) * cos(theta_i): the BSDF already multiplied by the cosine of the incident direction.
@@ -638,6 +706,7 @@ vec3 eval_bsdf(BsdfParams p, vec3 wo, vec3 wi) {
 // with the viewer below it. Depends on wo only.
 struct CoatChoice {
     float probability;
+    float multiscatter;  // the share of the coat's directions from its multiple-scattering lobe (uniform)
     Frame frame;  // the coat's (z: its normal)
     vec3 wo;      // wo in that frame
 };
@@ -645,11 +714,16 @@ struct CoatChoice {
 CoatChoice choose_coat(BsdfParams p, vec3 wo, LobeChoice c) {
     CoatChoice coat;
     coat.probability = 0.0f;
+    coat.multiscatter = 0.0f;
     coat.frame = make_frame(p.clearcoat_normal);
     coat.wo = to_local(coat.frame, wo);
     float e = clearcoat_albedo(p, coat.wo.z);
     if (!(e > 0.0f)) {
         return coat;
+    }
+    if (has_clearcoat_multiscatter(p)) {
+        vec2 albedo = ggx_albedo(coat.wo.z, p.clearcoat_alpha);
+        coat.multiscatter = min(p.clearcoat * clearcoat_multiscatter_albedo(p, albedo) / e, 1.0f);
     }
     LobeAlbedos a = estimate_lobe_albedos(p, wo.z, 1.0f - (c.glass > 0.0f ? p.transmission : 0.0f));
     float base = a.specular + a.diffuse + a.through + a.multiscatter +
@@ -671,6 +745,9 @@ float pdf_bsdf_choice(BsdfParams p, LobeChoice c, CoatChoice coat, vec3 wo, vec3
         float pdf_coat = wi_c.z > 0.0f && wi.z > 0.0f
                              ? pdf_ggx_vndf_reflection(coat.wo, normalize(coat.wo + wi_c), p.clearcoat_alpha)
                              : 0.0f;
+        if (coat.multiscatter > 0.0f && wi_c.z > 0.0f && wi.z > 0.0f) {
+            pdf_coat = mix(pdf_coat, INV_TWO_PI, coat.multiscatter);  // its uniform share
+        }
         pdf = mix(pdf, pdf_coat, coat.probability);
     }
     return pdf;
@@ -733,13 +810,19 @@ BsdfSample sample_bsdf(BsdfParams p, vec3 wo, vec3 u) {
     LobeChoice c = choose_lobes(p, wo.z);
     CoatChoice coat;
     coat.probability = 0.0f;
+    coat.multiscatter = 0.0f;
     if (has_clearcoat(p)) {
         coat = choose_coat(p, wo, c);
     }
     vec3 wi;
     if (u.x < coat.probability) {
-        vec3 h = sample_ggx_vndf(coat.wo, p.clearcoat_alpha, vec2(u.y, u.z));
-        vec3 wi_c = 2.0f * dot(coat.wo, h) * h - coat.wo;
+        vec3 wi_c;
+        if (u.x < coat.probability * coat.multiscatter) {
+            wi_c = sample_uniform_hemisphere(vec2(u.y, u.z));  // the coat's multiple-scattering lobe
+        } else {
+            vec3 h = sample_ggx_vndf(coat.wo, p.clearcoat_alpha, vec2(u.y, u.z));
+            wi_c = 2.0f * dot(coat.wo, h) * h - coat.wo;
+        }
         wi = to_world(coat.frame, wi_c);
         if (!(wi_c.z > 0.0f && wi.z > 0.0f)) {
             return s;  // below the coat or below the base's shading normal: no reflection of the coat

@@ -25,6 +25,11 @@ vec2 ggx_albedo_average_node(int j) {
     return vec2(ggx_albedo_entry(GGX_ALBEDO_AVERAGE_A_OFFSET + j), ggx_albedo_entry(GGX_ALBEDO_AVERAGE_B_OFFSET + j));
 }
 
+// alpha's table coordinate in [0, 1]: log-spaced from GGX_ALBEDO_ALPHA_MIN (and below it the first row) to 1.
+float ggx_albedo_alpha_coordinate(float alpha) {
+    return clamp(log(alpha / GGX_ALBEDO_ALPHA_MIN) * GGX_ALBEDO_INV_LOG_ALPHA_RANGE, 0.0f, 1.0f);
+}
+
 // Table coordinates: mu^(1/3) puts nodes where the albedo falls off at grazing angles (mu ~ alpha) and
 // log(alpha) resolves that fall-off equally for every alpha (at 32 x 32, max interpolation error 3e-3, against
 // 6e-2 for a table uniform in mu). alpha below GGX_ALBEDO_ALPHA_MIN reads the first row.
@@ -35,8 +40,7 @@ struct GgxAlbedoCell {
 
 GgxAlbedoCell ggx_albedo_cell(float mu, float alpha) {
     float x = pow(clamp(mu, 0.0f, 1.0f), 1.0f / 3.0f) * float(GGX_ALBEDO_MU_SIZE - 1);
-    float y = clamp(log(alpha / GGX_ALBEDO_ALPHA_MIN) * GGX_ALBEDO_INV_LOG_ALPHA_RANGE, 0.0f, 1.0f) *
-              float(GGX_ALBEDO_ALPHA_SIZE - 1);
+    float y = ggx_albedo_alpha_coordinate(alpha) * float(GGX_ALBEDO_ALPHA_SIZE - 1);
     int i = min(int(x), GGX_ALBEDO_MU_SIZE - 2);
     int j = min(int(y), GGX_ALBEDO_ALPHA_SIZE - 2);
     GgxAlbedoCell c;
@@ -60,8 +64,7 @@ vec2 ggx_albedo(float mu, float alpha) {
 // vec2(A_avg, B_avg) = 2 int_0^1 ggx_albedo(mu, alpha) mu dmu: the cosine-weighted hemispherical average,
 // exact for the interpolated table (linear in alpha's coordinate, as ggx_albedo is).
 vec2 ggx_albedo_average(float alpha) {
-    float y = clamp(log(alpha / GGX_ALBEDO_ALPHA_MIN) * GGX_ALBEDO_INV_LOG_ALPHA_RANGE, 0.0f, 1.0f) *
-              float(GGX_ALBEDO_ALPHA_SIZE - 1);
+    float y = ggx_albedo_alpha_coordinate(alpha) * float(GGX_ALBEDO_ALPHA_SIZE - 1);
     int j = min(int(y), GGX_ALBEDO_ALPHA_SIZE - 2);
     return mix(ggx_albedo_average_node(j), ggx_albedo_average_node(j + 1), y - float(j));
 }

@@ -1,4 +1,4 @@
-// The energy a GGX lobe (the metal's, the dielectric's specular layer) loses to light that bounces between microfacets
+// The energy a GGX lobe (the metal's, the dielectric's specular layer, the clear coat) loses to light that bounces between microfacets
 // before leaving, given back as a diffuse-like lobe (Kulla & Conty 2017, "Revisiting Physically Based Shading at
 // Imageworks"), so that a white rough metal reflects all the light it receives (`--microfacet compensated`,
 // EFFECT_GGX_MULTISCATTER). Shared GLSL/C++.
@@ -10,8 +10,8 @@
 // f_ms is symmetric in wo and wi (light tracing and BDPT evaluate it with the two swapped), integrates to
 // F_ms (1 - E(mu_o)), exactly what single scattering lost for F = 1, and F_ms <= 1 per channel, so a coloured metal
 // never gains (F_ms sums the series of bounces, each tinted by F_avg, that Kulla and Conty derive). The table's nodes
-// are raised (E_table >= E_true), so the lobe gives back at most what was lost. Anisotropic metal uses the smaller
-// alpha (its stretched lobe loses more: less is given back, never more). A thin film (KHR_materials_iridescence)
+// are raised (E_table >= E_true), so the lobe gives back at most what was lost. An anisotropic metal's E depends on
+// the azimuth too: it reads ggx_anisotropic_albedo.glsl's table (bsdf.glsl). A thin film (KHR_materials_iridescence)
 // leaves F_ms at the base colour's. Sampled uniformly over the hemisphere: the lobe's weight (1 - E(mu_i)) mu_i
 // vanishes at both ends, so uniform directions keep the sample weight bounded where cosine ones would not.
 #ifndef FH_GGX_MULTISCATTER_GLSL

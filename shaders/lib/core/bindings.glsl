@@ -17,6 +17,9 @@ layout(std430, binding = BINDING_LIGHT_MEDIA) readonly buffer LightMediaBuffer {
 layout(std430, binding = BINDING_PATH_SPECTRA) buffer PathSpectrumBuffer { PathSpectrum path_spectra[]; };
 layout(std430, binding = BINDING_PATH_TIMES) buffer PathTimeBuffer { float path_times[]; };
 layout(std430, binding = BINDING_GLASS_ALBEDO) readonly buffer GlassAlbedoBuffer { float glass_albedo_words[]; };
+layout(std430, binding = BINDING_ANISOTROPIC_ALBEDO) readonly buffer AnisotropicAlbedoBuffer {
+    float anisotropic_albedo_words[];
+};
 layout(std430, binding = BINDING_LIGHT_VERTICES) buffer LightVertexBuffer { LightVertex light_vertices[]; };
 layout(std430, binding = BINDING_PATH_MIS) buffer PathMisBuffer { PathMis path_mis[]; };
 layout(std430, binding = BINDING_MERGE_POINTS) buffer MergePointBuffer { vec4 merge_points[]; };
@@ -56,6 +59,7 @@ layout(std140, binding = BINDING_GGX_ALBEDO_UNIFORM) uniform GgxAlbedoTable {
 float ggx_albedo_entry(int i) { return ggx_albedo_words[i >> 2][i & 3]; }
 float sheen_albedo_entry(int i) { return ggx_albedo_entry(GGX_ALBEDO_TABLE_SIZE + i); }
 float glass_albedo_entry(int i) { return glass_albedo_words[i]; }  // glass_albedo_table.glsl's order
+float ggx_anisotropic_albedo_entry(int i) { return anisotropic_albedo_words[i]; }  // ggx_anisotropic_albedo_table.glsl's
 vec4 spectral_table_vec4(int i) { return ggx_albedo_words[(GGX_ALBEDO_TABLE_SIZE + SHEEN_ALBEDO_TABLE_SIZE) / 4 + i]; }
 
 layout(push_constant) uniform PushBlock { StagePush push; };

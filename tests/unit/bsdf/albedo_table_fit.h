@@ -44,45 +44,72 @@ inline std::vector<double> raise_to_upper_bound(const std::vector<double>& fine,
     return raised;
 }
 
-// raise_to_upper_bound in three dimensions, tighter: `fine` is ((nz - 1) refine + 1) slices of ((ny - 1) refine + 1)
-// rows of ((nx - 1) refine + 1) samples. Nodes start at the samples they sit on; then, sweep after sweep, each sample
-// the trilinear interpolant falls short of by d raises the eight corners of its cell by d w_n / sum(w^2) (w_n their
-// interpolation weights: the smallest change that lifts the interpolant there by exactly d, Kaczmarz's projection),
-// until no sample is short by more than 1e-7; then every node gets `margin` for points between the samples. Nodes
-// only rise, so a sample met once stays met except through its neighbours' cells, which the sweeps revisit.
-inline std::vector<double> raise_to_upper_bound_3d(const std::vector<double>& fine, int nx, int ny, int nz, int refine,
-                                                   double margin) {
-    const int fx = (nx - 1) * refine + 1, fy = (ny - 1) * refine + 1, fz = (nz - 1) * refine + 1;
-    std::vector<double> nodes(size_t(nx) * ny * nz);
-    for (int k = 0; k < nz; ++k)
-        for (int j = 0; j < ny; ++j)
-            for (int i = 0; i < nx; ++i)
-                nodes[(size_t(k) * ny + j) * nx + i] = fine[(size_t(k) * refine * fy + j * refine) * fx + i * refine];
+// raise_to_upper_bound in any number of dimensions, tighter: `fine` holds ((n_d - 1) refine + 1) samples along each
+// dimension d of `sizes` (the first fastest). Nodes start at the samples they sit on; then, sweep after sweep, each
+// sample the multilinear interpolant falls short of by d raises the 2^D corners of its cell by d w_n / sum(w^2) (w_n
+// their interpolation weights: the smallest change that lifts the interpolant there by exactly d, Kaczmarz's
+// projection), until no sample is short by more than 1e-7; then every node gets `margin` for points between the
+// samples. Nodes only rise, so a sample met once stays met except through its neighbours' cells, which the sweeps
+// revisit.
+inline std::vector<double> raise_to_upper_bound_nd(const std::vector<double>& fine, const std::vector<int>& sizes,
+                                                   int refine, double margin) {
+    const int dims = int(sizes.size()), corners = 1 << dims;
+    std::vector<size_t> fine_stride(dims), node_stride(dims);
+    size_t fine_count = 1, node_count = 1;
+    for (int d = 0; d < dims; ++d) {
+        fine_stride[d] = fine_count;
+        node_stride[d] = node_count;
+        fine_count *= size_t(sizes[d] - 1) * refine + 1;
+        node_count *= size_t(sizes[d]);
+    }
+    std::vector<double> nodes(node_count);
+    for (size_t n = 0; n < node_count; ++n) {
+        size_t f = 0;
+        for (int d = 0; d < dims; ++d) f += (n / node_stride[d] % sizes[d]) * refine * fine_stride[d];
+        nodes[n] = fine[f];
+    }
+    std::vector<size_t> index(corners);
+    std::vector<double> weight(corners);
+    std::vector<int> cell(dims);
+    std::vector<double> frac(dims);
     for (int sweep = 0; sweep < 1000; ++sweep) {
         double worst = 0.0;
-        for (int r = 0; r < fz; ++r)
-            for (int q = 0; q < fy; ++q)
-                for (int p = 0; p < fx; ++p) {
-                    const int i = std::min(p / refine, nx - 2), j = std::min(q / refine, ny - 2), k = std::min(r / refine, nz - 2);
-                    const double wx = double(p) / refine - i, wy = double(q) / refine - j, wz = double(r) / refine - k;
-                    size_t index[8];
-                    double weight[8], value = 0.0, norm = 0.0;
-                    for (int c = 0; c < 8; ++c) {
-                        const int di = c & 1, dj = (c >> 1) & 1, dk = c >> 2;
-                        index[c] = (size_t(k + dk) * ny + (j + dj)) * nx + (i + di);
-                        weight[c] = (di ? wx : 1 - wx) * (dj ? wy : 1 - wy) * (dk ? wz : 1 - wz);
-                        value += weight[c] * nodes[index[c]];
-                        norm += weight[c] * weight[c];
-                    }
-                    const double shortfall = fine[(size_t(r) * fy + q) * fx + p] - value;
-                    if (shortfall <= 1e-7) continue;
-                    worst = std::max(worst, shortfall);
-                    for (int c = 0; c < 8; ++c) nodes[index[c]] += shortfall * weight[c] / norm;
+        for (size_t f = 0; f < fine_count; ++f) {
+            for (int d = 0; d < dims; ++d) {
+                const int p = int(f / fine_stride[d] % (size_t(sizes[d] - 1) * refine + 1));
+                cell[d] = std::min(p / refine, sizes[d] - 2);
+                frac[d] = double(p) / refine - cell[d];
+            }
+            double value = 0.0, norm = 0.0;
+            for (int c = 0; c < corners; ++c) {
+                size_t at = 0;
+                double w = 1.0;
+                for (int d = 0; d < dims; ++d) {
+                    const int up = (c >> d) & 1;
+                    at += size_t(cell[d] + up) * node_stride[d];
+                    w *= up ? frac[d] : 1 - frac[d];
                 }
+                index[c] = at;
+                weight[c] = w;
+                value += w * nodes[at];
+                norm += w * w;
+            }
+            const double shortfall = fine[f] - value;
+            if (shortfall <= 1e-7) continue;
+            worst = std::max(worst, shortfall);
+            for (int c = 0; c < corners; ++c) nodes[index[c]] += shortfall * weight[c] / norm;
+        }
         if (worst <= 1e-7) break;
     }
     for (double& n : nodes) n += margin;
     return nodes;
+}
+
+// raise_to_upper_bound_nd over ((nz - 1) refine + 1) slices of ((ny - 1) refine + 1) rows of ((nx - 1) refine + 1)
+// samples.
+inline std::vector<double> raise_to_upper_bound_3d(const std::vector<double>& fine, int nx, int ny, int nz, int refine,
+                                                   double margin) {
+    return raise_to_upper_bound_nd(fine, {nx, ny, nz}, refine, margin);
 }
 
 // `const float NAME[n] = {...};`, eight floats a line, each rounded to float as the shader reads it.

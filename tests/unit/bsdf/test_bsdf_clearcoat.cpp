@@ -135,6 +135,8 @@ std::vector<CoatCase> coat_cases() {
     for (CoatKind k : {COLOURED, WHITE_METAL, TILTED, GLASS})
         for (float r : {0.1f, 0.5f})
             for (float d : {0.0f, 50.0f, 80.0f}) cases.push_back({k, r, d});
+    // A rough coat over black: its multiple-scattering lobe (uniform directions) is a few percent of what it samples.
+    for (float d : {0.0f, 80.0f}) cases.push_back({BLACK_BASE, 1.0f, d});
     return cases;
 }
 

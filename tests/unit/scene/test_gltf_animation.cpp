@@ -349,6 +349,35 @@ TEST(GltfAnimationPointer, AnimatesMaterialsLightsCamerasNodesAndVisibility) {
     EXPECT_NEAR(still.cameras[0].yfov, 0.5, 1e-12);
 }
 
+// A core texture slot's KHR_texture_transform, named by a pointer through the slot (two tokens for
+// pbrMetallicRoughness/baseColorTexture, one for emissiveTexture): the loader's table of slots must outlive the
+// lookup (a dangling initializer_list here was a fuzzer finding under ASan).
+TEST(GltfAnimationPointer, AnimatesACoreTexturesTransform) {
+    GltfBuilder b = pointer_scene();
+    const nlohmann::json slot = {{"index", 0}, {"extensions", {{"KHR_texture_transform", {{"offset", {0, 0}}}}}}};
+    b.doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = slot;
+    b.doc["materials"][0]["emissiveTexture"] = slot;
+    b.doc["extensionsUsed"].push_back("KHR_texture_transform");
+    b.doc["images"] = {{{"uri", "data:image/png;base64," + fh::test::encode_base64(fh::test::png_2x1())}}};
+    b.doc["textures"] = {{{"source", 0}}};
+    b.doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = add_floats(b, {0, 0, 1, 0, 0, 1}, "VEC2", 2);
+    const std::vector<float> t01 = {0.0f, 1.0f};
+    animate_pointer(b, "/materials/0/pbrMetallicRoughness/baseColorTexture/extensions/KHR_texture_transform/offset",
+                    t01, add_floats(b, {0, 0, 1, 0.5f}, "VEC2", 2));
+    animate_pointer(b, "/materials/0/emissiveTexture/extensions/KHR_texture_transform/offset", t01,
+                    add_floats(b, {0, 0, 0.25f, 2}, "VEC2", 2));
+    const Scene s = fh::load_gltf(b.write_gltf(), at_time(0.5));
+    const fh::gpu::Material& m = s.materials[0];
+    ASSERT_LT(m.base_color_texture, s.texture_slots.size());
+    ASSERT_LT(m.emissive_texture, s.texture_slots.size());
+    const fh::gpu::TextureSlot& base = s.texture_slots[m.base_color_texture];
+    EXPECT_NEAR(base.transform_u.z, 0.5, 1e-6);
+    EXPECT_NEAR(base.transform_v.z, 0.25, 1e-6);
+    const fh::gpu::TextureSlot& emissive = s.texture_slots[m.emissive_texture];
+    EXPECT_NEAR(emissive.transform_u.z, 0.125, 1e-6);
+    EXPECT_NEAR(emissive.transform_v.z, 1.0, 1e-6);
+}
+
 TEST(GltfAnimationPointer, RefusesBadPointersNamingThem) {
     auto refused = [](const std::string& pointer, const std::string& interpolation, const std::string& expected) {
         GltfBuilder b = pointer_scene();

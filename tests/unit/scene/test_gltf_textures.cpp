@@ -20,15 +20,6 @@ const fh::LoadOptions WORLD_SPACE = [] {
     return o;
 }();
 
-// A valid 2x1 RGBA PNG: texel 0 opaque red, texel 1 half-transparent white (from Python's zlib, fixed bytes).
-std::vector<unsigned char> png_2x1() {
-    return {0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a, 0x00, 0x00, 0x00, 0x0d, 0x49, 0x48, 0x44, 0x52, 0x00,
-            0x00, 0x00, 0x02, 0x00, 0x00, 0x00, 0x01, 0x08, 0x06, 0x00, 0x00, 0x00, 0xf4, 0x22, 0x7f, 0x8a, 0x00,
-            0x00, 0x00, 0x0f, 0x49, 0x44, 0x41, 0x54, 0x78, 0x9c, 0x63, 0xf8, 0xcf, 0xc0, 0xf0, 0x1f, 0x08, 0x1a,
-            0x00, 0x16, 0x73, 0x05, 0x7c, 0x26, 0x97, 0x01, 0xd2, 0x00, 0x00, 0x00, 0x00, 0x49, 0x45, 0x4e, 0x44,
-            0xae, 0x42, 0x60, 0x82};
-}
-
 // One triangle with TEXCOORD_0/1, COLOR_0 and TANGENT; material 0 uses `material`.
 GltfBuilder make_textured_triangle(const nlohmann::json& material) {
     GltfBuilder b;
@@ -44,7 +35,7 @@ GltfBuilder make_textured_triangle(const nlohmann::json& material) {
         {"TANGENT", b.add_accessor(b.add_view(tangents.data(), 48), 5126, 3, "VEC4")}};
     b.add_material(material);
     b.add_mesh({{"attributes", attributes}, {"material", 0}});
-    b.doc["images"] = {{{"uri", "data:image/png;base64," + fh::test::encode_base64(png_2x1())}}};
+    b.doc["images"] = {{{"uri", "data:image/png;base64," + fh::test::encode_base64(fh::test::png_2x1())}}};
     b.doc["samplers"] = {{{"wrapS", 33648}, {"wrapT", 33071}, {"magFilter", 9728}}};
     b.doc["textures"] = {{{"source", 0}, {"sampler", 0}}};
     return b;
@@ -139,8 +130,8 @@ TEST(GltfTextures, SpecularLobeIsDecidedByValue) {
     EXPECT_EQ(fh::analyse_effects(s, false).bits & specular, 0u);
 }
 
-// The multiple-scattering lobe (--microfacet compensated) is an effect by value too: a metal or a specular layer of
-// roughness above 0 asks for it; roughness 0 (nothing lost), Lambert alone or an unlit material do not; --microfacet
+// The multiple-scattering lobe (--microfacet compensated) is an effect by value too: a metal, a specular layer or a
+// clear coat of roughness above 0, or an anisotropic metal, asks for it; roughness 0 (nothing lost), Lambert alone or an unlit material do not; --microfacet
 // single switches it off.
 TEST(GltfTextures, GgxMultiscatterIsDecidedByValue) {
     Scene s = load_textured_triangle({{"pbrMetallicRoughness", {{"metallicFactor", 1.0}, {"roughnessFactor", 0.5}}}});
@@ -162,6 +153,20 @@ TEST(GltfTextures, GgxMultiscatterIsDecidedByValue) {
     s.materials[0].metallic = 1.0f;
     s.materials[0].flags |= gpu::MATERIAL_UNLIT;
     EXPECT_EQ(fh::analyse_effects(s, false).bits & multiscatter, 0u);
+    // A rough clear coat over a smooth Lambertian base asks for its own lobe; a smooth coat does not.
+    Scene coated = load_textured_triangle(
+        {{"pbrMetallicRoughness", {{"metallicFactor", 0.0}, {"roughnessFactor", 0.0}}},
+         {"extensions", {{"KHR_materials_clearcoat", {{"clearcoatFactor", 1.0}, {"clearcoatRoughnessFactor", 0.4}}}}}});
+    EXPECT_EQ(fh::analyse_effects(coated, false).bits & multiscatter, multiscatter);
+    coated.material_layers[0].clearcoat_roughness = 0.0f;
+    EXPECT_EQ(fh::analyse_effects(coated, false).bits & multiscatter, 0u);
+    // An anisotropic metal of roughness 0 is rough along its direction; an anisotropic dielectric of roughness 0 is not.
+    Scene stretched = load_textured_triangle(
+        {{"pbrMetallicRoughness", {{"metallicFactor", 1.0}, {"roughnessFactor", 0.0}}},
+         {"extensions", {{"KHR_materials_anisotropy", {{"anisotropyStrength", 0.5}}}}}});
+    EXPECT_EQ(fh::analyse_effects(stretched, false).bits & multiscatter, multiscatter);
+    stretched.materials[0].metallic = 0.0f;
+    EXPECT_EQ(fh::analyse_effects(stretched, false).bits & multiscatter, 0u);
 }
 
 // KHR_materials_specular's textures go through the texture path: specularTexture linear (its alpha is the factor),
