@@ -20,6 +20,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "scene/gltf/json_limits.h"  // json_nesting_depth: the loader's own scan, no recursion
+
 extern "C" size_t LLVMFuzzerMutate(uint8_t* data, size_t size, size_t max_size);
 
 namespace {
@@ -363,26 +365,6 @@ bool is_reference_key(const std::string& key) {
     return false;
 }
 
-// The deepest nesting of arrays and objects in JSON text, brackets inside strings left out (a scan, no recursion).
-size_t nesting_depth(const std::string& text) {
-    size_t depth = 0, deepest = 0;
-    bool in_string = false, escaped = false;
-    for (char c : text) {
-        if (in_string) {
-            if (escaped) escaped = false;
-            else if (c == '\\') escaped = true;
-            else if (c == '"') in_string = false;
-        } else if (c == '"') {
-            in_string = true;
-        } else if (c == '[' || c == '{') {
-            deepest = std::max(deepest, ++depth);
-        } else if ((c == ']' || c == '}') && depth > 0) {
-            --depth;
-        }
-    }
-    return deepest;
-}
-
 // One mutation; true when it nested a value deeply (the document takes no more mutations, nor copies of that value).
 bool mutate_document(json& doc, Random& random) {
     std::vector<Place> places;
@@ -452,7 +434,8 @@ extern "C" size_t LLVMFuzzerCustomMutator(uint8_t* data, size_t size, size_t max
     Random random(seed);
     std::string text, rest;
     bool glb = false;
-    if (random() % 2 == 0 || !split_input(data, size, text, rest, glb) || nesting_depth(text) > MAX_STRUCTURED_DEPTH)
+    if (random() % 2 == 0 || !split_input(data, size, text, rest, glb) ||
+        fh::json_nesting_depth(text, MAX_STRUCTURED_DEPTH) > MAX_STRUCTURED_DEPTH)
         return LLVMFuzzerMutate(data, size, max_size);
     json doc = json::parse(text, nullptr, false);
     if (doc.is_discarded() || !doc.is_object()) return LLVMFuzzerMutate(data, size, max_size);
