@@ -288,10 +288,10 @@ bool has_anisotropic_multiscatter(BsdfParams p) {
     return BSDF_HAS_GGX_MULTISCATTER && has_anisotropy(p) && p.metallic > 0.0f;
 }
 
-// The white anisotropic lobe's loss 1 - E(w) (w in the local frame, above the surface).
-float anisotropic_multiscatter_loss(BsdfParams p, vec3 w) {
-    GgxAnisotropicCell c = ggx_anisotropic_cell(p.alpha, p.roughness.alpha_t);
-    return 1.0f - ggx_anisotropic_white_albedo(c, to_lobe_frame(p.roughness, w));
+// The white anisotropic lobe's loss 1 - E(w) (w in the local frame, above the surface), given the lobe's slice of
+// the table, ggx_anisotropic_cell(p.alpha, p.roughness.alpha_t).
+float anisotropic_multiscatter_loss(BsdfParams p, GgxAnisotropicCell cell, vec3 w) {
+    return 1.0f - ggx_anisotropic_white_albedo(cell, to_lobe_frame(p.roughness, w));
 }
 
 // The specular layer's albedo terms (A, B) = ggx_albedo for light from direction w (local frame; its z's sign is
@@ -551,7 +551,8 @@ vec3 eval_base_bsdf(BsdfParams p, vec3 wo, vec3 wi) {
     vec3 dielectric = diffuse + f_dielectric * specular;
     float multiscatter = 0.0f;
     if (has_anisotropic_multiscatter(p) && has_ggx_multiscatter(p)) {
-        multiscatter = anisotropic_multiscatter_loss(p, wo) * anisotropic_multiscatter_loss(p, wi) * wi.z *
+        GgxAnisotropicCell cell = ggx_anisotropic_cell(p.alpha, p.roughness.alpha_t);
+        multiscatter = anisotropic_multiscatter_loss(p, cell, wo) * anisotropic_multiscatter_loss(p, cell, wi) * wi.z *
                        p.multiscatter_norm;
     } else if (has_ggx_multiscatter(p)) {
         multiscatter = eval_ggx_multiscatter(wo.z, wi.z, p.alpha, p.multiscatter_norm);
@@ -659,14 +660,15 @@ float clearcoat_multiscatter_albedo(BsdfParams p, vec2 albedo) {
     return has_clearcoat_multiscatter(p) ? p.clearcoat_multiscatter * (1.0f - white_ggx_albedo(albedo)) : 0.0f;
 }
 
-// The coat's albedo clearcoat E_c(cos_c) for the outgoing cos theta about the coat normal (0 below it): its GGX
-// lobe's and its multiple-scattering lobe's.
-float clearcoat_albedo(BsdfParams p, float cos_c) {
-    if (!(cos_c > 0.0f)) {
-        return 0.0f;
-    }
-    vec2 albedo = ggx_albedo(cos_c, p.clearcoat_alpha);
+// The coat's albedo clearcoat E_c: its GGX lobe's and its multiple-scattering lobe's, given ggx_albedo's terms at
+// the outgoing cos theta about the coat normal.
+float clearcoat_albedo_of(BsdfParams p, vec2 albedo) {
     return p.clearcoat * min(CLEARCOAT_F0 * albedo.x + albedo.y + clearcoat_multiscatter_albedo(p, albedo), 1.0f);
+}
+
+// The coat's albedo clearcoat E_c(cos_c) for the outgoing cos theta about the coat normal (0 below it).
+float clearcoat_albedo(BsdfParams p, float cos_c) {
+    return cos_c > 0.0f ? clearcoat_albedo_of(p, ggx_albedo(cos_c, p.clearcoat_alpha)) : 0.0f;
 }
 
 // The coat lobe clearcoat F_c(v.h) D V cos(theta_i), directions in the coat's frame (z: its normal).
@@ -717,12 +719,15 @@ CoatChoice choose_coat(BsdfParams p, vec3 wo, LobeChoice c) {
     coat.multiscatter = 0.0f;
     coat.frame = make_frame(p.clearcoat_normal);
     coat.wo = to_local(coat.frame, wo);
-    float e = clearcoat_albedo(p, coat.wo.z);
+    if (!(coat.wo.z > 0.0f)) {
+        return coat;
+    }
+    vec2 albedo = ggx_albedo(coat.wo.z, p.clearcoat_alpha);  // read once for both of the coat's lobes
+    float e = clearcoat_albedo_of(p, albedo);
     if (!(e > 0.0f)) {
         return coat;
     }
     if (has_clearcoat_multiscatter(p)) {
-        vec2 albedo = ggx_albedo(coat.wo.z, p.clearcoat_alpha);
         coat.multiscatter = min(p.clearcoat * clearcoat_multiscatter_albedo(p, albedo) / e, 1.0f);
     }
     LobeAlbedos a = estimate_lobe_albedos(p, wo.z, 1.0f - (c.glass > 0.0f ? p.transmission : 0.0f));
@@ -815,9 +820,9 @@ BsdfSample sample_bsdf(BsdfParams p, vec3 wo, vec3 u) {
         coat = choose_coat(p, wo, c);
     }
     vec3 wi;
-    if (u.x < coat.probability) {
+    if (BSDF_HAS_CLEARCOAT && u.x < coat.probability) {  // a scene without coats keeps none of this branch
         vec3 wi_c;
-        if (u.x < coat.probability * coat.multiscatter) {
+        if (BSDF_HAS_GGX_MULTISCATTER && u.x < coat.probability * coat.multiscatter) {
             wi_c = sample_uniform_hemisphere(vec2(u.y, u.z));  // the coat's multiple-scattering lobe
         } else {
             vec3 h = sample_ggx_vndf(coat.wo, p.clearcoat_alpha, vec2(u.y, u.z));
