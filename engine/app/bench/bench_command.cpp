@@ -10,6 +10,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
+#include "app/cli/progress.h"
 #include "app/cli/setting_table.h"
 #include "app/cli/render_options.h"
 #include "app/cli/session.h"
@@ -178,7 +179,7 @@ double time_pipeline_build(const vk::Context& context, const PreparedScene& prep
     settings.spp = 1;
     const auto start = std::chrono::steady_clock::now();
     Renderer renderer(context, prepared.packed, camera, settings);
-    const double constructed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double constructed = seconds_since(start);
     const double first = renderer.render().render_seconds;
     const double second = renderer.render().render_seconds;
     return constructed + std::max(0.0, first - second);

@@ -5,6 +5,11 @@
 
 namespace fh {
 
+// Wall-clock seconds since `start` (steady clock), for the timings the commands print.
+inline double seconds_since(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
 class ProgressLine {
 public:
     ProgressLine();  // active only when stderr is a terminal

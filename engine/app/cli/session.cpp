@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iterator>
 
+#include "app/cli/progress.h"
 #include "io/exr.h"
 #include "render/device_defaults.h"
 #include "render/memory_estimate.h"
@@ -19,10 +20,6 @@
 namespace fh {
 namespace {
 constexpr uint32_t MAX_TRAVERSAL_DEPTH = 64;  // BvhOptions::max_depth; the GPU stack itself: scene_bvh.cpp check_stack_bound
-
-double seconds_since(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 }  // namespace
 
 BvhOptions make_bvh_options(const RenderSettings& settings) {

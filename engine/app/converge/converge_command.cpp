@@ -1,5 +1,6 @@
 // Runs `fredholm converge`: reference, then per configuration one film grown at doubling spp, then the report.
 #include "app/cli/render_options.h"
+#include "app/cli/progress.h"
 #include "app/converge/converge_command.h"
 #include "render/camera/lens.h"
 
@@ -32,10 +33,6 @@ std::string slug(const std::string& name) {
     for (char& c : s)
         if (c == '=' || c == ':') c = '-';
     return s;
-}
-
-double seconds_since(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 // One film grown progressively: samples [spp, next) are added on each step; the previous image is kept for

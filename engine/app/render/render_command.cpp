@@ -334,7 +334,7 @@ int run_render(const RenderCommand& c) {
         if (!c.quiet)
             std::fprintf(stderr, "fredholm: frame %ld (%ld of %ld, t = %.6g s) done, %.1f s elapsed\n", f, f - range.first + 1,
                          range.last - range.first + 1, frame.settings.time,
-                         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+                         seconds_since(start));
         if (interrupt_requested()) return 130;
     }
     return 0;

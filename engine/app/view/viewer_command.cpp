@@ -1,6 +1,7 @@
 // The viewer's frame loop: input -> (restart or rebuild) -> a bounded slice of samples -> present -> title.
 #include "app/view/viewer_command.h"
 
+#include "app/cli/progress.h"
 #include "app/cli/render_options.h"
 #include "app/cli/setting_table.h"
 
@@ -34,7 +35,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 std::unique_ptr<vk::Context> make_present_context(const ViewCommand& c) {
     vk::ContextOptions options;
