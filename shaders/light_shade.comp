@@ -86,6 +86,12 @@ void shade_light_vertex(uint i, uint parity, out bool push_ray, out RayItem next
         float cos_light_g = unlit ? 0.0f : dot(wl, ng);
         if (bdpt && cos_light_g > 0.0f) {
             account_segment(mis, hit.t, cos_light_g, segments > 1u || (mis.flags & PATH_MIS_LIGHT_AT_INFINITY) == 0u);
+            // The light tree: NEE here (as shade.comp's make_scattering stands for a viewer on the light's side, the
+            // only side a reflecting surface joins it to) picks the subpath's light by its own probability.
+            if (effect_on(EFFECT_LIGHT_TREE) && segments == 1u)
+                fold_tree_pick_at_first_hit(
+                    mis, make_light_point(s.p, ng, at_light.transmits ? LIGHT_POINT_TWO_SIDED : LIGHT_POINT_ONE_SIDED),
+                    ray.origin_triangle, vec3(ray.dir_x, ray.dir_y, ray.dir_z), hit.t);
             if (vcm) dvm = segment_dvm(dvm, cos_light_g);
             // Kept for the camera subpath while a camera vertex can still join it within --max-depth.
             if (segments <= params.light_vertex_slots) {

@@ -83,8 +83,9 @@ void add_escaped_light(inout PathVertex v, vec3 dir) {
                      ? power_heuristic(v.state.bsdf_pdf, params.env_pick_pdf * pdf_environment(dir))
                      : 0.0f;
     if (bdpt_weighs(v.segments))
-        weight = weight_strategy(0u, v.segments + 1u, v.segments == 1u ? 1.0f
-                                 : weight_environment_hit(v.mis, params.env_pick_pdf * pdf_environment(dir)));
+        weight = weight_strategy(0u, v.segments + 1u, v.segments == 1u ? 1.0f : weight_environment_hit(
+            v.mis, params.env_pick_pdf * pdf_environment(dir),
+            (effect_on(EFFECT_LIGHT_TREE) ? params.env_emission_pick_pdf : params.env_pick_pdf) * pdf_environment(dir)));
     v.radiance += film_color(v.spectral, v.beta * lift_color(v.spectral, eval_environment(dir))) * weight *
                   escape_scale(v.medium);
 }
@@ -102,21 +103,21 @@ void add_emission(inout PathVertex v, ShadingPoint sp, HitItem hit, vec3 wo, boo
     if (effect_on(EFFECT_EMISSIVE_TRIANGLES) && (front || double_sided) && max_component(emission) > 0.0f) {
         float weight = 1.0f;
         bool nee = (params.flags & RENDER_NEE) != 0u && v.state.bsdf_pdf > 0.0f;
-        if (nee) {
-            if ((params.flags & RENDER_MIS) != 0u) {
-                float cos_light = abs(dot(s.ng, wo));
-                float light_pdf = s.light_pdf_area * hit.t * hit.t / cos_light;
-                if (effect_on(EFFECT_LIGHT_TREE))  // as NEE at the vertex the ray left would have sampled it
-                    light_pdf = tree_emitter_hit_pdf(unpack_light_point(path_light_points[v.path]), hit.triangle,
-                                                     s.light_entry, hit.t, cos_light);
-                weight = power_heuristic(v.state.bsdf_pdf, light_pdf);
-            } else {
-                weight = 0.0f;
-            }
-        }
-        if (bdpt_weighs(v.segments))
+        float cos_light = abs(dot(s.ng, wo));
+        // NEE's density of this point from the vertex the ray left (a camera ray's: none), per solid angle: the
+        // table's, or the tree's as NEE there would have walked it.
+        float light_pdf = s.light_pdf_area * hit.t * hit.t / cos_light;
+        if (effect_on(EFFECT_LIGHT_TREE) && v.segments > 1u)
+            light_pdf = tree_emitter_hit_pdf(unpack_light_point(path_light_points[v.path]), hit.triangle,
+                                             s.light_entry, hit.t, cos_light);
+        if (nee) weight = (params.flags & RENDER_MIS) != 0u ? power_heuristic(v.state.bsdf_pdf, light_pdf) : 0.0f;
+        if (bdpt_weighs(v.segments)) {
+            float direct_pdf_area = effect_on(EFFECT_LIGHT_TREE) ? light_pdf * cos_light / (hit.t * hit.t)
+                                                                  : s.light_pdf_area;
             weight = weight_strategy(0u, v.segments + 1u, v.segments == 1u ? 1.0f
-                                     : weight_emission_hit(v.mis, s.light_pdf_area, abs(dot(s.ng, wo)), double_sided));
+                                     : weight_emission_hit(v.mis, direct_pdf_area, s.light_pdf_area, cos_light,
+                                                           double_sided));
+        }
         v.radiance += film_color(v.spectral, v.beta * lift_color(v.spectral, emission)) * weight;
     }
 }

@@ -61,8 +61,6 @@ std::string find_light_tracing_obstacle(const PackedScene& scene, const RenderSe
         const std::string obstacle = find_merging_obstacle(effects);
         if (!obstacle.empty()) return obstacle;
     }
-    if (effects & gpu::EFFECT_LIGHT_TREE)
-        return "light subpaths start by power, and their weights assume NEE does too (--light-sampler power or uniform)";
     if ((settings.lens.on() || camera.has_lens()) && camera.orthographic)
         return "an orthographic camera's thin lens (--aperture) is an aperture around every point of its image plane, "
                "which no light subpath can aim at (use a perspective camera, or no --aperture)";

@@ -75,6 +75,8 @@ gpu::FrameParams make_frame(const PackedScene& scene, const SceneCamera& camera,
     f.env_height = scene.environment.height;
     f.env_rotation = scene.environment.rotation;
     f.env_pick_pdf = scene.environment_pick_pdf;
+    for (const gpu::Emitter& e : scene.emitters)  // light subpaths pick by the table, whatever NEE picks by
+        if (e.light == gpu::ENVIRONMENT_LIGHT) f.env_emission_pick_pdf = e.pick_pdf;
     f.light_tree_lights = scene.light_tree_lights;
     f.motion_segments = scene.motion_segments;
     f.crop_x = s.has_crop() ? s.crop_x0 : 0u;

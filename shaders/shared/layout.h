@@ -215,6 +215,8 @@ FH_CONST uint INTEGRATOR_BDPT = 2u;        // bidirectional path tracing, every 
 FH_CONST uint INTEGRATOR_VCM = 3u;         // vertex connection and merging: BDPT's strategies and merges, by MIS
 FH_CONST uint PATH_MIS_LIGHT_AT_INFINITY = 1u;  // PathMis.flags: the light subpath left a directional light or the
                                                 // environment (its first segment has no distance to convert)
+FH_CONST uint PATH_MIS_TREE_LIGHT_SHIFT = 8u;   // PathMis.flags >> this: EFFECT_LIGHT_TREE, the light subpath's tree light
+                                                // (Emitter entry + 1; 0: none), whose NEE density its first hit folds in
 FH_CONST uint MATERIAL_DOUBLE_SIDED = 1u;  // Material.flags
 FH_CONST uint MATERIAL_UNLIT = 2u;         // Material.flags: KHR_materials_unlit (EFFECT_UNLIT)
 FH_CONST uint MATERIAL_GLOSSINESS_IN_ALPHA = 4u;  // Material.flags: specular_color_texture's alpha is glossiness
@@ -516,7 +518,10 @@ struct FrameParams {
     uint bdpt_depth;
     // `--integrator vcm`: the hash grid's cell count (a power of two; BINDING_MERGE_GRID), else 0.
     uint merge_grid_cells;
-    uint frame_pad1, frame_pad2;
+    // The probability that a light subpath starts on the environment (its Emitter entry's pick_pdf): env_pick_pdf but
+    // with EFFECT_LIGHT_TREE, where NEE picks by the tree's rule and light subpaths still by power.
+    float env_emission_pick_pdf;
+    uint frame_pad2;
 };
 
 // Push constants: what changes per wave and per depth.
@@ -601,7 +606,7 @@ struct PathMis {
     float dvcm;
     float dvc;
     uint light_vertices;        // stored LightVertex entries of the path's light subpath
-    uint flags;                 // PATH_MIS_LIGHT_AT_INFINITY
+    uint flags;                 // PATH_MIS_LIGHT_AT_INFINITY, the tree light above PATH_MIS_TREE_LIGHT_SHIFT
 };
 
 // A vertex of a light subpath kept for the camera subpath of the same (pixel, sample) to connect to: where it is

@@ -30,7 +30,7 @@ BvhOptions make_bvh_options(const RenderSettings& settings) {
 
 void apply_light_sampler(PreparedScene& prepared, const std::filesystem::path& file, const RenderSettings& settings) {
     try {
-        choose_light_sampler(prepared.packed, settings.light_sampler, settings.integrator == Integrator::path);
+        choose_light_sampler(prepared.packed, settings.light_sampler, settings.integrator != Integrator::light);
     } catch (const std::invalid_argument& e) {
         throw std::invalid_argument(file.string() + ": --integrator " + to_string(settings.integrator) + ": " + e.what());
     }

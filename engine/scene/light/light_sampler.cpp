@@ -137,16 +137,16 @@ std::string describe_light_sampler(const PackedScene& packed) {
     return text;
 }
 
-void choose_light_sampler(PackedScene& packed, LightSampler requested, bool path_tracing) {
-    if (requested == LightSampler::tree && !path_tracing)
-        throw std::invalid_argument("--light-sampler tree is for path tracing: light tracing and BDPT start light "
-                                    "subpaths by power and weigh their strategies with that table (use power or uniform)");
+void choose_light_sampler(PackedScene& packed, LightSampler requested, bool next_event) {
+    if (requested == LightSampler::tree && !next_event)
+        throw std::invalid_argument("--light-sampler tree picks lights for next-event estimation, which light tracing "
+                                    "does not make: its light subpaths start by the table (use power or uniform)");
     size_t sources = 0, placed = 0;
     const std::string why = tree_reason(packed, sources, placed);
     const size_t lights = packed.emitters.size();  // placed < lights: an environment or a directional light besides
     LightSampler chosen = requested;
     if (chosen == LightSampler::automatic)
-        chosen = path_tracing && placed > 0 && (sources >= 2 || placed > TREE_AT_MORE_LIGHTS_THAN || placed < lights)
+        chosen = next_event && placed > 0 && (sources >= 2 || placed > TREE_AT_MORE_LIGHTS_THAN || placed < lights)
                  ? LightSampler::tree
                  : LightSampler::power;
     if (placed == 0 && chosen == LightSampler::tree) chosen = LightSampler::power;  // nothing to put in it

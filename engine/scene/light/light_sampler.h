@@ -18,10 +18,11 @@ LightSampler parse_light_sampler(const std::string& name);
 // pack_scene made it. `automatic` takes the tree where the scene has lights of more than one kind or material, more
 // than 16 lights, or lights with a place beside an environment or a directional light (the tree then measured better:
 // tests/bench/RESULTS.md), the power table otherwise.
-// path_tracing false (light tracing, BDPT): their light subpaths start by power, and their NEE weights assume the
-// same table, so only power or uniform are allowed (std::invalid_argument for tree). Throws SceneError when the tree
-// would hold more than MAX_TREE_LIGHTS lights.
-void choose_light_sampler(PackedScene& packed, LightSampler requested, bool path_tracing);
+// next_event false (light tracing): nothing picks a light but the light subpaths' start, by the table, so the tree is
+// refused (std::invalid_argument) and auto keeps the power table. BDPT and VCM start light subpaths by the table too,
+// and pick by the tree for next-event estimation alone (s = 1; their weights carry both probabilities). Throws
+// SceneError when the tree would hold more than MAX_TREE_LIGHTS lights.
+void choose_light_sampler(PackedScene& packed, LightSampler requested, bool next_event);
 
 // "tree over 290 of 291 lights: depth 12, 579 nodes, 36.2 KiB (128 bytes per light), built in 0.0004 s", or
 // "power table over 291 lights" (info, bench, --stats).

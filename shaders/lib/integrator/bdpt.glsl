@@ -70,6 +70,25 @@ void account_scattering(inout PathMis m, float cos_out, float forward, float rev
     m.dvcm = mis_power(1.0f / forward);
 }
 
+// With the light tree, NEE picks a light with another probability than the table light subpaths start by, which a
+// light subpath's first dvcm (NEE's density over its own, light_subpath.glsl) assumes NEE shares. A light outside the tree (the environment, a directional light)
+// has its share wherever NEE stands: folded in here. A tree light's pick depends on the point NEE stands at, the
+// subpath's first vertex: its entry is kept for light_shade.comp, which folds it in there (fold_tree_pick_at_first_hit).
+void fold_tree_pick_at_start(inout PathMis m, uint entry, float table_pick_pdf) {
+    if (entry < params.light_tree_lights) m.flags |= (entry + 1u) << PATH_MIS_TREE_LIGHT_SHIFT;
+    else m.dvcm *= mis_power(light_tree_share() / table_pick_pdf);
+}
+
+// The light subpath (quantities m, their flags from its start) arrived at its first vertex q, dist along dir from the
+// tree light it left (from triangle tri's surface, if that light is one): NEE's density at q for the subpath's
+// starting point over the table's, which dvcm assumed, folded in.
+void fold_tree_pick_at_first_hit(inout PathMis m, LightTreePoint q, uint tri, vec3 dir, float dist) {
+    uint entry_plus_one = m.flags >> PATH_MIS_TREE_LIGHT_SHIFT;
+    if (entry_plus_one == 0u) return;
+    m.dvcm *= mis_power(tree_over_table_density(q, entry_plus_one - 1u, tri, dir, dist));
+    m.flags &= (1u << PATH_MIS_TREE_LIGHT_SHIFT) - 1u;
+}
+
 // Vertex merging: dvm after a segment arriving at geometric cosine cos_g, and after a scattering (m: the quantities
 // before account_scattering changes them).
 float segment_dvm(float dvm, float cos_g) { return dvm / mis_power(cos_g); }
@@ -97,17 +116,18 @@ bool camera_segment_has_distance(uint segments) {
 }
 
 // s = 0 on an emissive triangle: the camera subpath (quantities at the hit) found light it could have reached by NEE
-// (area density pdf_area) or by a light subpath leaving that point (cosine-weighted, on either side of a double-sided
-// emitter at 1/2 each).
-float weight_emission_hit(PathMis m, float pdf_area, float cos_light, bool double_sided) {
-    float emission_pdf = pdf_area * cos_light * INV_PI * (double_sided ? 0.5f : 1.0f);
-    return mis_weight(mis_power(pdf_area) * m.dvcm + mis_power(emission_pdf) * m.dvc);
+// (area density direct_pdf_area) or by a light subpath leaving that point (picked with area density table_pdf_area,
+// then cosine-weighted, on either side of a double-sided emitter at 1/2 each). The two differ with the light tree, by
+// which NEE picks while light subpaths start by the table.
+float weight_emission_hit(PathMis m, float direct_pdf_area, float table_pdf_area, float cos_light, bool double_sided) {
+    float emission_pdf = table_pdf_area * cos_light * INV_PI * (double_sided ? 0.5f : 1.0f);
+    return mis_weight(mis_power(direct_pdf_area) * m.dvcm + mis_power(emission_pdf) * m.dvc);
 }
 
-// s = 0 on the environment: direct_pdf is NEE's solid-angle pdf of that direction; a light subpath from the
-// environment also draws a point on the scene's disk.
-float weight_environment_hit(PathMis m, float direct_pdf) {
-    return mis_weight(mis_power(direct_pdf) * m.dvcm + mis_power(direct_pdf / scene_disk_area()) * m.dvc);
+// s = 0 on the environment: direct_pdf is NEE's solid-angle pdf of that direction, table_pdf a light subpath's (which
+// then draws a point on the scene's disk).
+float weight_environment_hit(PathMis m, float direct_pdf, float table_pdf) {
+    return mis_weight(mis_power(direct_pdf) * m.dvcm + mis_power(table_pdf / scene_disk_area()) * m.dvc);
 }
 
 // s = 1: NEE from a camera vertex to a light along wi. bsdf_pdf: the camera side's pdf of drawing wi (0 for a delta

@@ -143,6 +143,7 @@ LightStart start_light_subpath(float u_pick, vec2 u_point, vec2 u_dir, float u_s
     else if (effect_on(EFFECT_EMISSIVE_TRIANGLES) && (e.light & PUNCTUAL_LIGHT_BIT) == 0u && e.light != ENVIRONMENT_LIGHT)
         start = start_on_triangle(e.light, u_point, u_dir, u_side, cam, subpath);
     start.emitter = entry;
+    if (effect_on(EFFECT_LIGHT_TREE)) fold_tree_pick_at_start(start.mis, entry, e.pick_pdf);
     return start;
 }
 #endif

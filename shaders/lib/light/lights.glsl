@@ -163,6 +163,8 @@ LightConnection connect_triangle_light(uint tri, vec3 p, vec2 u_point, float pic
     c.pdf = spherical ? pick_pdf / solid_angle : pdf_area * dist2 / abs(cos_light);  // area to solid angle
     c.radiance_over_pdf = m.emission.xyz / c.pdf;
     c.emission_over_direct = abs(cos_light) * INV_PI * ((m.flags & MATERIAL_DOUBLE_SIDED) != 0u ? 0.5f : 1.0f) / dist2;
+    // By solid angle, NEE's area density is pick_pdf cos_light / (solid_angle dist2), not pick_pdf / area.
+    if (spherical) c.emission_over_direct *= solid_angle * dist2 / (light_triangle_area(p0, p1, p2) * abs(cos_light));
     c.target = offset_ray_origin(q, q_error, n, -c.wi);
     c.valid = c.pdf > 0.0f ? 1u : 0u;
     return c;
@@ -197,13 +199,36 @@ float tree_emitter_hit_pdf(LightTreePoint from, uint tri, uint light_entry, floa
 }
 
 // The light of Emitter entry e, picked with probability pick_pdf, seen from p.
-LightConnection connect_emitter(Emitter e, float pick_pdf, vec3 p, vec2 u_point) {
+LightConnection connect_light_of(Emitter e, float pick_pdf, vec3 p, vec2 u_point) {
     if (effect_on(EFFECT_ENVIRONMENT) && e.light == ENVIRONMENT_LIGHT) return connect_environment(pick_pdf, u_point);
     if (effect_on(EFFECT_PUNCTUAL_LIGHTS) && (e.light & PUNCTUAL_LIGHT_BIT) != 0u)
         return connect_punctual_light(e.light & ~PUNCTUAL_LIGHT_BIT, pick_pdf, p);
     if (effect_on(EFFECT_EMISSIVE_TRIANGLES) && (e.light & PUNCTUAL_LIGHT_BIT) == 0u && e.light != ENVIRONMENT_LIGHT)
         return connect_triangle_light(e.light, p, u_point, pick_pdf);
     return make_invalid_connection();  // a kind of light compiled out (--disable-effect)
+}
+
+// connect_light_of, and for BDPT's weights the light subpaths' pick (by the table: e.pick_pdf) over NEE's, which
+// differ with the light tree.
+LightConnection connect_emitter(Emitter e, float pick_pdf, vec3 p, vec2 u_point) {
+    LightConnection c = connect_light_of(e, pick_pdf, p, u_point);
+    if (effect_on(EFFECT_LIGHT_TREE)) c.emission_over_direct *= e.pick_pdf / pick_pdf;
+    return c;
+}
+
+// BDPT with the light tree: a light subpath left tree light `entry` along dir (from a point of triangle tri, when the
+// light is one) and first arrived at q, dist away. NEE at q would have sampled where it left with another density than
+// the table's, which the subpath's dvcm assumed (light_subpath.glsl): their ratio, per unit area (for a point or spot
+// light, of the picks alone).
+float tree_over_table_density(LightTreePoint q, uint entry, uint tri, vec3 dir, float dist) {
+    Emitter e = load_emitter(entry);
+    if (!effect_on(EFFECT_EMISSIVE_TRIANGLES) || (e.light & PUNCTUAL_LIGHT_BIT) != 0u)
+        return tree_light_pick_pdf(q, entry) / e.pick_pdf;
+    TrianglePositions tp = load_triangle_positions(tri);
+    vec3 p0 = vec3(tp.p0_x, tp.p0_y, tp.p0_z);
+    float cos_light = abs(dot(normalize(cross(vec3(tp.p1_x, tp.p1_y, tp.p1_z) - p0, vec3(tp.p2_x, tp.p2_y, tp.p2_z) - p0)), dir));
+    float direct_pdf = tree_emitter_hit_pdf(q, tri, entry + 1u, dist, cos_light);  // per solid angle
+    return direct_pdf * cos_light / (dist * dist * load_triangle_shading(tri).light_pdf_area);
 }
 
 // The light tree's pick: one share for the tree, one for each light outside it (light_tree_share), then the walk.
