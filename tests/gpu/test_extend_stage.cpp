@@ -159,7 +159,9 @@ TEST(ExtendStage, LeafSizeDoesNotChangeHits) {
     ExtendResult b = run_extend_stage(soup, rays, {.max_leaf_size = 8});
     for (size_t i = 0; i < rays.size(); ++i) {
         EXPECT_EQ(a.hits[i].triangle, b.hits[i].triangle) << "ray " << i;
-        if (a.hits[i].triangle == b.hits[i].triangle) EXPECT_EQ(a.hits[i].t, b.hits[i].t) << "ray " << i;
+        if (a.hits[i].triangle == b.hits[i].triangle) {
+            EXPECT_EQ(a.hits[i].t, b.hits[i].t) << "ray " << i;
+        }
     }
 }
 
