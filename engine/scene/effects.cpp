@@ -202,9 +202,9 @@ SceneEffects analyse_effects(const Scene& scene, bool environment) {
                 !(anisotropy_textured && slot_zero(layers.anisotropy_texture, {2}))) {
                 anisotropic.insert(m);
                 if (anisotropy_textured) anisotropy_texture.insert(m);
-                // A stretched metal lobe is rough along its direction even at roughness 0: it loses light between
-                // its microfacets (--microfacet compensated gives it back).
-                if (mat.metallic > 0.0f) rough_specular.insert(m);
+                // A stretched lobe (the metal's, or the specular layer's) is rough along its direction even at
+                // roughness 0: it loses light between its microfacets (--microfacet compensated gives it back).
+                if (mat.metallic > 0.0f || mat.specular_color.w > 0.0f) rough_specular.insert(m);
             }
             // A thin film shows where iridescenceFactor > 0, its texture's R is not 0 everywhere, and it has a
             // thickness (the maximum, or with a thickness texture either end of the range).

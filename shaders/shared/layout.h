@@ -99,8 +99,8 @@ FH_CONST uint BINDING_LIGHT_MEDIA = 40u;       // uvec4[emitter count]: per Emit
 FH_CONST uint BINDING_MERGE_POINTS = 41u;      // vec4[wave capacity x light_vertex_slots]: xyz, w = dvm
 FH_CONST uint BINDING_PATH_DVM = 42u;          // float[wave capacity]
 FH_CONST uint BINDING_MERGE_GRID = 43u;        // uint words
-// The white anisotropic GGX lobe's albedo (ggx_anisotropic_albedo_table.glsl) for the anisotropic metal's
-// multiple-scattering lobe: with EFFECT_ANISOTROPY and EFFECT_GGX_MULTISCATTER, else one word.
+// The white anisotropic GGX lobe's albedo (ggx_anisotropic_albedo_table.glsl) for the anisotropic lobes'
+// multiple scattering: with EFFECT_ANISOTROPY and EFFECT_GGX_MULTISCATTER, else one word.
 FH_CONST uint BINDING_ANISOTROPIC_ALBEDO = 44u;  // float[]
 FH_CONST uint BINDING_COUNT = 45u;
 // Measured on DamagedHelmet under the courtyard (tests/bench/RESULTS.md "2026-11-29: adaptive sampling"), from the

@@ -25,8 +25,8 @@
 // white rough metal conserves energy; reciprocal (shaders/lib/bsdf/README.md "Rough metal conserves energy"). The
 // dielectric's specular layer gets the same lobe with its own F_ms (from f0 and f90: small for f0 0.04, all of the
 // loss for f0 1), and the diffuse lobe's albedo scaling counts it in E(mu): E += max(F_ms) (1 - E_white(mu)). Not
-// under a thin film or anisotropy, whose albedo bounds the diffuse lobe is normalised by leave it out. An
-// anisotropic metal's lobe reads the white anisotropic lobe's albedo by azimuth (ggx_anisotropic_albedo.glsl), and
+// under a thin film, whose albedo bound the diffuse lobe is normalised by leaves it out. An anisotropic lobe (metal
+// or specular layer) reads the white anisotropic lobe's albedo by azimuth (ggx_anisotropic_albedo.glsl), and
 // the clear coat gets a lobe of its own (f0 0.04, f90 1), which its albedo E_c counts.
 //
 // KHR_materials_transmission replaces a fraction `transmission` of the dielectric by the glass lobe of
@@ -202,11 +202,12 @@ vec2 specular_albedo_weights(BsdfParams p, bool for_average) {
 }
 
 // Sets the diffuse lobe's normalisation 1 / (1 - E_avg) from the specular layer's hemispherical averages (A_avg,
-// B_avg) = `average` (see the top of the file).
-BsdfParams normalise_diffuse(BsdfParams p, vec2 average) {
+// B_avg) = `average` (see the top of the file) and, with the layer's multiple-scattering lobe, the white lobe's
+// average loss 1 - E_avg that the lobe gives back (the isotropic table's, or the anisotropic table's).
+BsdfParams normalise_diffuse(BsdfParams p, vec2 average, float white_loss_average) {
     vec2 weights = specular_albedo_weights(p, true);
     float e_average = weights.x * average.x + weights.y * average.y;
-    if (has_ggx_multiscatter(p)) e_average += max_value(p.dielectric_multiscatter) * (1.0f - white_ggx_albedo(average));
+    if (has_ggx_multiscatter(p)) e_average += max_value(p.dielectric_multiscatter) * white_loss_average;
     p.diffuse_scale = 1.0f / max(1.0f - e_average, BSDF_MIN_DIFFUSE_TRANSMITTANCE);
     return p;
 }
@@ -263,7 +264,7 @@ BsdfParams make_bsdf_params(Material m) {
             p.multiscatter_norm = INV_PI / (1.0f - e_average);
         }
     }
-    return normalise_diffuse(p, average);
+    return normalise_diffuse(p, average, 1.0f - white_ggx_albedo(average));
 }
 
 // Schlick 1994's weight (1 - cos)^5.
@@ -282,10 +283,10 @@ bool has_anisotropy(BsdfParams p) {
     return is_anisotropic(p.roughness);
 }
 
-// Whether the metal's multiple-scattering lobe follows the anisotropic table (ggx_anisotropic_albedo.glsl): an
-// anisotropic lobe with some metal. Anisotropic dielectrics have no lobe (their layer's bound has no place for it).
+// Whether the multiple-scattering lobe (the metal's and the specular layer's) follows the anisotropic table
+// (ggx_anisotropic_albedo.glsl): an anisotropic lobe.
 bool has_anisotropic_multiscatter(BsdfParams p) {
-    return BSDF_HAS_GGX_MULTISCATTER && has_anisotropy(p) && p.metallic > 0.0f;
+    return BSDF_HAS_GGX_MULTISCATTER && has_anisotropy(p);
 }
 
 // The white anisotropic lobe's loss 1 - E(w) (w in the local frame, above the surface), given the lobe's slice of
@@ -329,7 +330,6 @@ BsdfParams with_anisotropy(BsdfParams p, float strength, vec2 direction) {
     p.roughness.direction = direction / len;
     p.glass.roughness = p.roughness;
     if (has_anisotropy(p)) {
-        p.dielectric_multiscatter = vec3(0.0f);  // the bound below has no place for it
         vec2 average = vec2(max(ggx_albedo_average(p.alpha).x, ggx_albedo_average(p.roughness.alpha_t).x), 0.0f);
         for (int k = 0; k < ANISOTROPY_AZIMUTH_STEPS; ++k) {
             float cos_phi = cos(0.5f * PI * float(k) / float(ANISOTROPY_AZIMUTH_STEPS));  // phi from the direction
@@ -337,15 +337,25 @@ BsdfParams with_anisotropy(BsdfParams p, float strength, vec2 direction) {
         }
         average.y /= float(ANISOTROPY_AZIMUTH_STEPS);
         average += vec2(ANISOTROPY_ALBEDO_MARGIN / 21.0f);
-        p = normalise_diffuse(p, average);
+        float white_loss_average = 0.0f;
         if (has_anisotropic_multiscatter(p)) {
-            // The metal's lobe gives back what the anisotropic table says single scattering loses (also at roughness
-            // 0, where the stretched lobe is rough along the direction); its E_avg integrates that table.
+            // The lobes give back what the anisotropic table says single scattering loses (also at roughness 0,
+            // where the stretched lobe is rough along the direction); its E_avg integrates that table. The specular
+            // layer's lobe takes its energy from the diffuse lobe, as the isotropic one does (diffuse_transmittance):
+            // the bound above still covers single scattering, so nothing gains. Under a thin film the film's envelope
+            // bounds the layer without it (with_iridescence).
             float e_average = ggx_anisotropic_white_albedo_average(ggx_anisotropic_cell(p.alpha, p.roughness.alpha_t));
             bool loses = 1.0f - e_average > GGX_MULTISCATTER_MIN_LOSS;
-            p.metal_multiscatter = loses ? ggx_multiscatter_fresnel(p.base_color, 1.0f, e_average) : vec3(0.0f);
+            bool layer = p.metallic < 1.0f && p.f90_dielectric > 0.0f && !has_iridescence(p);
+            p.metal_multiscatter = loses && p.metallic > 0.0f ? ggx_multiscatter_fresnel(p.base_color, 1.0f, e_average)
+                                                              : vec3(0.0f);
+            p.dielectric_multiscatter = loses && layer ? ggx_multiscatter_fresnel(p.f0_dielectric, p.f90_dielectric,
+                                                                                  e_average)
+                                                       : vec3(0.0f);
             p.multiscatter_norm = loses ? INV_PI / (1.0f - e_average) : 0.0f;
+            white_loss_average = 1.0f - e_average;
         }
+        p = normalise_diffuse(p, average, white_loss_average);
     }
     return p;
 }
@@ -366,7 +376,8 @@ BsdfParams with_iridescence(BsdfParams p, float iridescence, float thickness, fl
     p.film_albedo_bound = max(albedo_bound, vec2(0.0f));
     if (has_iridescence(p)) {
         p.dielectric_multiscatter = vec3(0.0f);  // the film's envelope bounds the layer without it
-        p = normalise_diffuse(p, ggx_albedo_average(p.alpha));
+        vec2 average = ggx_albedo_average(p.alpha);
+        p = normalise_diffuse(p, average, 1.0f - white_ggx_albedo(average));
     }
     return p;
 }
@@ -447,12 +458,32 @@ float estimate_sheen_albedo(BsdfParams p, float cos_o) {
 }
 
 // Fraction of the light from cos theta = mu that the dielectric's specular layer lets through to the
-// diffuse base: 1 - E(mu), E = max_value(f0) A + f90 B (specular_albedo_weights), given ggx_albedo(mu, alpha) = (A, B).
-float diffuse_transmittance(BsdfParams p, vec2 albedo) {
+// diffuse base: 1 - E(mu), E = max_value(f0) A + f90 B (specular_albedo_weights), given ggx_albedo(mu, alpha) = (A, B),
+// plus what the layer's multiple-scattering lobe gives back, from the white lobe's loss there (white_lobe_losses).
+float diffuse_transmittance(BsdfParams p, vec2 albedo, float white_loss) {
     vec2 weights = specular_albedo_weights(p, false);
     float e = weights.x * albedo.x + weights.y * albedo.y;
-    if (has_ggx_multiscatter(p)) e += max_value(p.dielectric_multiscatter) * (1.0f - white_ggx_albedo(albedo));
+    if (has_ggx_multiscatter(p)) e += max_value(p.dielectric_multiscatter) * white_loss;
     return max(1.0f - e, 0.0f);
+}
+
+// What single scattering of the white GGX lobe loses, 1 - E, for light from wo and from wi (local frame, either
+// side), given the layer's albedo terms there: the anisotropic table's where the multiple-scattering lobe follows it,
+// else the isotropic table's. The multiple-scattering lobe's weights, and the diffuse lobe's share beside it.
+vec2 white_lobe_losses(BsdfParams p, vec3 wo, vec3 wi, vec2 albedo_o, vec2 albedo_i) {
+    if (has_anisotropic_multiscatter(p) && has_ggx_multiscatter(p)) {
+        GgxAnisotropicCell cell = ggx_anisotropic_cell(p.alpha, p.roughness.alpha_t);
+        return vec2(anisotropic_multiscatter_loss(p, cell, vec3(wo.x, wo.y, abs(wo.z))),
+                    anisotropic_multiscatter_loss(p, cell, vec3(wi.x, wi.y, abs(wi.z))));
+    }
+    return vec2(1.0f - white_ggx_albedo(albedo_o), 1.0f - white_ggx_albedo(albedo_i));
+}
+
+// The diffuse lobe's transmittances at wo and wi times its normalisation (see the top of the file), given the white
+// lobe's losses there.
+float diffuse_transmittances(BsdfParams p, vec2 albedo_o, vec2 albedo_i, vec2 white_loss) {
+    return diffuse_transmittance(p, albedo_o, white_loss.x) * diffuse_transmittance(p, albedo_i, white_loss.y) *
+           p.diffuse_scale;
 }
 
 // The opaque lobes' shares of the albedo for outgoing cos theta `cos_o` (luminances): the specular layers'
@@ -469,10 +500,11 @@ LobeAlbedos estimate_lobe_albedos(BsdfParams p, float cos_o, float opaque) {
     // An estimate, to pick lobes by: isotropic will do.
     vec2 albedo = BSDF_HAS_SPECULAR ? ggx_albedo(cos_o, p.alpha) : vec2(0.0f);
     LobeAlbedos a;
-    a.diffuse = (1.0f - p.metallic) * opaque * diffuse_transmittance(p, albedo) * luminance(p.base_color);
+    float white_loss = 1.0f - white_ggx_albedo(albedo);
+    a.diffuse = (1.0f - p.metallic) * opaque * diffuse_transmittance(p, albedo, white_loss) * luminance(p.base_color);
     a.through = 0.0f;
     if (has_diffuse_transmission(p)) {
-        float below = (1.0f - p.metallic) * opaque * diffuse_transmittance(p, albedo);
+        float below = (1.0f - p.metallic) * opaque * diffuse_transmittance(p, albedo, white_loss);
         a.through = below * p.diffuse_transmission * luminance(p.diffuse_transmission_color);
         a.diffuse *= 1.0f - p.diffuse_transmission;
     }
@@ -483,7 +515,7 @@ LobeAlbedos estimate_lobe_albedos(BsdfParams p, float cos_o, float opaque) {
     if (has_ggx_multiscatter(p)) {
         // Anisotropic: for picking, the isotropic loss at the two alphas' root mean square will do (picking needs
         // no exact albedo, and this reads a quarter of the anisotropic table's loads).
-        float loss = 1.0f - white_ggx_albedo(albedo);
+        float loss = white_loss;
         if (has_anisotropic_multiscatter(p)) {
             float rms = sqrt(0.5f * (p.alpha * p.alpha + p.roughness.alpha_t * p.roughness.alpha_t));
             loss = 1.0f - ggx_white_albedo(cos_o, rms);
@@ -516,8 +548,9 @@ vec3 eval_base_bsdf(BsdfParams p, vec3 wo, vec3 wi) {
         vec3 through = vec3(0.0f);
         if (wo.z > 0.0f && wi.z < 0.0f) {
             if (has_diffuse_transmission(p)) {
-                float transmittance = diffuse_transmittance(p, specular_albedo(p, wo)) *
-                                      diffuse_transmittance(p, specular_albedo(p, wi)) * p.diffuse_scale;
+                vec2 albedo_o = specular_albedo(p, wo), albedo_i = specular_albedo(p, wi);
+                float transmittance = diffuse_transmittances(p, albedo_o, albedo_i,
+                                                             white_lobe_losses(p, wo, wi, albedo_o, albedo_i));
                 through = p.diffuse_transmission_color *
                           (INV_PI * -wi.z * transmittance * p.diffuse_transmission * (1.0f - p.metallic) *
                            (has_glass(p) ? 1.0f - p.transmission : 1.0f));
@@ -531,8 +564,9 @@ vec3 eval_base_bsdf(BsdfParams p, vec3 wo, vec3 wi) {
     vec3 h = normalize(wo + wi);  // |wo + wi| >= wo.z + wi.z > 0
     float w = schlick_weight(abs(dot(wo, h)));
     float specular = BSDF_HAS_SPECULAR ? ggx_d_lobe(p.roughness, h) * ggx_v_cos_lobe(p.roughness, wo, wi) : 0.0f;
-    float transmittance = diffuse_transmittance(p, specular_albedo(p, wo)) *
-                          diffuse_transmittance(p, specular_albedo(p, wi)) * p.diffuse_scale;
+    vec2 albedo_o = specular_albedo(p, wo), albedo_i = specular_albedo(p, wi);
+    vec2 white_loss = white_lobe_losses(p, wo, wi, albedo_o, albedo_i);
+    float transmittance = diffuse_transmittances(p, albedo_o, albedo_i, white_loss);
     vec3 diffuse = p.base_color * (INV_PI * wi.z * transmittance);
     if (has_diffuse_transmission(p)) {
         diffuse *= 1.0f - p.diffuse_transmission;
@@ -551,9 +585,7 @@ vec3 eval_base_bsdf(BsdfParams p, vec3 wo, vec3 wi) {
     vec3 dielectric = diffuse + f_dielectric * specular;
     float multiscatter = 0.0f;
     if (has_anisotropic_multiscatter(p) && has_ggx_multiscatter(p)) {
-        GgxAnisotropicCell cell = ggx_anisotropic_cell(p.alpha, p.roughness.alpha_t);
-        multiscatter = anisotropic_multiscatter_loss(p, cell, wo) * anisotropic_multiscatter_loss(p, cell, wi) * wi.z *
-                       p.multiscatter_norm;
+        multiscatter = white_loss.x * white_loss.y * wi.z * p.multiscatter_norm;
     } else if (has_ggx_multiscatter(p)) {
         multiscatter = eval_ggx_multiscatter(wo.z, wi.z, p.alpha, p.multiscatter_norm);
     }

@@ -1,6 +1,6 @@
 // Directional albedo E of the white anisotropic GGX lobe (KHR_materials_anisotropy: alpha_t along the direction,
-// alpha across it), looked up in the precomputed table of ggx_anisotropic_albedo_table.glsl, for the metal's
-// multiple-scattering lobe (ggx_multiscatter.glsl), which needs what single scattering loses, 1 - E, for every
+// alpha across it), looked up in the precomputed table of ggx_anisotropic_albedo_table.glsl, for the metal's and the
+// specular layer's multiple-scattering lobe (ggx_multiscatter.glsl), which needs what single scattering loses, 1 - E, for every
 // direction: an anisotropic lobe's E depends on the azimuth as well as on the angle, and no isotropic albedo bounds
 // it (a white metal of roughness 0.02 stretched to alpha_t = 1 keeps 0.53 of the light head-on). The table's nodes
 // are raised so that the interpolant never underestimates E (bsdf.glsl needs E_table >= E_true). Shared GLSL/C++.
@@ -11,7 +11,7 @@
 #include "lib/tables/ggx_anisotropic_albedo_table.glsl"
 
 // Table entry i (see ggx_anisotropic_albedo_table.glsl for the order). On the GPU the table is a storage buffer
-// (BINDING_ANISOTROPIC_ALBEDO, uploaded only for scenes with anisotropic rough metal) read through this accessor,
+// (BINDING_ANISOTROPIC_ALBEDO, uploaded only for scenes with an anisotropic rough lobe) read through this accessor,
 // which bindings.glsl defines; the C++ tests read the arrays directly.
 #ifdef __cplusplus
 inline float ggx_anisotropic_albedo_entry(int i) {

@@ -10,7 +10,7 @@
 // f_ms is symmetric in wo and wi (light tracing and BDPT evaluate it with the two swapped), integrates to
 // F_ms (1 - E(mu_o)), exactly what single scattering lost for F = 1, and F_ms <= 1 per channel, so a coloured metal
 // never gains (F_ms sums the series of bounces, each tinted by F_avg, that Kulla and Conty derive). The table's nodes
-// are raised (E_table >= E_true), so the lobe gives back at most what was lost. An anisotropic metal's E depends on
+// are raised (E_table >= E_true), so the lobe gives back at most what was lost. An anisotropic lobe's E depends on
 // the azimuth too: it reads ggx_anisotropic_albedo.glsl's table (bsdf.glsl). A thin film (KHR_materials_iridescence)
 // leaves F_ms at the base colour's. Sampled uniformly over the hemisphere: the lobe's weight (1 - E(mu_i)) mu_i
 // vanishes at both ends, so uniform directions keep the sample weight bounded where cosine ones would not.

@@ -160,12 +160,15 @@ TEST(GltfTextures, GgxMultiscatterIsDecidedByValue) {
     EXPECT_EQ(fh::analyse_effects(coated, false).bits & multiscatter, multiscatter);
     coated.material_layers[0].clearcoat_roughness = 0.0f;
     EXPECT_EQ(fh::analyse_effects(coated, false).bits & multiscatter, 0u);
-    // An anisotropic metal of roughness 0 is rough along its direction; an anisotropic dielectric of roughness 0 is not.
+    // An anisotropic lobe of roughness 0 is rough along its direction, a metal's or a dielectric's specular layer's;
+    // a Lambertian material (no specular layer) has none.
     Scene stretched = load_textured_triangle(
         {{"pbrMetallicRoughness", {{"metallicFactor", 1.0}, {"roughnessFactor", 0.0}}},
          {"extensions", {{"KHR_materials_anisotropy", {{"anisotropyStrength", 0.5}}}}}});
     EXPECT_EQ(fh::analyse_effects(stretched, false).bits & multiscatter, multiscatter);
     stretched.materials[0].metallic = 0.0f;
+    EXPECT_EQ(fh::analyse_effects(stretched, false).bits & multiscatter, multiscatter);
+    stretched.materials[0].specular_color.w = 0.0f;
     EXPECT_EQ(fh::analyse_effects(stretched, false).bits & multiscatter, 0u);
 }
 
