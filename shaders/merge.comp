@@ -74,20 +74,26 @@ uint list_merge_candidates(inout MergeCursor m, vec3 p, uint segments, out uint 
     return n;
 }
 
-// The merge of camera vertex c (dvm: its merging quantity at y) with the light vertex in `slot`, MIS-weighted.
-vec3 merge_light_vertex(CameraVertex c, float dvm, uint slot) {
+// The merge of camera vertex c (dvm: its merging quantity at y) with the light vertex in `slot`, MIS-weighted, at the
+// path's wavelengths (lib/spectral/path_color.glsl) and without the camera subpath's throughput.
+vec4 merge_light_vertex(CameraVertex c, float dvm, uint slot) {
     LightVertex v = load_light_vertex(slot);
     vec3 wl = vec3(v.to_light_x, v.to_light_y, v.to_light_z);
     float cos_wl = abs(dot(wl, c.at_y.ng));
     vec3 f = eval_surface_bsdf(c.at_y, c.wo, wl);  // f cos(wl) at y
-    if (!(cos_wl > 0.0f) || !(max_value(f) > 0.0f)) return vec3(0.0f);
+    if (!(cos_wl > 0.0f) || !(max_value(f) > 0.0f)) return vec4(0.0f);
     float camera_forward = pdf_surface_bsdf(c.at_y, c.wo, wl);
     // The light side's sampler at y, arriving along wl: the BSDF built for that eye (most often y's own).
     SurfaceBsdf at_light = surface_bsdf_serves(c.y, c.wo, wl) ? c.at_y : make_surface_bsdf(c.y, wl);
     float camera_reverse = pdf_next_direction(at_light, wl, c.wo);
     float weight = weight_merge(c.mis, dvm, camera_reverse, v.dvcm, merge_points[slot].w, camera_forward);
-    if (!(weight > 0.0f)) return vec3(0.0f);  // and never 0 x an overflowed contribution (NaN) into the path's sum
-    return f * (weight / cos_wl) * vec3(v.throughput_r, v.throughput_g, v.throughput_b);
+    if (!(weight > 0.0f)) return vec4(0.0f);  // and never 0 x an overflowed contribution (NaN) into the path's sum
+    vec4 light_beta = vec4(v.throughput_r, v.throughput_g, v.throughput_b, v.throughput_3);
+    vec4 contrib = lift_color(c.spectral, f) * (weight / cos_wl) * light_beta;
+    // Both sides dispersed: each weighted its hero wavelength by 4 for the whole path, which takes it once.
+    if (effect_on(EFFECT_SPECTRAL) && (c.spectrum_flags & v.spectrum_flags & PATH_SECONDARIES_TERMINATED) != 0u)
+        contrib *= 0.25f;
+    return contrib;
 }
 
 void main() {
@@ -102,7 +108,7 @@ void main() {
     if (!load_camera_vertex(ray, hit, load_path_mis(ray.path), segments, c)) return;
     float dvm = segment_dvm(path_dvm[ray.path], dot(c.wo, c.at_y.ng));
 
-    vec3 sum = vec3(0.0f);
+    vec4 sum = vec4(0.0f);
     MergeCursor search = start_merge_search(c.y.s.p);
     uint listed[MERGE_BATCH];
     uint n;
@@ -110,10 +116,10 @@ void main() {
         n = list_merge_candidates(search, c.y.s.p, segments, listed);
         for (uint k = 0u; k < n; ++k) sum += merge_light_vertex(c, dvm, listed[k]);
     } while (n == MERGE_BATCH);
-    if (!(max_value(sum) > 0.0f)) return;
-    sum *= c.beta.xyz / merge_eta();
-    c.state.radiance_r += sum.x;
-    c.state.radiance_g += sum.y;
-    c.state.radiance_b += sum.z;
+    if (!(max_path_component(sum) > 0.0f)) return;
+    vec3 merged = film_color(c.spectral, sum * (c.beta / merge_eta()));
+    c.state.radiance_r += merged.x;
+    c.state.radiance_g += merged.y;
+    c.state.radiance_b += merged.z;
     store_path_radiance(ray.path, c.state);  // one uvec4 store: the radiance and the rng as it was
 }

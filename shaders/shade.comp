@@ -103,14 +103,15 @@ void add_emission(inout PathVertex v, ShadingPoint sp, HitItem hit, vec3 wo, boo
     if (effect_on(EFFECT_EMISSIVE_TRIANGLES) && (front || double_sided) && max_component(emission) > 0.0f) {
         float weight = 1.0f;
         bool nee = (params.flags & RENDER_NEE) != 0u && v.state.bsdf_pdf > 0.0f;
+        bool mis = nee && (params.flags & RENDER_MIS) != 0u;
         float cos_light = abs(dot(s.ng, wo));
         // NEE's density of this point from the vertex the ray left (a camera ray's: none), per solid angle: the
-        // table's, or the tree's as NEE there would have walked it.
+        // table's, or the tree's as NEE there would have walked it (walked only where a weight reads it).
         float light_pdf = s.light_pdf_area * hit.t * hit.t / cos_light;
-        if (effect_on(EFFECT_LIGHT_TREE) && v.segments > 1u)
+        if (effect_on(EFFECT_LIGHT_TREE) && v.segments > 1u && (mis || bdpt_weighs(v.segments)))
             light_pdf = tree_emitter_hit_pdf(unpack_light_point(path_light_points[v.path]), hit.triangle,
                                              s.light_entry, hit.t, cos_light);
-        if (nee) weight = (params.flags & RENDER_MIS) != 0u ? power_heuristic(v.state.bsdf_pdf, light_pdf) : 0.0f;
+        if (nee) weight = mis ? power_heuristic(v.state.bsdf_pdf, light_pdf) : 0.0f;
         if (bdpt_weighs(v.segments)) {
             float direct_pdf_area = effect_on(EFFECT_LIGHT_TREE) ? light_pdf * cos_light / (hit.t * hit.t)
                                                                   : s.light_pdf_area;

@@ -37,28 +37,12 @@ std::string find_bdpt_settings_obstacle(const RenderSettings& settings) {
     return {};
 }
 
-// What vertex merging does not carry: a merge joins a camera vertex to a light vertex of another sample, which has
-// its own wavelengths and shutter time.
-std::string find_merging_obstacle(EffectBits effects) {
-    if (effects & gpu::EFFECT_SPECTRAL)
-        return "vertex merging joins light vertices of other samples, which carry other wavelengths: it does not "
-               "render dispersion yet (--integrator bdpt does)";
-    if (effects & gpu::EFFECT_MOTION_BLUR)
-        return "vertex merging joins light vertices of other samples, taken at other times in the shutter: it does "
-               "not render motion blur yet (--integrator bdpt does)";
-    return {};
-}
-
 }  // namespace
 
 std::string find_light_tracing_obstacle(const PackedScene& scene, const RenderSettings& settings,
                                         const SceneCamera& camera, EffectBits effects) {
     if (connects_subpaths(settings.integrator)) {
         const std::string obstacle = find_bdpt_settings_obstacle(settings);
-        if (!obstacle.empty()) return obstacle;
-    }
-    if (settings.integrator == Integrator::vcm) {
-        const std::string obstacle = find_merging_obstacle(effects);
         if (!obstacle.empty()) return obstacle;
     }
     if ((settings.lens.on() || camera.has_lens()) && camera.orthographic)

@@ -261,7 +261,10 @@ RenderStats Renderer::render_waves(uint32_t first, uint32_t pixels, uint32_t sam
     RenderStats stats;
     stats.spp_done = sample_begin;
     const auto start = std::chrono::steady_clock::now();
-    for (Wave wave : plan_waves(pixels, sample_begin, sample_end, frame_.wave_capacity)) {
+    const uint32_t capacity = waves_hold_one_sample(settings_.integrator, stages_.options().effects)
+                                  ? std::min(frame_.wave_capacity, pixels)
+                                  : frame_.wave_capacity;
+    for (Wave wave : plan_waves(pixels, sample_begin, sample_end, capacity)) {
         wave.pixel_begin += first;
         trace_wave(wave, stats);
         // A wave ends a sample index once it reaches the last pixel.

@@ -14,6 +14,10 @@ double scene_bounding_radius(const PackedScene& scene) {
     return 0.5 * double(glm::length(scene.bounds_hi - scene.bounds_lo));
 }
 
+bool waves_hold_one_sample(Integrator integrator, EffectBits effects) {
+    return integrator == Integrator::vcm && (effects & (gpu::EFFECT_SPECTRAL | gpu::EFFECT_MOTION_BLUR)) != 0;
+}
+
 uint32_t count_merge_grid_cells(uint32_t wave_capacity, uint32_t light_vertex_slots) {
     const uint64_t wanted = std::max<uint64_t>(uint64_t(wave_capacity) * light_vertex_slots / 4, 1024);
     uint64_t cells = 1024;

@@ -4,6 +4,7 @@
 #include <cstdint>
 
 #include "render/settings.h"
+#include "scene/effect_bits.h"
 #include "scene/pack.h"
 
 namespace fh {
@@ -18,6 +19,11 @@ inline constexpr double MERGE_RADIUS_ALPHA = 0.75;
 float merge_radius_at(const RenderSettings& settings, double scene_radius, uint32_t sample_index);
 // That bounding sphere's radius: half the diagonal of the scene's box (PackedScene::bounds_lo, bounds_hi).
 double scene_bounding_radius(const PackedScene& scene);
+
+// Whether a VCM wave must hold one sample index: a merge joins light vertices of every path in the wave, which must
+// share the camera vertex's shutter time (motion blur) and wavelengths (dispersion). The shaders then draw both per
+// sample index for every pixel (shaders/lib/sampling/path_sampler.glsl share_time_and_wavelengths).
+bool waves_hold_one_sample(Integrator integrator, EffectBits effects);
 
 // Buckets of the hash grid over a wave's light vertices: a power of two near a quarter of the slots (most light
 // subpaths end long before their last slot), at least 1024.

@@ -5,6 +5,7 @@
 
 #include "render/light_tracing.h"
 #include "render/memory_estimate.h"
+#include "render/renderer.h"
 #include "render/vertex_merging.h"
 
 namespace fh {
@@ -53,6 +54,16 @@ TEST(VertexMerging, BuffersOnlyForVcm) {
     EXPECT_EQ(merge_points_bytes(1000, bdpt), 16u);
     EXPECT_EQ(path_dvm_bytes(1000, bdpt), 4u);
     EXPECT_EQ(merge_grid_bytes(1000, bdpt), 4u);
+}
+
+// With dispersion or motion blur a VCM wave holds one sample index (its wavelengths and time are shared by the wave):
+// plan_waves given a capacity of the film's pixels then plans one sample per wave.
+TEST(VertexMerging, WavesHoldOneSampleWithDispersionOrMotionBlur) {
+    EXPECT_TRUE(waves_hold_one_sample(Integrator::vcm, gpu::EFFECT_SPECTRAL));
+    EXPECT_TRUE(waves_hold_one_sample(Integrator::vcm, gpu::EFFECT_MOTION_BLUR | gpu::EFFECT_THIN_LENS));
+    EXPECT_FALSE(waves_hold_one_sample(Integrator::vcm, gpu::EFFECT_THIN_LENS));
+    EXPECT_FALSE(waves_hold_one_sample(Integrator::bdpt, gpu::EFFECT_SPECTRAL | gpu::EFFECT_MOTION_BLUR));
+    for (const Wave& w : plan_waves(100, 0, 8, 100)) EXPECT_EQ(w.sample_count, 1u);
 }
 
 }  // namespace

@@ -44,7 +44,7 @@ struct CameraSamples {
     float time;        // when in the shutter, 0..1 (EFFECT_MOTION_BLUR; else its centre, 0.5)
 };
 
-CameraSamples draw_camera_samples(uint path, inout uint rng) {
+CameraSamples draw_own_camera_samples(uint path, inout uint rng) {
     CameraSamples c;
     c.wavelength = 0.0f;
     c.lens = vec2(0.0f);
@@ -69,6 +69,28 @@ CameraSamples draw_camera_samples(uint path, inout uint rng) {
         c.lens.y = next_float(rng);
     }
     if (effect_on(EFFECT_MOTION_BLUR)) c.time = next_float(rng);
+    return c;
+}
+
+// Vertex merging joins a camera vertex to the light vertices of every path in its wave, which must share its shutter
+// time and wavelengths: with motion blur or dispersion a VCM wave holds one sample index (Renderer), and these two
+// numbers are drawn per sample index, the same for every pixel (an Owen-scrambled Sobol' sequence over the sample
+// indices, whichever sampler the render uses). Each pixel still sees them stratified over its samples.
+const uint SHARED_BY_PIXELS = 0xffffffffu;  // sobol_seed's pixel for numbers no pixel owns
+bool wave_shares_time_and_wavelengths() {
+    return vcm && (effect_on(EFFECT_SPECTRAL) || effect_on(EFFECT_MOTION_BLUR));
+}
+void share_time_and_wavelengths(uint path, inout CameraSamples c) {
+    uint sample_index = path_sample_index(path);
+    if (effect_on(EFFECT_SPECTRAL))
+        c.wavelength = sample_sobol_1d(sample_index, sobol_seed(SHARED_BY_PIXELS, params.seed, SOBOL_WAVELENGTH));
+    if (effect_on(EFFECT_MOTION_BLUR))
+        c.time = sample_sobol_1d(sample_index, sobol_seed(SHARED_BY_PIXELS, params.seed, SOBOL_TIME));
+}
+
+CameraSamples draw_camera_samples(uint path, inout uint rng) {
+    CameraSamples c = draw_own_camera_samples(path, rng);
+    if (wave_shares_time_and_wavelengths()) share_time_and_wavelengths(path, c);
     return c;
 }
 

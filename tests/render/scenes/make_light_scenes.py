@@ -28,6 +28,11 @@ unlit_room.gltf  the lamp room with an unlit sphere (KHR_materials_unlit, base c
 moving_room.gltf the lamp room with a grey sphere sliding along x (0.6 units over 1 s) and the camera sliding the other
                  way (0.3 units), keyed at t = 0 and 1 (render at --time 0.5 --shutter -0.5,0.5): light and camera
                  subpaths of a sample must share its time, and splats land where the moving camera saw them.
+moving_furnace.gltf a closed furnace (the cube [-1,1]^3, Lambertian walls of albedo 0.8 emitting 0.5: 2.5 everywhere)
+                 round a white Lambertian block (albedo 1, no emission: 2.5 on it too) that slides 0.4 units along x,
+                 towards the still camera's view (keyed at t = 0 and 1): every pixel reads 2.5 at any time, but a
+                 merge with light vertices of another time finds the block's face elsewhere (vertex merging must share
+                 a sample's time across its wave).
 smooth_room.gltf the same room with one large Lambertian sphere of 6 x 4 facets: the shading normals alone (light subpaths must also
                  propose directions below the shading normal's hemisphere, where the path tracer's BSDF falls back to
                  the facet's frame; without that, 0.5% of the red channel went missing).
@@ -306,6 +311,22 @@ def moving_room():
     return g
 
 
+def moving_furnace():
+    g = Gltf()
+    wall = g.add_material(base=(0.8, 0.8, 0.8), emission=0.5)
+    g.add_node({"mesh": g.add_mesh(cube_faces_inward(), wall)})
+    white = g.add_material(base=(1.0, 1.0, 1.0))
+    outward = [(a, c, b) for a, b, c in cube_faces_inward()]
+    block = g.add_node({"mesh": g.add_mesh(placed(outward, (0.3, 0.3, 0.3), (0.0, 0.0, 0.0)), white),
+                        "translation": [0.2, 0.0, 0.0]})
+    g.add_perspective_camera(look_at((-0.8, 0.0, 0.0), (1.0, 0.0, 0.0)), 1.0)
+    times = g.add_floats([0.0, 1.0], "SCALAR", 2)
+    g.doc["animations"] = [{"name": "slide", "samplers": [
+        {"input": times, "output": g.add_floats([0.2, 0.0, 0.0, 0.6, 0.0, 0.0])}], "channels": [
+        {"sampler": 0, "target": {"node": block, "path": "translation"}}]}]
+    return g
+
+
 def main():
     out = Path(sys.argv[1] if len(sys.argv) > 1 else ".")
     out.mkdir(parents=True, exist_ok=True)
@@ -317,6 +338,7 @@ def main():
     door_gap().write(out / "door_gap.gltf")
     lamp_shade().write(out / "lamp_shade.gltf")
     moving_room().write(out / "moving_room.gltf")
+    moving_furnace().write(out / "moving_furnace.gltf")
     glass_bulb().write(out / "glass_bulb.gltf")
     water_glass().write(out / "water_glass.gltf")
 
